@@ -1,0 +1,36 @@
+// Datasets by name: a generator spec such as `sphere:n=100000,seed=1,noise=0.001` or a file path.
+// Generated clouds carry exact normals and the exact Surface they were drawn from.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/params.hpp"
+#include "core/point_cloud.hpp"
+#include "core/surfaces.hpp"
+
+namespace pcrt {
+
+struct Dataset {
+  PointCloud cloud;
+  std::shared_ptr<const Surface> truth;  // null for files
+};
+
+struct GeneratorInfo {
+  std::string name;
+  std::string description;
+  std::vector<ParamSpec> params;  // the common ones (n, seed, noise, density) come first
+};
+
+const std::vector<GeneratorInfo>& generators();
+
+// Loads a file if `spec` names one, else parses and runs a generator. Throws InputError naming the
+// spec for unknown generators, unknown keys, malformed or out-of-range values.
+Dataset load_dataset(const std::string& spec);
+
+// Parses `name:key=value,...` into the generator's full parameter set (defaults filled in).
+ParamValues parse_generator_spec(const std::string& spec, const GeneratorInfo** info);
+
+}  // namespace pcrt

@@ -1,0 +1,87 @@
+#include "core/point_cloud.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/error.hpp"
+
+namespace pcrt {
+
+Aabb PointCloud::bounds() const {
+  Aabb b;
+  for (const Vec3& p : positions) b.extend(p);
+  return b;
+}
+
+std::vector<std::string> PointCloud::attributes() const {
+  std::vector<std::string> a{"position"};
+  if (has_normals()) a.emplace_back("normal");
+  if (has_radii()) a.emplace_back("radius");
+  if (has_colours()) a.emplace_back("colour");
+  return a;
+}
+
+void PointCloud::validate() const {
+  const size_t n = size();
+  if (n == 0) input_error("{}: the point cloud has no points", name);
+  if (has_normals() && normals.size() != n) input_error("{}: {} normals for {} points", name, normals.size(), n);
+  if (has_radii() && radii.size() != n) input_error("{}: {} radii for {} points", name, radii.size(), n);
+  if (has_colours() && colours.size() != n) input_error("{}: {} colours for {} points", name, colours.size(), n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!positions[i].allFinite()) input_error("{}: point {} has a non-finite coordinate", name, i);
+    if (has_normals()) {
+      if (!normals[i].allFinite()) input_error("{}: point {} has a non-finite normal", name, i);
+      if (std::abs(normals[i].squaredNorm() - 1.0f) > 1e-3f)
+        input_error("{}: point {} has a normal of length {:.4g}, not 1", name, i, normals[i].norm());
+    }
+    if (has_radii() && !(std::isfinite(radii[i]) && radii[i] >= 0.0f))
+      input_error("{}: point {} has radius {}, not a finite value >= 0", name, i, radii[i]);
+  }
+}
+
+size_t PointCloud::remove_duplicates() {
+  std::vector<uint32_t> order(size());
+  std::iota(order.begin(), order.end(), 0u);
+  auto less = [&](uint32_t a, uint32_t b) {
+    const Vec3& p = positions[a];
+    const Vec3& q = positions[b];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<char> keep(size(), 1);
+  size_t dropped = 0;
+  for (size_t i = 1; i < order.size(); ++i) {
+    if (positions[order[i]] == positions[order[i - 1]]) {
+      keep[order[i]] = 0;
+      ++dropped;
+    }
+  }
+  if (dropped == 0) return 0;
+  std::vector<uint32_t> kept;
+  kept.reserve(size() - dropped);
+  for (uint32_t i = 0; i < size(); ++i)
+    if (keep[i]) kept.push_back(i);
+  *this = subset(kept);
+  return dropped;
+}
+
+PointCloud PointCloud::subset(const std::vector<uint32_t>& indices) const {
+  PointCloud out;
+  out.name = name;
+  auto pick = [&](const auto& src, auto& dst) {
+    if (src.empty()) return;
+    dst.reserve(indices.size());
+    for (uint32_t i : indices) dst.push_back(src[i]);
+  };
+  pick(positions, out.positions);
+  pick(normals, out.normals);
+  pick(radii, out.radii);
+  pick(colours, out.colours);
+  return out;
+}
+
+}  // namespace pcrt

@@ -1,0 +1,32 @@
+// Reading and writing point clouds: PLY (ascii, binary little/big endian), XYZ and CGAL's PWN
+// (3 or 6 columns), OFF (vertices as points). Every reader either returns a valid cloud or throws
+// InputError naming the file and the line or element that is wrong.
+#pragma once
+
+#include <string>
+
+#include "core/point_cloud.hpp"
+
+namespace pcrt {
+
+// Chooses the reader by extension (.ply, .xyz, .pwn, .off; case-insensitive), validates the
+// result and drops exact duplicate points with a note on stderr.
+PointCloud read_point_cloud(const std::string& path);
+
+PointCloud read_ply(const std::string& path);
+PointCloud read_xyz(const std::string& path);
+PointCloud read_off(const std::string& path);
+
+enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
+// Writes x y z as float plus whichever of nx ny nz, red green blue, radius the cloud has.
+void write_ply(const std::string& path, const PointCloud& cloud,
+               PlyFormat format = PlyFormat::kBinaryLittleEndian);
+
+// Whole file as a string; InputError naming the path if it cannot be read.
+std::string read_file(const std::string& path);
+
+// Shared by the readers: unit-length normals, or none if every normal is zero (as some CGAL
+// files store), or an InputError naming the first zero normal among non-zero ones.
+void normalize_loaded_normals(PointCloud& cloud);
+
+}  // namespace pcrt

@@ -1,0 +1,38 @@
+// A list of self-registered entries (methods, structures) looked up by id, in the style of
+// Google Benchmark: each entry registers itself from a static object in its own file.
+#pragma once
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace pcrt {
+
+template <typename Info>
+class Registry {
+ public:
+  static Registry& instance() {
+    static Registry r;
+    return r;
+  }
+  void add(Info info) {
+    entries_.push_back(std::move(info));
+    std::sort(entries_.begin(), entries_.end(), [](const Info& a, const Info& b) { return a.id < b.id; });
+  }
+  [[nodiscard]] const std::vector<Info>& all() const { return entries_; }
+  // Throws InputError "unknown <kind> '<id>' (known: ...)".
+  [[nodiscard]] const Info& get(const std::string& id, const char* kind) const {
+    for (const Info& e : entries_)
+      if (e.id == id) return e;
+    std::string known;
+    for (const Info& e : entries_) known += (known.empty() ? "" : ", ") + e.id;
+    input_error("unknown {} '{}' (known: {})", kind, id, known);
+  }
+
+ private:
+  std::vector<Info> entries_;
+};
+
+}  // namespace pcrt

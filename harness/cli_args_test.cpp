@@ -1,0 +1,31 @@
+#include <catch2/catch.hpp>
+
+#include "core/error.hpp"
+#include "harness/cli_args.hpp"
+
+using namespace pcrt;
+using Catch::Matchers::Contains;
+
+TEST_CASE("strict command-line options", "[cli]") {
+  auto make = [] {
+    return CliArgs("t", "pcrt t", {{"out", "FILE", "output"}, {"json", "", "flag"}, {"set", "N=V", "repeat", true}},
+                   0, 1);
+  };
+  CliArgs a = make();
+  REQUIRE(a.parse({"x", "--out", "f.png", "--json", "--set", "a=1", "--set=b=2"}));
+  REQUIRE(a.get("out") == "f.png");
+  REQUIRE(a.has("json"));
+  REQUIRE(a.all("set") == std::vector<std::string>{"a=1", "b=2"});
+  REQUIRE(a.positional() == std::vector<std::string>{"x"});
+  REQUIRE_THROWS_WITH(make().parse({"--bogus"}), Contains("unknown option '--bogus'"));
+  REQUIRE_THROWS_WITH(make().parse({"--out"}), Contains("needs a value"));
+  REQUIRE_THROWS_WITH(make().parse({"--out", "a", "--out", "b"}), Contains("twice"));
+  REQUIRE_THROWS_WITH(make().parse({"a", "b"}), Contains("expected"));
+  REQUIRE_THROWS_WITH(make().parse({"--json=1"}), Contains("takes no value"));
+  CliArgs n("t", "pcrt t", {{"width", "W", "w"}}, 0, 0);
+  REQUIRE(n.parse({"--width", "abc"}));
+  REQUIRE_THROWS_WITH(n.integer("width", 1, 1, 10), Contains("not an integer"));
+  CliArgs m("t", "pcrt t", {{"width", "W", "w"}}, 0, 0);
+  REQUIRE(m.parse({"--width", "0"}));
+  REQUIRE_THROWS_WITH(m.integer("width", 1, 1, 10), Contains("outside"));
+}

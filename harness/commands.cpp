@@ -1,0 +1,329 @@
+#include "harness/commands.hpp"
+
+#include <tbb/combinable.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/file_output.hpp"
+#include "core/point_cloud_io.hpp"
+#include "core/text_scanner.hpp"
+#include "harness/cli_args.hpp"
+#include "harness/renderer.hpp"
+#include "harness/scene.hpp"
+#include "preprocess/point_attributes.hpp"
+#include "structures/knn_index.hpp"
+
+namespace pcrt {
+namespace {
+
+using nlohmann::json;
+
+json params_json(const std::vector<ParamSpec>& specs) {
+  json a = json::array();
+  for (const auto& p : specs)
+    a.push_back({{"name", p.name}, {"default", p.default_value}, {"min", p.min_value}, {"max", p.max_value},
+                 {"integer", p.integer}, {"description", p.description}});
+  return a;
+}
+
+json counters_json(const OpCounters& c) {
+  json j = json::object();
+  for (const auto& [name, value] : c.to_map()) j[name] = value;
+  return j;
+}
+
+void write_json(const std::string& path, const json& j) {
+  write_file_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+// --threads for every parallel phase (TBB's global limit).
+std::unique_ptr<tbb::global_control> limit_threads(const CliArgs& a) {
+  const long long t = a.integer("threads", 0, 0, 1024);
+  if (t == 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(t));
+}
+
+std::vector<OptionSpec> scene_options() {
+  return {{"method", "ID", "method id (pcrt list)"},
+          {"data", "DATA", "point cloud file or generator spec"},
+          {"structure", "ID", "acceleration structure (default: the method's paper's)"},
+          {"set", "NAME=VALUE", "method or structure parameter (repeatable)", true},
+          {"threads", "N", "worker threads (default: all cores)"},
+          {"stats", "FILE.json", "write parameters, counters and timings as JSON"}};
+}
+
+SceneOptions scene_options_from(const CliArgs& a) {
+  SceneOptions o;
+  o.method = a.require("method");
+  o.structure = a.get("structure");
+  for (const std::string& s : a.all("set")) {
+    auto [name, value] = parse_assignment(s);
+    if (o.set.count(name)) input_error("--set {} given twice", name);
+    o.set[name] = value;
+  }
+  return o;
+}
+
+// "x,y,z" -> a non-zero vector.
+Vec3 parse_vector(const std::string& text, const std::string& what) {
+  std::vector<float> v;
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    size_t comma = text.find(',', pos);
+    if (comma == std::string::npos) comma = text.size();
+    v.push_back(float(parse_number(text.substr(pos, comma - pos), what)));
+    pos = comma + 1;
+  }
+  if (v.size() != 3) input_error("{}: '{}' is not x,y,z", what, text);
+  const Vec3 r(v[0], v[1], v[2]);
+  if (!(r.norm() > 0)) input_error("{}: '{}' is the zero vector", what, text);
+  return r;
+}
+
+json scene_json(const PointScene& scene, const PointCloud& cloud, const std::string& data) {
+  json params = {{"method", scene.method_info().id}, {"structure", scene.structure_info().id},
+                 {"dataset", data}, {"N", cloud.size()}};
+  for (const auto& [k, v] : scene.method_params()) params["method_params"][k] = v;
+  for (const auto& [k, v] : scene.structure_params()) params["structure_params"][k] = v;
+  return params;
+}
+
+}  // namespace
+
+int command_info(const Args& args) {
+  CliArgs a("info", "pcrt info DATA [--json]", {{"json", "", "print JSON"}, {"threads", "N", "worker threads"}}, 1, 1);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const Dataset d = load_dataset(a.positional()[0]);
+  const PointCloud& c = d.cloud;
+  OpCounters counters;
+  const KnnIndex knn(c.positions);
+  const double h = mean_spacing(c.positions, knn, counters);
+  const Aabb b = c.bounds();
+  json j = {{"name", c.name},
+            {"points", c.size()},
+            {"bounds", {{"min", {b.lo.x(), b.lo.y(), b.lo.z()}}, {"max", {b.hi.x(), b.hi.y(), b.hi.z()}}}},
+            {"attributes", c.attributes()},
+            {"mean_spacing", h},
+            {"ground_truth", d.truth ? json(d.truth->describe()) : json(nullptr)}};
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("%s\n  points        %zu\n  bounds        (%g, %g, %g) - (%g, %g, %g)\n  attributes    %s\n"
+                "  mean spacing  %g\n  ground truth  %s\n",
+                c.name.c_str(), c.size(), b.lo.x(), b.lo.y(), b.lo.z(), b.hi.x(), b.hi.y(), b.hi.z(),
+                fmt::format("{}", fmt::join(c.attributes(), ", ")).c_str(), h,
+                d.truth ? d.truth->describe().c_str() : "none (file)");
+  }
+  return 0;
+}
+
+int command_render(const Args& args) {
+  auto opts = scene_options();
+  opts.insert(opts.end(), {{"out", "FILE.png", "image to write"},
+                           {"width", "W", "image width in pixels (default 512)"},
+                           {"height", "H", "image height in pixels (default 512)"},
+                           {"spp", "S", "samples per pixel (default 1)"},
+                           {"bounces", "B", "BRDF bounces after the primary hit (default 1)"},
+                           {"seed", "N", "random seed (default 1)"},
+                           {"no-light", "", "no point light: sky illumination only"},
+                           {"view", "X,Y,Z", "direction from the cloud's centre to the camera (default 0.55,-0.75,0.4)"},
+                           {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
+                           {"ray-epsilon", "E", "offset of secondary ray origins (default 1e-3 x scene diagonal)"},
+                           {"depth", "FILE.png", "also write the primary-hit depth image"},
+                           {"normals", "FILE.png", "also write the primary-hit normal image"}});
+  CliArgs a("render", "pcrt render --method ID --data DATA --out FILE.png [options]", opts, 0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const SceneOptions so = scene_options_from(a);
+  const std::string out = a.require("out");
+  RenderSettings rs;
+  rs.width = int(a.integer("width", 512, 1, 16384));
+  rs.height = int(a.integer("height", 512, 1, 16384));
+  rs.spp = int(a.integer("spp", 1, 1, 1 << 16));
+  rs.bounces = int(a.integer("bounces", 1, 0, 64));
+  rs.seed = uint64_t(a.integer("seed", 1, 0, (1ll << 62)));
+  rs.threads = int(a.integer("threads", 0, 0, 1024));
+  rs.point_light = !a.has("no-light");
+  rs.ray_epsilon = float(a.number("ray-epsilon", 0.0));
+  if (a.has("view")) rs.view = parse_vector(a.get("view"), "pcrt render: --view");
+  if (a.has("up")) rs.up = parse_vector(a.get("up"), "pcrt render: --up");
+  if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
+    input_error("pcrt render: --view and --up must not be parallel");
+  if (rs.ray_epsilon < 0) input_error("pcrt render: --ray-epsilon must be >= 0");
+
+  Timings timings;
+  OpCounters prep;
+  Dataset d;
+  {
+    ScopedTimer t(timings, "load");
+    d = load_dataset(a.require("data"));
+  }
+  const PointScene scene(d.cloud, so, prep, timings);
+  RenderResult r = render(scene, d.cloud, rs);
+  timings["render"] = r.seconds;
+  write_png(out, r.image);
+  if (a.has("depth")) write_png(a.get("depth"), r.depth, PngEncoding::kLinear);
+  if (a.has("normals")) write_png(a.get("normals"), r.normals, PngEncoding::kLinear);
+
+  json params = scene_json(scene, d.cloud, a.get("data"));
+  params.update({{"M", rs.width * rs.height}, {"width", rs.width}, {"height", rs.height}, {"S", rs.spp},
+                 {"B", rs.bounces}, {"seed", rs.seed}, {"point_light", rs.point_light}, {"threads", rs.threads}});
+  const json stats = {{"params", params},
+                      {"counters", counters_json(r.counters)},
+                      {"prepare_counters", counters_json(prep)},
+                      {"timings", timings},
+                      {"structure_bytes", scene.structure_bytes()},
+                      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0}};
+  if (a.has("stats")) write_json(a.get("stats"), stats);
+  std::printf("%s: %s on %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), scene.method_info().id.c_str(),
+              scene.structure_info().id.c_str(), d.cloud.size(), rs.width, rs.height, rs.spp, rs.bounces);
+  std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"], timings["build"],
+              r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
+  for (const auto& [name, value] : r.counters.to_map()) std::printf("  %-28s %llu\n", name.c_str(), (unsigned long long)value);
+  return 0;
+}
+
+namespace {
+
+std::vector<Ray> read_rays(const std::string& path) {
+  const std::string text = read_file(path);
+  std::vector<Ray> rays;
+  bool header = false;
+  // CSV: split on commas by turning them into blanks for the scanner; the header is checked first.
+  std::string blanked = text;
+  std::replace(blanked.begin(), blanked.end(), ',', ' ');
+  TextScanner lines(blanked, path);
+  while (lines.next_line(false)) {
+    const auto& tok = lines.tokens();
+    if (!header) {
+      const std::vector<std::string_view> want{"ox", "oy", "oz", "dx", "dy", "dz"};
+      if (tok != want) input_error("{}: line {}: header must be 'ox,oy,oz,dx,dy,dz'", path, lines.line());
+      header = true;
+      continue;
+    }
+    if (tok.size() != 6) input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
+    Ray r;
+    r.o = Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
+    const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
+    if (!r.o.allFinite() || !d.allFinite()) input_error("{}: line {}: non-finite value", path, lines.line());
+    if (!(d.norm() > 0)) input_error("{}: line {}: zero direction", path, lines.line());
+    r.d = d.normalized();
+    rays.push_back(r);
+  }
+  if (!header) input_error("{}: empty; expected the header 'ox,oy,oz,dx,dy,dz'", path);
+  return rays;
+}
+
+}  // namespace
+
+int command_trace(const Args& args) {
+  auto opts = scene_options();
+  opts.insert(opts.end(), {{"rays", "RAYS.csv", "rays, header ox,oy,oz,dx,dy,dz"},
+                           {"out", "HITS.csv", "hits: ray,hit,t,px,py,pz,nx,ny,nz (t along the unit direction)"}});
+  CliArgs a("trace", "pcrt trace --method ID --data DATA --rays RAYS.csv --out HITS.csv [options]", opts, 0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const SceneOptions so = scene_options_from(a);
+  const std::string out = a.require("out");
+  const std::vector<Ray> rays = read_rays(a.require("rays"));
+  Timings timings;
+  OpCounters prep;
+  const Dataset d = load_dataset(a.require("data"));
+  const PointScene scene(d.cloud, so, prep, timings);
+  std::vector<Hit> hits(rays.size());
+  std::vector<char> found(rays.size(), 0);
+  tbb::combinable<OpCounters> per_thread;
+  {
+    ScopedTimer t(timings, "trace");
+    tbb::parallel_for(size_t(0), rays.size(), [&](size_t i) {
+      found[i] = scene.closest_hit(rays[i], hits[i], per_thread.local());
+    });
+  }
+  OpCounters counters;
+  per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
+  write_file_atomically(out, [&](std::ostream& o) {
+    o << "ray,hit,t,px,py,pz,nx,ny,nz\n";
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const Hit& h = hits[i];
+      if (found[i])
+        o << fmt::format("{},1,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", i, h.t, h.p.x(), h.p.y(), h.p.z(),
+                         h.n.x(), h.n.y(), h.n.z());
+      else
+        o << i << ",0,,,,,,,\n";
+    }
+  });
+  if (a.has("stats")) {
+    json params = scene_json(scene, d.cloud, a.get("data"));
+    params["rays"] = rays.size();
+    write_json(a.get("stats"), {{"params", params},
+                                {"counters", counters_json(counters)},
+                                {"prepare_counters", counters_json(prep)},
+                                {"timings", timings},
+                                {"structure_bytes", scene.structure_bytes()}});
+  }
+  size_t n_hit = 0;
+  for (char f : found) n_hit += size_t(f);
+  std::printf("%s: %zu rays, %zu hits (%s on %s, %zu points)\n", out.c_str(), rays.size(), n_hit,
+              scene.method_info().id.c_str(), scene.structure_info().id.c_str(), d.cloud.size());
+  return 0;
+}
+
+int command_list(const Args& args) {
+  CliArgs a("list", "pcrt list [--json]", {{"json", "", "print JSON"}}, 0, 0);
+  if (!a.parse(args)) return 0;
+  json methods = json::array(), structures = json::array(), gens = json::array(), counters = json::array();
+  for (const MethodInfo& m : MethodRegistry::instance().all()) {
+    json claims = json::array();
+    for (const auto& c : m.claims)
+      claims.push_back({{"quantity", c.quantity}, {"complexity", c.complexity}, {"variables", c.variables},
+                        {"source", c.source}});
+    methods.push_back({{"id", m.id}, {"paper", m.paper}, {"thesis_ref", m.thesis_ref}, {"description", m.description},
+                       {"structure", m.structure}, {"needs", m.needs}, {"parameters", params_json(m.params)},
+                       {"claims", claims}});
+  }
+  for (const StructureInfo& s : StructureRegistry::instance().all())
+    structures.push_back({{"id", s.id}, {"description", s.description}, {"build_claim", s.build_claim},
+                          {"query_claim", s.query_claim}, {"parameters", params_json(s.params)}});
+  for (const GeneratorInfo& g : generators())
+    gens.push_back({{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
+  for (size_t i = 0; i < registered_counter_count(); ++i)
+    counters.push_back({{"name", registered_counters()[i].name}, {"description", registered_counters()[i].description}});
+  if (a.has("json")) {
+    const json j = {{"methods", methods}, {"structures", structures}, {"generators", gens}, {"counters", counters}};
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("methods:\n");
+  for (const auto& m : methods)
+    std::printf("  %-24s %-14s %s\n", m["id"].get<std::string>().c_str(), m["structure"].get<std::string>().c_str(),
+                m["description"].get<std::string>().c_str());
+  std::printf("structures:\n");
+  for (const auto& s : structures)
+    std::printf("  %-24s %s\n", s["id"].get<std::string>().c_str(), s["description"].get<std::string>().c_str());
+  std::printf("generators:\n");
+  for (const auto& g : gens)
+    std::printf("  %-24s %s\n", g["id"].get<std::string>().c_str(), g["description"].get<std::string>().c_str());
+  return 0;
+}
+
+int command_convert(const Args& args) {
+  CliArgs a("convert", "pcrt convert DATA --out FILE.ply [--ascii]",
+            {{"out", "FILE.ply", "PLY file to write"}, {"ascii", "", "ASCII PLY (default binary little endian)"}}, 1, 1);
+  if (!a.parse(args)) return 0;
+  const std::string out = a.require("out");
+  const Dataset d = load_dataset(a.positional()[0]);
+  write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
+  std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(), fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());
+  return 0;
+}
+
+}  // namespace pcrt

@@ -1,0 +1,17 @@
+// The pcrt subcommands. Each takes its arguments (after the subcommand name) and returns the
+// process exit code; InputError escapes to main, which prints it on one line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace pcrt {
+
+using Args = std::vector<std::string>;
+int command_info(const Args& args);
+int command_render(const Args& args);
+int command_trace(const Args& args);
+int command_list(const Args& args);
+int command_convert(const Args& args);
+
+}  // namespace pcrt

@@ -1,0 +1,41 @@
+// The generic renderer of thesis section 5.5.1: Algorithm 1 (S samples over M pixels) and
+// Algorithm 2 (recursive rendering equation, B bounces) as an iterative path tracer, with a
+// Lambertian BRDF sampled by cosine, an emitting sky and an optional point light reached by
+// shadow rays (next event estimation, section 4.1.1).
+#pragma once
+
+#include <optional>
+
+#include "core/camera.hpp"
+#include "core/counters.hpp"
+#include "core/image.hpp"
+#include "core/point_cloud.hpp"
+#include "harness/scene.hpp"
+
+namespace pcrt {
+
+struct RenderSettings {
+  int width = 512;
+  int height = 512;
+  int spp = 1;      // S
+  int bounces = 1;  // B: BRDF-sampled rays after the primary hit
+  int threads = 0;  // 0: all cores
+  uint64_t seed = 1;
+  bool point_light = true;
+  float ray_epsilon = 0;  // offset of secondary ray origins along the normal; 0: 1e-3 * scene diagonal
+  Vec3 view = Vec3(0.55f, -0.75f, 0.4f);  // direction from the cloud's centre to the camera
+  Vec3 up = Vec3::UnitZ();
+  std::optional<Camera> camera;  // default: Camera::framing of the cloud's bounds along view/up
+};
+
+struct RenderResult {
+  Image image;
+  Image depth;    // primary-hit distance of the centre sample, scaled to [0,1] over the image
+  Image normals;  // primary-hit normal of the centre sample as (n + 1) / 2
+  OpCounters counters;
+  double seconds = 0;
+};
+
+RenderResult render(const SceneIntersector& scene, const PointCloud& cloud, const RenderSettings& settings);
+
+}  // namespace pcrt

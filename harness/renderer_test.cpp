@@ -1,0 +1,66 @@
+#include <tbb/global_control.h>
+
+#include <catch2/catch.hpp>
+
+#include "core/dataset.hpp"
+#include "harness/renderer.hpp"
+#include "harness/scene.hpp"
+#include "preprocess/point_attributes.hpp"
+
+using namespace pcrt;
+
+namespace {
+
+struct Frame {
+  RenderResult result;
+  OpCounters prepare;
+};
+
+Frame render_with_threads(const PointCloud& cloud, int threads) {
+  // Preparation (normals, radii) runs on TBB too: limit it the same way the CLI does.
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+  OpCounters prep;
+  Timings t;
+  const PointScene scene(cloud, SceneOptions{"reference_splat", "brute_force", {{"estimate_normals", 1}}}, prep, t);
+  RenderSettings s;
+  s.width = 40;
+  s.height = 30;
+  s.spp = 2;
+  s.bounces = 2;
+  s.threads = threads;
+  return Frame{render(scene, cloud, s), prep};
+}
+
+}  // namespace
+
+TEST_CASE("images and counters do not depend on thread count", "[renderer]") {
+  const Dataset d = load_dataset("torus:n=3000,seed=5");
+  const Frame one = render_with_threads(d.cloud, 1);
+  const Frame two = render_with_threads(d.cloud, 2);
+  REQUIRE(one.result.image.pixels() == two.result.image.pixels());
+  REQUIRE(one.result.counters.to_map() == two.result.counters.to_map());
+  REQUIRE(one.prepare.to_map() == two.prepare.to_map());
+  const auto c = one.result.counters.to_map();
+  REQUIRE(c.at("primary_rays") == 40 * 30 * 2);
+  // Every ray the renderer casts goes through the scene, and brute force tests every splat.
+  REQUIRE(c.at("rays_cast") == c.at("primary_rays") + c.at("bounce_rays") + c.at("shadow_rays"));
+  REQUIRE(c.at("splat_tests") == c.at("rays_cast") * 3000);
+  REQUIRE(c.at("ray_hits") > 0);
+}
+
+TEST_CASE("a sphere renders where it should", "[renderer]") {
+  const Dataset d = load_dataset("fibonacci_sphere:n=4000");
+  OpCounters prep;
+  Timings t;
+  const PointScene scene(d.cloud, SceneOptions{"reference_splat", "", {}}, prep, t);
+  RenderSettings s;
+  s.width = s.height = 33;
+  s.bounces = 0;
+  const RenderResult r = render(scene, d.cloud, s);
+  // Framing puts the sphere in the centre; the corners see sky.
+  REQUIRE(r.depth.at(16, 16).x() > 0);
+  REQUIRE(r.depth.at(0, 0).x() == 0);
+  // With B = 0 there are no bounce rays: one shadow ray at most per lit primary hit.
+  REQUIRE(r.counters.get(kBounceRays) == 0);
+  REQUIRE(r.counters.get(kShadowRays) <= r.counters.get(kRayHits));
+}

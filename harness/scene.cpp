@@ -1,0 +1,50 @@
+#include "harness/scene.hpp"
+
+#include "core/error.hpp"
+
+namespace pcrt {
+
+PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters,
+                       Timings& timings) {
+  method_info_ = &MethodRegistry::instance().get(options.method, "method");
+  structure_info_ = &StructureRegistry::instance().get(
+      options.structure.empty() ? method_info_->structure : options.structure, "structure");
+  ParamValues for_method, for_structure;
+  for (const auto& [name, value] : options.set) {
+    auto names = [&](const std::vector<ParamSpec>& specs) {
+      for (const auto& s : specs)
+        if (s.name == name) return true;
+      return false;
+    };
+    if (names(method_info_->params)) for_method[name] = value;
+    else if (names(structure_info_->params)) for_structure[name] = value;
+    else {
+      std::string known;
+      for (const auto& s : method_info_->params) known += (known.empty() ? "" : ", ") + s.name;
+      for (const auto& s : structure_info_->params) known += (known.empty() ? "" : ", ") + s.name;
+      input_error("--set {}: not a parameter of method '{}' or structure '{}' (known: {})", name, method_info_->id,
+                  structure_info_->id, known.empty() ? "none" : known);
+    }
+  }
+  method_params_ = resolve_params(method_info_->params, for_method, "method " + method_info_->id);
+  structure_params_ = resolve_params(structure_info_->params, for_structure, "structure " + structure_info_->id);
+
+  method_ = method_info_->create(method_params_);
+  {
+    PrepareContext ctx{counters, timings};
+    ScopedTimer t(timings, "prepare");
+    method_->prepare(cloud, ctx);
+  }
+  structure_ = structure_info_->create(structure_params_);
+  ScopedTimer t(timings, "build");
+  structure_->build(method_->item_positions(), method_->item_radii(), counters);
+}
+
+bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const {
+  counters.add(kRaysCast);
+  const bool found = structure_->closest_hit(ray, *method_, hit, counters);
+  if (found) counters.add(kRayHits);
+  return found;
+}
+
+}  // namespace pcrt

@@ -1,0 +1,49 @@
+// A method on a structure over a cloud: what the renderer and `pcrt trace` ask for closest hits.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/counters.hpp"
+#include "core/point_cloud.hpp"
+#include "methods/method.hpp"
+#include "structures/structure.hpp"
+
+namespace pcrt {
+
+// Anything that answers closest-hit queries: a point method on a structure, later a mesh engine.
+class SceneIntersector {
+ public:
+  virtual ~SceneIntersector() = default;
+  virtual bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const = 0;
+};
+
+struct SceneOptions {
+  std::string method;
+  std::string structure;  // empty: the method's paper's structure
+  ParamValues set;        // --set values; each name must belong to the method or the structure
+};
+
+class PointScene final : public SceneIntersector {
+ public:
+  // Prepares the method and builds the structure, counting into `counters` and timing
+  // "prepare/..." and "build" into `timings`. Throws InputError for unknown ids or parameters.
+  PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters, Timings& timings);
+
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
+
+  [[nodiscard]] const MethodInfo& method_info() const { return *method_info_; }
+  [[nodiscard]] const StructureInfo& structure_info() const { return *structure_info_; }
+  [[nodiscard]] const ParamValues& method_params() const { return method_params_; }
+  [[nodiscard]] const ParamValues& structure_params() const { return structure_params_; }
+  [[nodiscard]] size_t structure_bytes() const { return structure_->memory_bytes(); }
+
+ private:
+  const MethodInfo* method_info_;
+  const StructureInfo* structure_info_;
+  ParamValues method_params_, structure_params_;
+  std::unique_ptr<Method> method_;
+  std::unique_ptr<Structure> structure_;
+};
+
+}  // namespace pcrt

@@ -1,0 +1,61 @@
+// The second seam, T_int: a Method prepares what its paper needs from the cloud and intersects a
+// ray with one leaf's points. Each surveyed method lives in its own folder under methods/ and
+// registers a MethodInfo from a static object (see methods/reference_splat/).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/counters.hpp"
+#include "core/params.hpp"
+#include "core/point_cloud.hpp"
+#include "core/registry.hpp"
+#include "structures/structure.hpp"
+
+namespace pcrt {
+
+struct PrepareContext {
+  OpCounters& counters;
+  Timings& timings;  // phases under "prepare/..."
+};
+
+class Method : public LeafIntersector {
+ public:
+  // Computes the method's preconditions (normals, radii, splats, ...) from the cloud, which must
+  // outlive the method. Counts into ctx.counters and times into ctx.timings.
+  virtual void prepare(const PointCloud& cloud, PrepareContext& ctx) = 0;
+  // What the structure indexes: one position and bounding radius per item.
+  [[nodiscard]] virtual std::span<const Vec3> item_positions() const = 0;
+  [[nodiscard]] virtual std::span<const float> item_radii() const = 0;
+};
+
+// A complexity claim of the thesis about one method.
+struct MethodClaim {
+  std::string quantity;    // "leaf intersection" or "frame"
+  std::string complexity;  // as printed, e.g. "O(IK)"
+  std::vector<std::string> variables;  // the swept variables it is in, e.g. {"I", "K"}
+  std::string source;      // "Table 5.5", "Table 6.1", ...
+};
+
+struct MethodInfo {
+  std::string id;
+  std::string paper;      // citation
+  std::string thesis_ref; // the thesis's reference number, e.g. "[55]"
+  std::string description;
+  std::string structure;  // the paper's structure (Table 5.4): the default
+  std::vector<std::string> needs;  // Table 5.3 preconditions
+  std::vector<ParamSpec> params;
+  std::vector<MethodClaim> claims;
+  std::function<std::unique_ptr<Method>(const ParamValues&)> create;
+};
+
+using MethodRegistry = Registry<MethodInfo>;
+
+struct RegisterMethod {
+  explicit RegisterMethod(MethodInfo info) { MethodRegistry::instance().add(std::move(info)); }
+};
+
+}  // namespace pcrt

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Sets up, fetches the real scans (tests use them when present) and runs every test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh build
+bash scripts/fetch_data.sh || echo "test: could not fetch the real scans; their tests are skipped"
+ctest --test-dir build --output-on-failure -j "$(nproc)"

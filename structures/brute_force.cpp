@@ -1,0 +1,33 @@
+// The oracle: one leaf holding every point, so each ray costs O(N). Any method traced through it
+// gives the exact closest hit of its own leaf intersector, which the real structures must match.
+#include <numeric>
+
+#include "structures/structure.hpp"
+
+namespace pcrt {
+namespace {
+
+class BruteForce final : public Structure {
+ public:
+  void build(std::span<const Vec3> positions, std::span<const float>, OpCounters&) override {
+    items_.resize(positions.size());
+    std::iota(items_.begin(), items_.end(), 0u);
+  }
+  bool closest_hit(const Ray& ray, const LeafIntersector& leaf_intersector, Hit& hit,
+                   OpCounters& counters) const override {
+    counters.add(kLeavesVisited);
+    counters.add(kItemsVisited, items_.size());
+    return leaf_intersector.intersect_leaf(ray, LeafVisit{items_, ray.tmin, ray.tmax}, hit, counters);
+  }
+  [[nodiscard]] size_t memory_bytes() const override { return items_.size() * sizeof(uint32_t); }
+
+ private:
+  std::vector<uint32_t> items_;
+};
+
+const RegisterStructure kRegister{StructureInfo{
+    "brute_force", "every point in one leaf; O(N) per ray; the oracle other structures are checked against",
+    "O(N)", "O(N)", {}, [](const ParamValues&) { return std::make_unique<BruteForce>(); }}};
+
+}  // namespace
+}  // namespace pcrt

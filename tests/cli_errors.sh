@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Every bad input must give exit status 1 and exactly one line on stderr naming the input; and a
+# failed run must not damage a file that was already there.
+set -u
+pcrt=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fails=0
+expect_error() {  # expect_error "what it must mention" pcrt-args...
+  local want=$1; shift
+  "$pcrt" "$@" >"$dir/out" 2>"$dir/err"
+  local rc=$?
+  local lines; lines=$(wc -l <"$dir/err")
+  if [ "$rc" -ne 1 ] || [ "$lines" -ne 1 ] || ! grep -qF -- "$want" "$dir/err"; then
+    echo "FAIL: pcrt $* -> rc=$rc, $lines stderr lines, wanted '$want':"; cat "$dir/err"; fails=$((fails + 1))
+  else
+    echo "ok: pcrt $* -> $(cat "$dir/err")"
+  fi
+}
+printf 'ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 1 1\n' >"$dir/trunc.ply"
+printf '0 0 0\nnan 1 1\n' >"$dir/nan.xyz"
+printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,0\n' >"$dir/zero_dir.csv"
+printf 'ox,oy,oz,dx,dy\n' >"$dir/bad_header.csv"
+printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n0,0,5\n' >"$dir/short_row.csv"
+printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n' >"$dir/rays.csv"
+
+expect_error "trunc.ply: truncated" info "$dir/trunc.ply"
+expect_error "nan.xyz: line 2" info "$dir/nan.xyz"
+expect_error "no such file" info "$dir/missing.ply"
+expect_error "not a generator" info "cube:n=5"
+expect_error "unknown parameter 'q'" info "sphere:q=1"
+expect_error "unknown option '--bogus'" info sphere:n=10 --bogus
+expect_error "unknown method 'nope'" render --method nope --data sphere:n=100 --out "$dir/a.png"
+expect_error "unknown structure 'nope'" render --method reference_splat --structure nope --data sphere:n=100 --out "$dir/a.png"
+expect_error "--set zzz: not a parameter" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --set zzz=1
+expect_error "radius_k=0 is outside" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --set radius_k=0
+expect_error "--width 0 is outside" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --width 0
+expect_error "'x' is not an integer" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --spp x
+expect_error "--out is required" render --method reference_splat --data sphere:n=100
+expect_error "zero_dir.csv: line 2: zero direction" trace --method reference_splat --data sphere:n=100 --rays "$dir/zero_dir.csv" --out "$dir/h.csv"
+expect_error "bad_header.csv: line 1" trace --method reference_splat --data sphere:n=100 --rays "$dir/bad_header.csv" --out "$dir/h.csv"
+expect_error "short_row.csv: line 3" trace --method reference_splat --data sphere:n=100 --rays "$dir/short_row.csv" --out "$dir/h.csv"
+expect_error "cannot open" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/no/such/dir/h.csv"
+
+# A failing run leaves an existing output untouched.
+echo "precious" >"$dir/keep.png"
+"$pcrt" render --method reference_splat --data "$dir/trunc.ply" --out "$dir/keep.png" 2>/dev/null
+if [ "$(cat "$dir/keep.png")" != "precious" ]; then echo "FAIL: a failed render changed its output"; fails=$((fails + 1)); fi
+# Unknown command and no arguments: usage, non-zero.
+if "$pcrt" frobnicate >/dev/null 2>&1; then echo "FAIL: unknown command exited 0"; fails=$((fails + 1)); fi
+if "$pcrt" >/dev/null 2>&1; then echo "FAIL: no command exited 0"; fails=$((fails + 1)); fi
+[ "$fails" -eq 0 ] && echo "all CLI error paths ok"
+exit "$fails"

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# render, trace, info, list and convert end to end, with the JSON shapes the issues promise.
+set -euo pipefail
+pcrt=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+"$pcrt" info sphere:n=2000 --json >"$dir/info.json"
+python3 - "$dir/info.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["points"] == 2000 and j["attributes"] == ["position", "normal"], j
+assert all(abs(v) <= 1 for v in j["bounds"]["min"] + j["bounds"]["max"])
+assert 0.005 < j["mean_spacing"] < 0.05, j
+PY
+"$pcrt" render --method reference_splat --data torus:n=5000 --out "$dir/t.png" --width 48 --height 32 \
+  --spp 2 --bounces 2 --threads 2 --stats "$dir/stats.json" --depth "$dir/d.png" --normals "$dir/n.png" >/dev/null
+for f in t d n; do head -c 8 "$dir/$f.png" | od -An -c | grep -q 'P   N   G'; done
+python3 - "$dir/stats.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["params"]["method"] == "reference_splat" and j["params"]["M"] == 48 * 32 and j["params"]["S"] == 2
+assert j["counters"]["primary_rays"] == 48 * 32 * 2
+assert "render" in j["timings"] and "prepare" in j["timings"]
+PY
+printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n0,0,5,0,0,1\n5,0,0,-2,0,0\n' >"$dir/rays.csv"
+"$pcrt" trace --method reference_splat --data fibonacci_sphere:n=20000 --rays "$dir/rays.csv" --out "$dir/hits.csv" >/dev/null
+python3 - "$dir/hits.csv" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert [r["hit"] for r in rows] == ["1", "0", "1"], rows
+assert abs(float(rows[0]["t"]) - 4) < 0.01 and abs(float(rows[2]["t"]) - 4) < 0.01, rows
+assert abs(float(rows[0]["nz"]) - 1) < 0.01
+PY
+"$pcrt" list --json | python3 -c '
+import json, sys
+j = json.load(sys.stdin)
+m = {x["id"]: x for x in j["methods"]}
+assert {"id", "paper", "structure", "needs", "parameters", "claims"} <= set(m["reference_splat"])
+assert "brute_force" in [s["id"] for s in j["structures"]]
+'
+"$pcrt" convert torus:n=100 --out "$dir/t.ply" >/dev/null
+test "$("$pcrt" info "$dir/t.ply" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["points"])')" = 100
+echo "CLI smoke ok"
