@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/aabb.hpp"
 #include "core/counters.hpp"
 #include "core/geometry.hpp"
 #include "core/params.hpp"
@@ -59,8 +60,31 @@ struct RegisterStructure {
 };
 
 // Counters every structure reports into.
-inline const Counter kNodesVisited{"nodes_visited", "structure nodes whose bounds were tested"};
+inline const Counter kNodesVisited{"nodes_visited", "structure nodes (grid: cells) entered by a traversal"};
 inline const Counter kLeavesVisited{"leaves_visited", "leaves handed to the leaf intersector"};
 inline const Counter kItemsVisited{"items_visited", "items (points) in the leaves handed over"};
+inline const Counter kBuildNodes{"build_nodes", "nodes (grid: cells) created by structure builds"};
+inline const Counter kBuildItemRefs{"build_item_refs", "item references stored in leaves (duplicates included)"};
+
+// The box a point's footprint can reach: p +- r.
+inline Aabb item_box(std::span<const Vec3> positions, std::span<const float> radii, uint32_t i) {
+  const float r = radii.empty() ? 0.0f : radii[i];
+  return Aabb{positions[i] - Vec3::Constant(r), positions[i] + Vec3::Constant(r)};
+}
+
+inline Aabb items_bounds(std::span<const Vec3> positions, std::span<const float> radii) {
+  Aabb b;
+  for (uint32_t i = 0; i < positions.size(); ++i) b.extend(item_box(positions, radii, i));
+  return b;
+}
+
+// Whether a leaf entered at t_enter may still hold a hit nearer than hit_t. The slack absorbs
+// rounding between a hit point and the cell planes, so that a hit exactly on a cell boundary is
+// never skipped: structures must return exactly brute force's closest hit.
+inline bool may_improve(float t_enter, float hit_t) { return t_enter <= hit_t * (1.0f + 1e-5f) + 1e-30f; }
+
+// Leaf-ordering tie-break shared by all leaf intersectors: the nearer t wins, and on equal t the
+// lower point index, so the result does not depend on the order in which leaves are visited.
+inline bool closer(float t, uint32_t prim, const Hit& hit) { return t < hit.t || (t == hit.t && prim < hit.prim); }
 
 }  // namespace pcrt

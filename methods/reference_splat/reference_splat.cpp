@@ -1,6 +1,8 @@
 // reference_splat: every point an oriented disc of its radius facing its normal; the closest disc
 // hit is the hit. Not a surveyed method: the oracle the renderer and the structures are checked
 // with, and the baseline splat surface.
+#include <cmath>
+
 #include "methods/kernels/splat_kernel.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
@@ -22,8 +24,9 @@ class ReferenceSplat final : public Method {
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const override {
     bool found = false;
     for (uint32_t i : leaf.items) {
-      const float t = intersect_splat(ray, positions_[i], splats_.normals[i], splats_.radii[i], ray.tmin, hit.t);
-      if (t < hit.t) {
+      const float t = intersect_splat(ray, positions_[i], splats_.normals[i], splats_.radii[i], ray.tmin,
+                                      std::nextafter(hit.t, kInfinity));
+      if (t != kInfinity && closer(t, i, hit)) {
         hit.t = t;
         hit.prim = i;
         found = true;

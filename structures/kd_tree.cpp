@@ -1,0 +1,160 @@
+// Spatial kd-tree (thesis section 5.4; Wald and Seidel 2005, Hubo et al. 2006, Cai et al. 2011).
+// Split: the cell's longest axis at the median of the item centres in the cell (clamped to it),
+// so depth grows like log2(N/K) and the build costs O(N log N) (nth_element per level). A node
+// stays a leaf when over 60% of its items would straddle the plane (splitting would not pay). An item is
+// referenced by every leaf its footprint box overlaps (inclusive), so no hit is lost at a plane.
+// Traversal: front to back with a stack of (node, t_enter, t_exit), as in pbrt's KdTreeAggregate.
+#include <algorithm>
+#include <array>
+
+#include "structures/structure.hpp"
+
+namespace pcrt {
+namespace {
+
+struct KdNode {
+  float split = 0;
+  uint32_t axis = 3;  // 0..2 inner, 3 leaf
+  uint32_t a = 0;     // inner: index of the right child (the left one follows the node); leaf: first ref
+  uint32_t b = 0;     // leaf: number of refs
+};
+
+class KdTree final : public Structure {
+ public:
+  explicit KdTree(const ParamValues& p)
+      : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
+
+  void build(std::span<const Vec3> positions, std::span<const float> radii, OpCounters& counters) override {
+    positions_ = positions;
+    radii_ = radii;
+    nodes_.clear();
+    refs_.clear();
+    bounds_ = items_bounds(positions, radii);
+    std::vector<uint32_t> all(positions.size());
+    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    if (!all.empty()) build_node(std::move(all), bounds_, 0);
+    nodes_.shrink_to_fit();
+    refs_.shrink_to_fit();
+    counters.add(kBuildNodes, nodes_.size());
+    counters.add(kBuildItemRefs, refs_.size());
+  }
+
+  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const override {
+    if (nodes_.empty()) return false;
+    const Vec3 inv = ray.d.cwiseInverse();
+    float tmin = 0, tmax = 0;
+    if (!bounds_.intersect(ray, inv, tmin, tmax)) return false;
+    struct Todo {
+      uint32_t node;
+      float tmin, tmax;
+    };
+    std::array<Todo, 128> stack;
+    int top = 0;
+    uint32_t node = 0;
+    bool found = false;
+    while (true) {
+      if (!may_improve(tmin, hit.t)) break;  // cells are disjoint: everything left is further
+      counters.add(kNodesVisited);
+      const KdNode& n = nodes_[node];
+      if (n.axis < 3) {
+        const int ax = int(n.axis);
+        const bool below_first = ray.o[ax] < n.split || (ray.o[ax] == n.split && ray.d[ax] <= 0);
+        const uint32_t first = below_first ? node + 1 : n.a;
+        const uint32_t second = below_first ? n.a : node + 1;
+        if (ray.d[ax] == 0) {
+          node = first;
+          continue;
+        }
+        const float tplane = (n.split - ray.o[ax]) * inv[ax];
+        if (tplane > tmax || tplane <= 0) {
+          node = first;
+        } else if (tplane < tmin) {
+          node = second;
+        } else {
+          stack[size_t(top++)] = Todo{second, tplane, tmax};
+          node = first;
+          tmax = tplane;
+        }
+        continue;
+      }
+      if (n.b > 0) {
+        counters.add(kLeavesVisited);
+        counters.add(kItemsVisited, n.b);
+        found |= leaf.intersect_leaf(ray, LeafVisit{{refs_.data() + n.a, n.b}, tmin, tmax}, hit, counters);
+      }
+      if (top == 0) break;
+      const Todo& t = stack[size_t(--top)];
+      node = t.node;
+      tmin = t.tmin;
+      tmax = t.tmax;
+    }
+    return found;
+  }
+
+  [[nodiscard]] size_t memory_bytes() const override {
+    return nodes_.capacity() * sizeof(KdNode) + refs_.capacity() * sizeof(uint32_t);
+  }
+
+ private:
+  void make_leaf(const std::vector<uint32_t>& items) {
+    nodes_.push_back(KdNode{0, 3, uint32_t(refs_.size()), uint32_t(items.size())});
+    refs_.insert(refs_.end(), items.begin(), items.end());
+  }
+
+  // Recursion depth is bounded by max_depth (at most 100, see the parameter range).
+  void build_node(std::vector<uint32_t> items, const Aabb& cell, int depth) {
+    const Vec3 ext = cell.extent();
+    int ax = 0;
+    if (ext.y() > ext[ax]) ax = 1;
+    if (ext.z() > ext[ax]) ax = 2;
+    if (items.size() <= leaf_size_ || depth >= max_depth_ || !(ext[ax] > 0)) return make_leaf(items);
+    std::vector<float> centres(items.size());
+    for (size_t i = 0; i < items.size(); ++i)
+      centres[i] = std::clamp(positions_[items[i]][ax], cell.lo[ax], cell.hi[ax]);
+    auto mid = centres.begin() + long(centres.size() / 2);
+    std::nth_element(centres.begin(), mid, centres.end());
+    float split = *mid;
+    // A median on the cell's wall would give an empty side; take the cell's middle instead.
+    if (split <= cell.lo[ax] || split >= cell.hi[ax]) split = cell.center()[ax];
+    std::vector<uint32_t> left, right;
+    for (uint32_t i : items) {
+      const Aabb b = item_box(positions_, radii_, i);
+      if (b.lo[ax] <= split) left.push_back(i);
+      if (b.hi[ax] >= split) right.push_back(i);
+    }
+    // A split must pay: if most items straddle the plane (footprints wider than the cell, or
+    // identical points) the children would only duplicate references; stop here (such leaves
+    // exceed leaf_size) rather than recurse to max_depth.
+    if (left.size() + right.size() >= items.size() + items.size() * 3 / 5 + 1) return make_leaf(items);
+    items.clear();
+    items.shrink_to_fit();
+    Aabb lcell = cell, rcell = cell;
+    lcell.hi[ax] = split;
+    rcell.lo[ax] = split;
+    const size_t me = nodes_.size();
+    nodes_.push_back(KdNode{split, uint32_t(ax), 0, 0});
+    build_node(std::move(left), lcell, depth + 1);
+    nodes_[me].a = uint32_t(nodes_.size());
+    build_node(std::move(right), rcell, depth + 1);
+  }
+
+  size_t leaf_size_;
+  int max_depth_;
+  std::span<const Vec3> positions_;
+  std::span<const float> radii_;
+  Aabb bounds_;
+  std::vector<KdNode> nodes_;
+  std::vector<uint32_t> refs_;
+};
+
+const RegisterStructure kRegister{StructureInfo{
+    "kd_tree",
+    "spatial kd-tree, median split of the longest axis, items referenced in every leaf they overlap",
+    "O(N log N)",
+    "O(log N)",
+    {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)", true},
+     {"max_depth", 40, 0, 100, "maximum depth", true}},
+    [](const ParamValues& p) { return std::make_unique<KdTree>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

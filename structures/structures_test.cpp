@@ -1,0 +1,176 @@
+// Every structure must return exactly the closest hit that brute force returns for the same leaf
+// intersector, on synthetic and real clouds and on degenerate input.
+#include <tbb/parallel_for.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+#include "core/dataset.hpp"
+#include "core/rng.hpp"
+#include "methods/method.hpp"
+#include "structures/structure.hpp"
+
+using namespace pcrt;
+
+namespace {
+
+const char* kStructures[] = {"kd_tree", "octree", "sphere_tree", "grid"};
+
+// Primary-like rays from outside aimed at cloud points, incoherent rays from inside the bounds,
+// and rays from far away aimed at random spots of the box: a third each.
+std::vector<Ray> random_rays(const PointCloud& cloud, size_t count, uint64_t seed) {
+  Rng rng(seed);
+  const Aabb b = cloud.bounds();
+  const float diag = std::max(b.diagonal(), 1e-3f);
+  auto in_box = [&](float grow) {
+    const Vec3 u(rng.uniform(), rng.uniform(), rng.uniform());
+    return Vec3(b.lo - grow * Vec3::Constant(diag) + u.cwiseProduct(b.extent() + 2 * grow * Vec3::Constant(diag)));
+  };
+  auto direction = [&] {
+    Vec3 d;
+    do d = Vec3(rng.uniform() * 2 - 1, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1);
+    while (d.squaredNorm() > 1 || d.squaredNorm() < 1e-4f);
+    return Vec3(d.normalized());
+  };
+  const Vec3 eye = b.center() + 1.5f * diag * Vec3(0.5f, -0.7f, 0.5f).normalized();
+  std::vector<Ray> rays(count);
+  for (size_t i = 0; i < count; ++i) {
+    Ray& r = rays[i];
+    switch (i % 3) {
+      case 0: {
+        r.o = eye;
+        const Vec3 target = cloud.positions[rng.below(uint32_t(cloud.size()))] + 0.01f * diag * direction();
+        r.d = (target - eye).normalized();
+        break;
+      }
+      case 1:
+        r.o = in_box(0.0f);
+        r.d = direction();
+        break;
+      default:
+        r.o = b.center() + 2.0f * diag * direction();
+        r.d = (in_box(0.1f) - r.o).normalized();
+    }
+    if (!r.d.allFinite()) r.d = Vec3::UnitZ();
+  }
+  return rays;
+}
+
+struct Traced {
+  std::vector<Hit> hits;
+  std::vector<char> found;
+  uint64_t items = 0;
+};
+
+Traced trace_all(const Structure& s, const Method& m, const std::vector<Ray>& rays) {
+  Traced out{std::vector<Hit>(rays.size()), std::vector<char>(rays.size()), 0};
+  std::vector<uint64_t> items(rays.size());
+  tbb::parallel_for(size_t(0), rays.size(), [&](size_t i) {
+    OpCounters c;
+    out.found[i] = s.closest_hit(rays[i], m, out.hits[i], c);
+    items[i] = c.get(kItemsVisited);
+  });
+  for (uint64_t v : items) out.items += v;
+  return out;
+}
+
+void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const std::string& label,
+                               bool expect_pruning = true) {
+  auto method = MethodRegistry::instance().get("reference_splat", "method").create(
+      resolve_params(MethodRegistry::instance().get("reference_splat", "method").params, {}, "test"));
+  OpCounters prep;
+  Timings t;
+  PrepareContext ctx{prep, t};
+  method->prepare(cloud, ctx);
+  const auto rays = random_rays(cloud, ray_count, 99);
+  auto make = [&](const std::string& id) {
+    const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
+    auto s = info.create(resolve_params(info.params, {}, id));
+    OpCounters c;
+    s->build(method->item_positions(), method->item_radii(), c);
+    return s;
+  };
+  const auto oracle = trace_all(*make("brute_force"), *method, rays);
+  size_t hits = 0;
+  for (char f : oracle.found) hits += size_t(f);
+  for (const char* id : kStructures) {
+    INFO(label << " on " << id << " (" << hits << " of " << rays.size() << " rays hit)");
+    const auto got = trace_all(*make(id), *method, rays);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const bool same = got.found[i] == oracle.found[i] &&
+                        (!got.found[i] || (got.hits[i].prim == oracle.hits[i].prim && got.hits[i].t == oracle.hits[i].t));
+      if (!same && mismatches++ < 3)
+        UNSCOPED_INFO("ray " << i << ": found " << int(got.found[i]) << " t " << got.hits[i].t << " prim "
+                             << got.hits[i].prim << ", brute force " << int(oracle.found[i]) << " t "
+                             << oracle.hits[i].t << " prim " << oracle.hits[i].prim);
+    }
+    REQUIRE(mismatches == 0);
+    if (expect_pruning) REQUIRE(got.items * 4 < oracle.items);  // the structure prunes
+  }
+  REQUIRE(hits > rays.size() / 10);  // the rays do exercise the surface
+}
+
+}  // namespace
+
+TEST_CASE("structures return brute force's closest hits on synthetic clouds", "[structures]") {
+  check_against_brute_force(load_dataset("sphere:n=1000,seed=3").cloud, 100000, "sphere 1e3");
+  check_against_brute_force(load_dataset("torus:n=10000,seed=4,noise=0.002").cloud, 100000, "noisy torus 1e4");
+  check_against_brute_force(load_dataset("plane:n=10000,seed=5,density=0.9").cloud, 100000, "non-uniform plane 1e4");
+  check_against_brute_force(load_dataset("bumpy_sphere:n=100000,seed=6").cloud, 100000, "bumpy sphere 1e5");
+}
+
+TEST_CASE("structures return brute force's closest hits on real scans", "[structures][data]") {
+  const std::filesystem::path dir = PCRT_DATA_DIR;
+  size_t used = 0;
+  for (const char* f : {"cgal/points_3/kitten.xyz", "cgal/points_3/building.ply", "bunny/bunny.ply"}) {
+    if (!std::filesystem::exists(dir / f)) continue;
+    check_against_brute_force(load_dataset((dir / f).string()).cloud, 30000, f);
+    ++used;
+  }
+  if (used == 0) WARN("data/ not fetched (scripts/fetch_data.sh); real scans skipped");
+}
+
+TEST_CASE("degenerate clouds build bounded structures that still agree with brute force", "[structures]") {
+  auto cloud_of = [](std::vector<Vec3> pts, float radius) {
+    PointCloud c;
+    c.name = "degenerate";
+    c.positions = std::move(pts);
+    c.normals.assign(c.positions.size(), Vec3(0, 0.6f, 0.8f));
+    c.radii.assign(c.positions.size(), radius);
+    return c;
+  };
+  std::vector<Vec3> same(100000, Vec3(0.5f, -0.25f, 2.0f));
+  check_against_brute_force(cloud_of(same, 0.01f), 300, "1e5 identical points", false);
+  std::vector<Vec3> line, plane;
+  for (int i = 0; i < 20000; ++i) line.emplace_back(float(i) * 1e-3f, 0, 0);
+  check_against_brute_force(cloud_of(line, 2e-3f), 20000, "points on a line");
+  Rng rng(1);
+  for (int i = 0; i < 20000; ++i) plane.emplace_back(rng.uniform(), rng.uniform(), 0);
+  check_against_brute_force(cloud_of(plane, 0.01f), 20000, "points on a plane");
+  check_against_brute_force(cloud_of({Vec3(1, 2, 3)}, 0.1f), 3000, "a single point", false);
+  check_against_brute_force(cloud_of({Vec3(1, 2, 3)}, 0.0f), 300, "a single point of radius 0", false);
+  std::vector<Vec3> huge, tiny;
+  for (int i = 0; i < 5000; ++i) {
+    const Vec3 u(rng.uniform(), rng.uniform(), rng.uniform());
+    huge.push_back(1e6f * Vec3::Constant(1) + 1e3f * u);
+    tiny.push_back(1e-6f * u);
+  }
+  check_against_brute_force(cloud_of(huge, 30.0f), 20000, "huge coordinates");
+  check_against_brute_force(cloud_of(tiny, 3e-8f), 20000, "tiny coordinates");
+}
+
+TEST_CASE("structure parameters and memory", "[structures]") {
+  const Dataset d = load_dataset("sphere:n=20000,seed=2");
+  std::vector<float> radii(d.cloud.size(), 0.01f);
+  for (const char* id : kStructures) {
+    const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
+    auto s = info.create(resolve_params(info.params, {}, id));
+    OpCounters c;
+    s->build(d.cloud.positions, radii, c);
+    INFO(id << ": " << s->memory_bytes() << " bytes");
+    REQUIRE(s->memory_bytes() > 0);
+    REQUIRE(s->memory_bytes() < 64 * d.cloud.size());  // indices, not copies of points
+    REQUIRE(c.get(kBuildItemRefs) >= d.cloud.size());
+  }
+}
