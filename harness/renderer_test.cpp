@@ -16,12 +16,12 @@ struct Frame {
   OpCounters prepare;
 };
 
-Frame render_with_threads(const PointCloud& cloud, int threads) {
+Frame render_with_threads(const PointCloud& cloud, int threads, const std::string& structure = "brute_force") {
   // Preparation (normals, radii) runs on TBB too: limit it the same way the CLI does.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
   OpCounters prep;
   Timings t;
-  const PointScene scene(cloud, SceneOptions{"reference_splat", "brute_force", {{"estimate_normals", 1}}}, prep, t);
+  const PointScene scene(cloud, SceneOptions{"reference_splat", structure, {{"estimate_normals", 1}}}, prep, t);
   RenderSettings s;
   s.width = 40;
   s.height = 30;
@@ -46,6 +46,21 @@ TEST_CASE("images and counters do not depend on thread count", "[renderer]") {
   REQUIRE(c.at("rays_cast") == c.at("primary_rays") + c.at("bounce_rays") + c.at("shadow_rays"));
   REQUIRE(c.at("splat_tests") == c.at("rays_cast") * 3000);
   REQUIRE(c.at("ray_hits") > 0);
+}
+
+TEST_CASE("every structure renders the same image with the same counters at 1 and 2 threads", "[renderer]") {
+  const Dataset d = load_dataset("bumpy_sphere:n=20000,seed=5");
+  const Frame reference = render_with_threads(d.cloud, 1);
+  for (const char* id : {"kd_tree", "octree", "sphere_tree", "grid"}) {
+    INFO(id);
+    const Frame one = render_with_threads(d.cloud, 1, id);
+    const Frame two = render_with_threads(d.cloud, 2, id);
+    REQUIRE(one.result.counters.to_map() == two.result.counters.to_map());
+    REQUIRE(one.result.image.pixels() == two.result.image.pixels());
+    // Exact closest hits: the image is brute force's, pixel for pixel.
+    REQUIRE(one.result.image.pixels() == reference.result.image.pixels());
+    REQUIRE(one.result.counters.get(kRayHits) == reference.result.counters.get(kRayHits));
+  }
 }
 
 TEST_CASE("a sphere renders where it should", "[renderer]") {

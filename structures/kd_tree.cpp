@@ -1,7 +1,8 @@
 // Spatial kd-tree (thesis section 5.4; Wald and Seidel 2005, Hubo et al. 2006, Cai et al. 2011).
-// Split: the cell's longest axis at the median of the item centres in the cell (clamped to it),
+// Split: the axis of widest spread of the item centres (clamped to the cell), at their median,
 // so depth grows like log2(N/K) and the build costs O(N log N) (nth_element per level). A node
-// stays a leaf when over 60% of its items would straddle the plane (splitting would not pay). An item is
+// stays a leaf when over 60% of its items would straddle the plane (splitting would not pay).
+// Empty space is cut off first: a side of the cell over 30% empty becomes an empty leaf. An item is
 // referenced by every leaf its footprint box overlaps (inclusive), so no hit is lost at a plane.
 // Traversal: front to back with a stack of (node, t_enter, t_exit), as in pbrt's KdTreeAggregate.
 #include <algorithm>
@@ -103,11 +104,19 @@ class KdTree final : public Structure {
 
   // Recursion depth is bounded by max_depth (at most 100, see the parameter range).
   void build_node(std::vector<uint32_t> items, const Aabb& cell, int depth) {
-    const Vec3 ext = cell.extent();
+    if (depth >= max_depth_) return make_leaf(items);
+    if (cut_empty_space(items, cell, depth)) return;
+    if (items.size() <= leaf_size_) return make_leaf(items);
+    // The axis along which the item centres (clamped to the cell) spread most: on a surface
+    // patch that is a tangent direction. Splitting the cell's longest axis instead would cut
+    // along the normal, through the surface, where every footprint straddles the plane.
+    Aabb spread;
+    for (uint32_t i : items) spread.extend(positions_[i].cwiseMax(cell.lo).cwiseMin(cell.hi));
+    const Vec3 ext = spread.extent();
     int ax = 0;
     if (ext.y() > ext[ax]) ax = 1;
     if (ext.z() > ext[ax]) ax = 2;
-    if (items.size() <= leaf_size_ || depth >= max_depth_ || !(ext[ax] > 0)) return make_leaf(items);
+    if (!(ext[ax] > 0)) return make_leaf(items);
     std::vector<float> centres(items.size());
     for (size_t i = 0; i < items.size(); ++i)
       centres[i] = std::clamp(positions_[items[i]][ax], cell.lo[ax], cell.hi[ax]);
@@ -136,6 +145,44 @@ class KdTree final : public Structure {
     build_node(std::move(left), lcell, depth + 1);
     nodes_[me].a = uint32_t(nodes_.size());
     build_node(std::move(right), rcell, depth + 1);
+  }
+
+  // Where the items' footprints leave over 30% of the cell empty along an axis, split there first
+  // (the empty side becomes an empty leaf). Without this, cells on a surface become needles along
+  // the normal, and an oblique ray crosses ever more of them as N grows.
+  bool cut_empty_space(std::vector<uint32_t>& items, const Aabb& cell, int depth) {
+    Aabb reach;
+    for (uint32_t i : items) reach.extend(item_box(positions_, radii_, i));
+    reach.lo = reach.lo.cwiseMax(cell.lo);
+    reach.hi = reach.hi.cwiseMin(cell.hi);
+    const Vec3 ext = cell.extent();
+    int best_axis = -1;
+    bool low_side = false;
+    float best = 0.3f;
+    for (int a = 0; a < 3; ++a) {
+      if (!(ext[a] > 0)) continue;
+      const float lo_gap = (reach.lo[a] - cell.lo[a]) / ext[a], hi_gap = (cell.hi[a] - reach.hi[a]) / ext[a];
+      if (lo_gap > best) best = lo_gap, best_axis = a, low_side = true;
+      if (hi_gap > best) best = hi_gap, best_axis = a, low_side = false;
+    }
+    if (best_axis < 0) return false;
+    const int ax = best_axis;
+    const float split = low_side ? reach.lo[ax] : reach.hi[ax];
+    Aabb lcell = cell, rcell = cell;
+    lcell.hi[ax] = split;
+    rcell.lo[ax] = split;
+    const size_t me = nodes_.size();
+    nodes_.push_back(KdNode{split, uint32_t(ax), 0, 0});
+    if (low_side) {
+      make_leaf({});
+      nodes_[me].a = uint32_t(nodes_.size());
+      build_node(std::move(items), rcell, depth + 1);
+    } else {
+      build_node(std::move(items), lcell, depth + 1);
+      nodes_[me].a = uint32_t(nodes_.size());
+      make_leaf({});
+    }
+    return true;
   }
 
   size_t leaf_size_;

@@ -1,7 +1,7 @@
 // Octree (thesis section 5.4, figure 1.3; Schaufler and Jensen 2000 and most splat methods):
 // the bounding cube of all footprints split regularly into eight equal children until a node
 // holds at most leaf_size items, reaches max_depth, or splitting stops paying (footprints wider
-// than the cells: the fullest child keeps 3/4 of the items; such leaves exceed leaf_size). An item is referenced by every child its
+// than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size). An item is referenced by every child its
 // footprint box overlaps. Traversal: depth first, the children a ray crosses sorted by entry
 // distance, so leaves come front to back (cells are disjoint).
 #include <algorithm>
@@ -29,9 +29,12 @@ class Octree final : public Structure {
     nodes_.assign(1, OctNode{});
     refs_.clear();
     const Aabb b = items_bounds(positions, radii);
-    // The cube around the bounds (a zero-size cube for one point: it stays a single leaf).
-    const float side = b.empty() ? 0.0f : b.extent().maxCoeff();
-    root_lo_ = b.empty() ? Vec3::Zero() : Vec3(b.center() - Vec3::Constant(0.5f * side));
+    // A cube around the bounds, a little larger and not centred on them, so that the mid-planes
+    // of the first levels do not fall exactly on the symmetry planes of symmetric data (a line or
+    // plane through the centre would straddle them at every level). A single point keeps a
+    // zero-size cube and stays one leaf.
+    const float side = b.empty() ? 0.0f : 1.0137f * b.extent().maxCoeff();
+    root_lo_ = b.empty() ? Vec3::Zero() : Vec3(b.lo - Vec3::Constant(0.0049f * side));
     root_side_ = side;
     std::vector<uint32_t> all(positions.size());
     for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
@@ -109,13 +112,14 @@ class Octree final : public Structure {
         if (in) kids[c].push_back(i);
       }
     }
-    // A split must pay: once footprints are wider than the cells, every child holds most of the
-    // items and each level only multiplies the references (identical points, or a dense plane of
-    // wide splats, would recurse to max_depth). Stop when the fullest child keeps 3/4 of the items
-    // or the children would hold 6x the references.
+    // A split must pay: once footprints are wider than the cells, each item lands in several
+    // children and the fullest child keeps most of them, so every further level only multiplies
+    // references (identical points, or a dense plane of wide splats, would recurse to max_depth).
+    // Stop when both hold: 3 references per item and over half of the items in one child. (All
+    // items in one child alone is progress: the rest of the cell was empty.)
     size_t refs = 0, fullest = 0;
     for (const auto& k : kids) refs += k.size(), fullest = std::max(fullest, k.size());
-    if (4 * fullest >= 3 * items.size() || refs >= 6 * items.size()) return make_leaf(node, items);
+    if (refs >= 3 * items.size() && 2 * fullest > items.size()) return make_leaf(node, items);
     items.clear();
     items.shrink_to_fit();
     const auto first = uint32_t(nodes_.size());

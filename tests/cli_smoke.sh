@@ -31,12 +31,36 @@ assert [r["hit"] for r in rows] == ["1", "0", "1"], rows
 assert abs(float(rows[0]["t"]) - 4) < 0.01 and abs(float(rows[2]["t"]) - 4) < 0.01, rows
 assert abs(float(rows[0]["nz"]) - 1) < 0.01
 PY
+# Every structure writes exactly brute force's HITS.csv (same leaf intersector).
+python3 - "$dir/many.csv" <<'PY'
+import random, sys, math
+random.seed(3)
+with open(sys.argv[1], "w") as f:
+    f.write("ox,oy,oz,dx,dy,dz\n")
+    for i in range(3000):
+        o = [random.uniform(-2, 2) for _ in range(3)]
+        d = [random.gauss(0, 1) for _ in range(3)]
+        if i % 2 == 0:  # aimed at the torus from outside
+            o = [3 * math.cos(i), 3 * math.sin(i), random.uniform(-1, 1)]
+            t = [random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-0.3, 0.3)]
+            d = [t[k] - o[k] for k in range(3)]
+        f.write(",".join("%.6f" % v for v in o + d) + "\n")
+PY
+"$pcrt" trace --method reference_splat --structure brute_force --data torus:n=20000,seed=2 --rays "$dir/many.csv" --out "$dir/bf.csv" >/dev/null
+for s in kd_tree octree sphere_tree grid; do  # structure parameters go through --set too
+  "$pcrt" trace --method reference_splat --structure $s --data torus:n=20000,seed=2 --rays "$dir/many.csv" \
+    --out "$dir/$s.csv" --stats "$dir/$s.json" >/dev/null
+  cmp "$dir/bf.csv" "$dir/$s.csv" || { echo "FAIL: $s differs from brute_force"; exit 1; }
+done
+test "$(grep -c ',1,' "$dir/bf.csv")" -gt 500
 "$pcrt" list --json | python3 -c '
 import json, sys
 j = json.load(sys.stdin)
 m = {x["id"]: x for x in j["methods"]}
 assert {"id", "paper", "structure", "needs", "parameters", "claims"} <= set(m["reference_splat"])
-assert "brute_force" in [s["id"] for s in j["structures"]]
+s = {x["id"]: x for x in j["structures"]}
+assert {"brute_force", "kd_tree", "octree", "sphere_tree", "grid"} <= set(s), s.keys()
+assert [p["name"] for p in s["kd_tree"]["parameters"]] == ["leaf_size", "max_depth"]
 '
 "$pcrt" convert torus:n=100 --out "$dir/t.ply" >/dev/null
 test "$("$pcrt" info "$dir/t.ply" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["points"])')" = 100
