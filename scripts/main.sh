@@ -7,12 +7,12 @@ bash scripts/setup.sh build
 bash scripts/fetch_data.sh
 mkdir -p out
 pcrt=build/bin/pcrt
-# Until the acceleration structures land every ray tests every point (the O(N) oracle), so the
-# demo clouds are kept small.
-$pcrt render --method reference_splat --data torus:n=10000,seed=1 --out out/torus.png \
-  --width 320 --height 320 --spp 2 --bounces 1 --stats out/torus.json --depth out/torus_depth.png
-$pcrt render --method reference_splat --data data/bunny/bunny.ply --out out/bunny.png \
-  --width 320 --height 320 --spp 2 --bounces 1 --stats out/bunny.json --normals out/bunny_normals.png \
-  --view 0.3,0.4,1 --up 0,1,0
+$pcrt render --method reference_splat --structure kd_tree --data bumpy_sphere:n=1000000,seed=1 \
+  --out out/bumpy_sphere.png --width 512 --height 512 --spp 2 --bounces 1 --stats out/bumpy_sphere.json \
+  --depth out/bumpy_sphere_depth.png
+$pcrt render --method reference_splat --structure octree --data torus:n=100000,seed=1 --out out/torus.png \
+  --width 512 --height 512 --spp 2 --bounces 1 --stats out/torus.json --normals out/torus_normals.png
+$pcrt render --method reference_splat --structure sphere_tree --data data/bunny/bunny.ply --out out/bunny.png \
+  --width 512 --height 512 --spp 2 --bounces 1 --stats out/bunny.json --view 0.3,0.4,1 --up 0,1,0
 $pcrt info data/bunny/bunny.ply
 echo "images and statistics in out/"

@@ -6,6 +6,8 @@
 // referenced by every leaf its footprint box overlaps (inclusive), so no hit is lost at a plane.
 // Traversal: front to back with a stack of (node, t_enter, t_exit), as in pbrt's KdTreeAggregate.
 #include <algorithm>
+#include <tbb/parallel_invoke.h>
+
 #include <array>
 
 #include "structures/structure.hpp"
@@ -20,6 +22,25 @@ struct KdNode {
   uint32_t b = 0;     // leaf: number of refs
 };
 
+// Nodes and references of a subtree, indices relative to its own arrays. Large subtrees are built
+// in parallel into their own Subtree and spliced in order, so the layout (and every count) is the
+// same for any number of threads.
+struct Subtree {
+  std::vector<KdNode> nodes;
+  std::vector<uint32_t> refs;
+
+  void append(const Subtree& sub) {
+    const auto node_base = uint32_t(nodes.size()), ref_base = uint32_t(refs.size());
+    for (KdNode n : sub.nodes) {
+      n.a += n.axis == 3 ? ref_base : node_base;
+      nodes.push_back(n);
+    }
+    refs.insert(refs.end(), sub.refs.begin(), sub.refs.end());
+  }
+};
+
+constexpr size_t kParallelBuildItems = 50000;
+
 class KdTree final : public Structure {
  public:
   explicit KdTree(const ParamValues& p)
@@ -28,12 +49,13 @@ class KdTree final : public Structure {
   void build(std::span<const Vec3> positions, std::span<const float> radii, OpCounters& counters) override {
     positions_ = positions;
     radii_ = radii;
-    nodes_.clear();
-    refs_.clear();
     bounds_ = items_bounds(positions, radii);
     std::vector<uint32_t> all(positions.size());
     for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-    if (!all.empty()) build_node(std::move(all), bounds_, 0);
+    Subtree tree;
+    if (!all.empty()) build_node(tree, std::move(all), bounds_, 0);
+    nodes_ = std::move(tree.nodes);
+    refs_ = std::move(tree.refs);
     nodes_.shrink_to_fit();
     refs_.shrink_to_fit();
     counters.add(kBuildNodes, nodes_.size());
@@ -97,16 +119,16 @@ class KdTree final : public Structure {
   }
 
  private:
-  void make_leaf(const std::vector<uint32_t>& items) {
-    nodes_.push_back(KdNode{0, 3, uint32_t(refs_.size()), uint32_t(items.size())});
-    refs_.insert(refs_.end(), items.begin(), items.end());
+  static void make_leaf(Subtree& out, const std::vector<uint32_t>& items) {
+    out.nodes.push_back(KdNode{0, 3, uint32_t(out.refs.size()), uint32_t(items.size())});
+    out.refs.insert(out.refs.end(), items.begin(), items.end());
   }
 
   // Recursion depth is bounded by max_depth (at most 100, see the parameter range).
-  void build_node(std::vector<uint32_t> items, const Aabb& cell, int depth) {
-    if (depth >= max_depth_) return make_leaf(items);
-    if (cut_empty_space(items, cell, depth)) return;
-    if (items.size() <= leaf_size_) return make_leaf(items);
+  void build_node(Subtree& out, std::vector<uint32_t> items, const Aabb& cell, int depth) const {
+    if (depth >= max_depth_) return make_leaf(out, items);
+    if (cut_empty_space(out, items, cell, depth)) return;
+    if (items.size() <= leaf_size_) return make_leaf(out, items);
     // The axis along which the item centres (clamped to the cell) spread most: on a surface
     // patch that is a tangent direction. Splitting the cell's longest axis instead would cut
     // along the normal, through the surface, where every footprint straddles the plane.
@@ -116,16 +138,16 @@ class KdTree final : public Structure {
     int ax = 0;
     if (ext.y() > ext[ax]) ax = 1;
     if (ext.z() > ext[ax]) ax = 2;
-    if (!(ext[ax] > 0)) return make_leaf(items);
-    std::vector<float> centres(items.size());
-    for (size_t i = 0; i < items.size(); ++i)
-      centres[i] = std::clamp(positions_[items[i]][ax], cell.lo[ax], cell.hi[ax]);
-    auto mid = centres.begin() + long(centres.size() / 2);
-    std::nth_element(centres.begin(), mid, centres.end());
-    float split = *mid;
+    if (!(ext[ax] > 0)) return make_leaf(out, items);
+    auto key = [&](uint32_t i) { return std::clamp(positions_[i][ax], cell.lo[ax], cell.hi[ax]); };
+    auto mid = items.begin() + long(items.size() / 2);
+    std::nth_element(items.begin(), mid, items.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+    float split = key(*mid);
     // A median on the cell's wall would give an empty side; take the cell's middle instead.
     if (split <= cell.lo[ax] || split >= cell.hi[ax]) split = cell.center()[ax];
     std::vector<uint32_t> left, right;
+    left.reserve(items.size() * 3 / 4);
+    right.reserve(items.size() * 3 / 4);
     for (uint32_t i : items) {
       const Aabb b = item_box(positions_, radii_, i);
       if (b.lo[ax] <= split) left.push_back(i);
@@ -134,23 +156,32 @@ class KdTree final : public Structure {
     // A split must pay: if most items straddle the plane (footprints wider than the cell, or
     // identical points) the children would only duplicate references; stop here (such leaves
     // exceed leaf_size) rather than recurse to max_depth.
-    if (left.size() + right.size() >= items.size() + items.size() * 3 / 5 + 1) return make_leaf(items);
+    if (left.size() + right.size() >= items.size() + items.size() * 3 / 5 + 1) return make_leaf(out, items);
     items.clear();
     items.shrink_to_fit();
     Aabb lcell = cell, rcell = cell;
     lcell.hi[ax] = split;
     rcell.lo[ax] = split;
-    const size_t me = nodes_.size();
-    nodes_.push_back(KdNode{split, uint32_t(ax), 0, 0});
-    build_node(std::move(left), lcell, depth + 1);
-    nodes_[me].a = uint32_t(nodes_.size());
-    build_node(std::move(right), rcell, depth + 1);
+    const size_t me = out.nodes.size();
+    out.nodes.push_back(KdNode{split, uint32_t(ax), 0, 0});
+    if (left.size() + right.size() < kParallelBuildItems) {
+      build_node(out, std::move(left), lcell, depth + 1);
+      out.nodes[me].a = uint32_t(out.nodes.size());
+      build_node(out, std::move(right), rcell, depth + 1);
+      return;
+    }
+    Subtree lsub, rsub;
+    tbb::parallel_invoke([&] { build_node(lsub, std::move(left), lcell, depth + 1); },
+                         [&] { build_node(rsub, std::move(right), rcell, depth + 1); });
+    out.append(lsub);
+    out.nodes[me].a = uint32_t(out.nodes.size());
+    out.append(rsub);
   }
 
   // Where the items' footprints leave over 30% of the cell empty along an axis, split there first
   // (the empty side becomes an empty leaf). Without this, cells on a surface become needles along
   // the normal, and an oblique ray crosses ever more of them as N grows.
-  bool cut_empty_space(std::vector<uint32_t>& items, const Aabb& cell, int depth) {
+  bool cut_empty_space(Subtree& out, std::vector<uint32_t>& items, const Aabb& cell, int depth) const {
     Aabb reach;
     for (uint32_t i : items) reach.extend(item_box(positions_, radii_, i));
     reach.lo = reach.lo.cwiseMax(cell.lo);
@@ -171,16 +202,16 @@ class KdTree final : public Structure {
     Aabb lcell = cell, rcell = cell;
     lcell.hi[ax] = split;
     rcell.lo[ax] = split;
-    const size_t me = nodes_.size();
-    nodes_.push_back(KdNode{split, uint32_t(ax), 0, 0});
+    const size_t me = out.nodes.size();
+    out.nodes.push_back(KdNode{split, uint32_t(ax), 0, 0});
     if (low_side) {
-      make_leaf({});
-      nodes_[me].a = uint32_t(nodes_.size());
-      build_node(std::move(items), rcell, depth + 1);
+      make_leaf(out, {});
+      out.nodes[me].a = uint32_t(out.nodes.size());
+      build_node(out, std::move(items), rcell, depth + 1);
     } else {
-      build_node(std::move(items), lcell, depth + 1);
-      nodes_[me].a = uint32_t(nodes_.size());
-      make_leaf({});
+      build_node(out, std::move(items), lcell, depth + 1);
+      out.nodes[me].a = uint32_t(out.nodes.size());
+      make_leaf(out, {});
     }
     return true;
   }
