@@ -2,9 +2,11 @@
 
 #include <tbb/combinable.h>
 #include <tbb/global_control.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -15,6 +17,7 @@
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/text_scanner.hpp"
+#include "harness/accuracy.hpp"
 #include "harness/cli_args.hpp"
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
@@ -89,7 +92,7 @@ Vec3 parse_vector(const std::string& text, const std::string& what) {
 }
 
 json scene_json(const PointScene& scene, const PointCloud& cloud, const std::string& data) {
-  json params = {{"method", scene.method_info().id}, {"structure", scene.structure_info().id},
+  json params = {{"method", scene.method_info().id}, {"structure", scene.structure_id()},
                  {"dataset", data}, {"N", cloud.size()}};
   for (const auto& [k, v] : scene.method_params()) params["method_params"][k] = v;
   for (const auto& [k, v] : scene.structure_params()) params["structure_params"][k] = v;
@@ -185,7 +188,7 @@ int command_render(const Args& args) {
                       {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0}};
   if (a.has("stats")) write_json(a.get("stats"), stats);
   std::printf("%s: %s on %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), scene.method_info().id.c_str(),
-              scene.structure_info().id.c_str(), d.cloud.size(), rs.width, rs.height, rs.spp, rs.bounces);
+              scene.structure_id().c_str(), d.cloud.size(), rs.width, rs.height, rs.spp, rs.bounces);
   std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"], timings["build"],
               r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
   for (const auto& [name, value] : r.counters.to_map()) std::printf("  %-28s %llu\n", name.c_str(), (unsigned long long)value);
@@ -273,7 +276,150 @@ int command_trace(const Args& args) {
   size_t n_hit = 0;
   for (char f : found) n_hit += size_t(f);
   std::printf("%s: %zu rays, %zu hits (%s on %s, %zu points)\n", out.c_str(), rays.size(), n_hit,
-              scene.method_info().id.c_str(), scene.structure_info().id.c_str(), d.cloud.size());
+              scene.method_info().id.c_str(), scene.structure_id().c_str(), d.cloud.size());
+  return 0;
+}
+
+int command_accuracy(const Args& args) {
+  auto opts = scene_options();
+  opts.insert(opts.end(), {{"rays", "N", "number of rays (default 20000)"},
+                           {"seed", "N", "ray seed (default 1)"},
+                           {"json", "", "print JSON"}});
+  CliArgs a("accuracy", "pcrt accuracy --method ID --data GENERATOR_SPEC [--structure ID] [--rays N] [--json]", opts, 0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const SceneOptions so = scene_options_from(a);
+  const auto n_rays = size_t(a.integer("rays", 20000, 1, 100000000));
+  const auto seed = uint64_t(a.integer("seed", 1, 0, 1ll << 62));
+  const std::string data = a.require("data");
+  const Dataset d = load_dataset(data);
+  if (!d.truth) input_error("pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface", data);
+  Timings timings;
+  OpCounters prep, counters;
+  const PointScene scene(d.cloud, so, prep, timings);
+  const KnnIndex knn(d.cloud.positions);
+  const double h = mean_spacing(d.cloud.positions, knn, prep);
+  const auto rays = accuracy_rays(*d.truth, h, n_rays, seed);
+  AccuracyReport r;
+  {
+    ScopedTimer t(timings, "trace");
+    r = evaluate_accuracy(scene, *d.truth, h, rays, counters);
+  }
+  const bool ok = AccuracyBounds{}.met_by(r);
+  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  const json j = {{"method", scene.method_info().id}, {"structure", scene.structure_id()}, {"dataset", data},
+                  {"N", d.cloud.size()}, {"mean_spacing", h}, {"rays", r.rays}, {"judged_hits", r.judged_hits},
+                  {"judged_misses", r.judged_misses}, {"holes", r.holes}, {"false_hits", r.false_hits},
+                  {"hole_rate", r.hole_rate}, {"false_hit_rate", r.false_hit_rate},
+                  {"distance_median_h", num(r.distance_median_h)}, {"distance_p95_h", num(r.distance_p95_h)},
+                  {"normal_median_deg", num(r.normal_median_deg)}, {"normal_p95_deg", num(r.normal_p95_deg)},
+                  {"meets_bounds", ok}, {"counters", counters_json(counters)}, {"timings", timings}};
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("%s on %s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", scene.method_info().id.c_str(),
+                scene.structure_id().c_str(), data.c_str(), h, r.judged_hits, r.judged_misses);
+    std::printf("  holes %.3f%%  false hits %.3f%%  distance median %.4f h, p95 %.4f h  normal median %.3f deg  -> %s\n",
+                100 * r.hole_rate, 100 * r.false_hit_rate, r.distance_median_h, r.distance_p95_h, r.normal_median_deg,
+                ok ? "meets the bounds" : "MISSES the bounds");
+  }
+  return 0;
+}
+
+namespace {
+
+// Median closest-hit throughput over `reps` passes (after one warm-up) of the same rays.
+struct Throughput {
+  double mrays_per_s = 0;
+  size_t hits = 0;
+};
+Throughput measure_throughput(const SceneIntersector& scene, const std::vector<Ray>& rays, int reps) {
+  std::vector<double> rates;
+  size_t hits = 0;
+  for (int r = 0; r <= reps; ++r) {
+    std::vector<char> found(rays.size());
+    tbb::combinable<OpCounters> per_thread;
+    const auto start = std::chrono::steady_clock::now();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& br) {
+      OpCounters& c = per_thread.local();
+      for (size_t i = br.begin(); i != br.end(); ++i) {
+        Hit h;
+        found[i] = scene.closest_hit(rays[i], h, c);
+      }
+    });
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (r > 0) rates.push_back(double(rays.size()) / s / 1e6);
+    hits = size_t(std::count(found.begin(), found.end(), 1));
+  }
+  std::sort(rates.begin(), rates.end());
+  return {rates[rates.size() / 2], hits};
+}
+
+}  // namespace
+
+int command_anchor(const Args& args) {
+  CliArgs a("anchor", "pcrt anchor --data DATA [--width W --height H --threads T --reps R] [--json]",
+            {{"data", "DATA", "point cloud file or generator spec"},
+             {"width", "W", "image width (default 512)"},
+             {"height", "H", "image height (default 512)"},
+             {"reps", "R", "timed passes after one warm-up; the median is reported (default 5)"},
+             {"threads", "N", "worker threads (default: all cores)"},
+             {"json", "", "print JSON"}},
+            0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const int w = int(a.integer("width", 512, 1, 16384)), hgt = int(a.integer("height", 512, 1, 16384));
+  const int reps = int(a.integer("reps", 5, 1, 1000));
+  const std::string data = a.require("data");
+  const Dataset d = load_dataset(data);
+  const Camera cam = Camera::framing(d.cloud.bounds(), w, hgt);
+  std::vector<Ray> rays;
+  rays.reserve(size_t(w) * size_t(hgt));
+  for (int y = 0; y < hgt; ++y)
+    for (int x = 0; x < w; ++x) rays.push_back(cam.ray(float(x) + 0.5f, float(y) + 0.5f));
+  // Our splat candidates: every splat method on every structure it can use (not brute force).
+  json ours = json::array();
+  json best;
+  for (const MethodInfo& m : MethodRegistry::instance().all()) {
+    if (!m.own_structure.empty() || std::find(m.needs.begin(), m.needs.end(), "point radii") == m.needs.end()) continue;
+    for (const StructureInfo& s : StructureRegistry::instance().all()) {
+      if (s.id == "brute_force") continue;
+      Timings t;
+      OpCounters prep;
+      const PointScene scene(d.cloud, SceneOptions{m.id, s.id, {}}, prep, t);
+      const Throughput th = measure_throughput(scene, rays, reps);
+      json e = {{"method", m.id}, {"structure", s.id}, {"mrays_per_s", th.mrays_per_s}, {"hits", th.hits}};
+      ours.push_back(e);
+      if (best.is_null() || th.mrays_per_s > best["mrays_per_s"].get<double>()) best = e;
+    }
+  }
+  // Embree with the cloud as given, and with the Morton-ordered points our methods build.
+  auto run_embree = [&](double morton) {
+    Timings t;
+    OpCounters prep;
+    const PointScene embree(d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", morton}}}, prep, t);
+    return measure_throughput(embree, rays, reps);
+  };
+  const Throughput e = run_embree(0), em = run_embree(1);
+  const double mine = best["mrays_per_s"].get<double>();
+  const double ratio = e.mrays_per_s > 0 ? mine / e.mrays_per_s : 0;
+  const double ratio_m = em.mrays_per_s > 0 ? mine / em.mrays_per_s : 0;
+  const json j = {{"dataset", data}, {"N", d.cloud.size()}, {"rays", rays.size()}, {"ours", best},
+                  {"embree", {{"method", "embree_oriented_disc"}, {"mrays_per_s", e.mrays_per_s}, {"hits", e.hits}}},
+                  {"ratio", ratio},
+                  {"embree_morton_order", {{"mrays_per_s", em.mrays_per_s}, {"hits", em.hits}}},
+                  {"ratio_vs_embree_morton_order", ratio_m}, {"candidates", ours}};
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    for (const auto& c : ours)
+      std::printf("  %-22s %-12s %8.2f Mrays/s\n", c["method"].get<std::string>().c_str(),
+                  c["structure"].get<std::string>().c_str(), c["mrays_per_s"].get<double>());
+    std::printf("  %-22s %-12s %8.2f Mrays/s (cloud order)\n  %-22s %-12s %8.2f Mrays/s (Morton order)\n"
+                "ours / embree = %.3f (cloud order), %.3f (Morton order)\n",
+                "embree_oriented_disc", "embree_bvh", e.mrays_per_s, "embree_oriented_disc", "embree_bvh",
+                em.mrays_per_s, ratio, ratio_m);
+  }
   return 0;
 }
 
@@ -287,8 +433,9 @@ int command_list(const Args& args) {
       claims.push_back({{"quantity", c.quantity}, {"complexity", c.complexity}, {"variables", c.variables},
                         {"source", c.source}});
     methods.push_back({{"id", m.id}, {"paper", m.paper}, {"thesis_ref", m.thesis_ref}, {"description", m.description},
-                       {"structure", m.structure}, {"needs", m.needs}, {"parameters", params_json(m.params)},
-                       {"claims", claims}});
+                       {"structure", m.own_structure.empty() ? m.structure : m.own_structure},
+                       {"own_structure", !m.own_structure.empty()}, {"needs", m.needs},
+                       {"parameters", params_json(m.params)}, {"claims", claims}});
   }
   for (const StructureInfo& s : StructureRegistry::instance().all())
     structures.push_back({{"id", s.id}, {"description", s.description}, {"build_claim", s.build_claim},

@@ -13,5 +13,7 @@ int command_render(const Args& args);
 int command_trace(const Args& args);
 int command_list(const Args& args);
 int command_convert(const Args& args);
+int command_accuracy(const Args& args);
+int command_anchor(const Args& args);
 
 }  // namespace pcrt

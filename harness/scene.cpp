@@ -7,8 +7,18 @@ namespace pcrt {
 PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters,
                        Timings& timings) {
   method_info_ = &MethodRegistry::instance().get(options.method, "method");
-  structure_info_ = &StructureRegistry::instance().get(
-      options.structure.empty() ? method_info_->structure : options.structure, "structure");
+  static const StructureInfo kOwn{"", "", "", "", {}, nullptr};
+  if (!method_info_->own_structure.empty()) {
+    if (!options.structure.empty() && options.structure != method_info_->own_structure)
+      input_error("method {} traces through its own {}; --structure {} does not apply", method_info_->id,
+                  method_info_->own_structure, options.structure);
+    structure_id_ = method_info_->own_structure;
+  } else {
+    structure_info_ = &StructureRegistry::instance().get(
+        options.structure.empty() ? method_info_->structure : options.structure, "structure");
+    structure_id_ = structure_info_->id;
+  }
+  const StructureInfo& sinfo = structure_info_ ? *structure_info_ : kOwn;
   ParamValues for_method, for_structure;
   for (const auto& [name, value] : options.set) {
     auto names = [&](const std::vector<ParamSpec>& specs) {
@@ -17,17 +27,17 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
       return false;
     };
     if (names(method_info_->params)) for_method[name] = value;
-    else if (names(structure_info_->params)) for_structure[name] = value;
+    else if (names(sinfo.params)) for_structure[name] = value;
     else {
       std::string known;
       for (const auto& s : method_info_->params) known += (known.empty() ? "" : ", ") + s.name;
-      for (const auto& s : structure_info_->params) known += (known.empty() ? "" : ", ") + s.name;
+      for (const auto& s : sinfo.params) known += (known.empty() ? "" : ", ") + s.name;
       input_error("--set {}: not a parameter of method '{}' or structure '{}' (known: {})", name, method_info_->id,
-                  structure_info_->id, known.empty() ? "none" : known);
+                  structure_id_, known.empty() ? "none" : known);
     }
   }
   method_params_ = resolve_params(method_info_->params, for_method, "method " + method_info_->id);
-  structure_params_ = resolve_params(structure_info_->params, for_structure, "structure " + structure_info_->id);
+  structure_params_ = resolve_params(sinfo.params, for_structure, "structure " + structure_id_);
 
   method_ = method_info_->create(method_params_);
   {
@@ -35,14 +45,16 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
     ScopedTimer t(timings, "prepare");
     method_->prepare(cloud, ctx);
   }
+  if (!structure_info_) return;  // the method built its own acceleration while preparing
   structure_ = structure_info_->create(structure_params_);
   ScopedTimer t(timings, "build");
-  structure_->build(method_->item_positions(), method_->item_radii(), counters);
+  structure_->build(method_->items(), counters);
 }
 
 bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const {
   counters.add(kRaysCast);
-  const bool found = structure_->closest_hit(ray, *method_, hit, counters);
+  const bool found =
+      structure_ ? structure_->closest_hit(ray, *method_, hit, counters) : method_->own_closest_hit(ray, hit, counters);
   if (found) counters.add(kRayHits);
   return found;
 }

@@ -33,14 +33,16 @@ class PointScene final : public SceneIntersector {
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
 
   [[nodiscard]] const MethodInfo& method_info() const { return *method_info_; }
-  [[nodiscard]] const StructureInfo& structure_info() const { return *structure_info_; }
+  // The structure's id, or the method's own acceleration (e.g. "embree_bvh").
+  [[nodiscard]] const std::string& structure_id() const { return structure_id_; }
   [[nodiscard]] const ParamValues& method_params() const { return method_params_; }
   [[nodiscard]] const ParamValues& structure_params() const { return structure_params_; }
-  [[nodiscard]] size_t structure_bytes() const { return structure_->memory_bytes(); }
+  [[nodiscard]] size_t structure_bytes() const { return structure_ ? structure_->memory_bytes() : 0; }
 
  private:
   const MethodInfo* method_info_;
-  const StructureInfo* structure_info_;
+  const StructureInfo* structure_info_ = nullptr;  // null when the method traces on its own
+  std::string structure_id_;
   ParamValues method_params_, structure_params_;
   std::unique_ptr<Method> method_;
   std::unique_ptr<Structure> structure_;

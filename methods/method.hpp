@@ -27,9 +27,11 @@ class Method : public LeafIntersector {
   // Computes the method's preconditions (normals, radii, splats, ...) from the cloud, which must
   // outlive the method. Counts into ctx.counters and times into ctx.timings.
   virtual void prepare(const PointCloud& cloud, PrepareContext& ctx) = 0;
-  // What the structure indexes: one position and bounding radius per item.
-  [[nodiscard]] virtual std::span<const Vec3> item_positions() const = 0;
-  [[nodiscard]] virtual std::span<const float> item_radii() const = 0;
+  // What the structure indexes: a position, bounding radius and (optionally) box per item.
+  [[nodiscard]] virtual ItemSet items() const = 0;
+  // For methods that trace whole rays through an acceleration of their own (MethodInfo::
+  // own_structure, e.g. Embree's BVH): the closest hit, in place of structure + leaf.
+  virtual bool own_closest_hit(const Ray& /*ray*/, Hit& /*hit*/, OpCounters& /*counters*/) const { return false; }
 };
 
 // A complexity claim of the thesis about one method.
@@ -50,6 +52,7 @@ struct MethodInfo {
   std::vector<ParamSpec> params;
   std::vector<MethodClaim> claims;
   std::function<std::unique_ptr<Method>(const ParamValues&)> create;
+  std::string own_structure = {};  // non-empty: traces whole rays itself (own_closest_hit); --structure does not apply
 };
 
 using MethodRegistry = Registry<MethodInfo>;

@@ -9,8 +9,8 @@ namespace {
 
 class BruteForce final : public Structure {
  public:
-  void build(std::span<const Vec3> positions, std::span<const float>, OpCounters&) override {
-    items_.resize(positions.size());
+  void build(const ItemSet& set, OpCounters&) override {
+    items_.resize(set.size());
     std::iota(items_.begin(), items_.end(), 0u);
   }
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf_intersector, Hit& hit,

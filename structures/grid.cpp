@@ -20,32 +20,31 @@ class Grid final : public Structure {
   explicit Grid(const ParamValues& p)
       : per_cell_(p.at("points_per_cell")), max_cells_(p.at("max_cells")), max_refs_(p.at("max_refs_per_point")) {}
 
-  void build(std::span<const Vec3> positions, std::span<const float> radii, OpCounters& counters) override {
-    positions_ = positions;
-    radii_ = radii;
-    bounds_ = items_bounds(positions, radii);
-    choose_resolution(double(positions.size()));
+  void build(const ItemSet& set, OpCounters& counters) override {
+    items_ = set;
+    bounds_ = items_.bounds();
+    choose_resolution(double(items_.size()));
     // Footprints much larger than a cell (identical points, huge radii) would be referenced by
     // very many cells: coarsen until the references stay within max_refs_per_point * N.
-    while (count_refs() > max_refs_ * double(std::max<size_t>(positions.size(), 1)) &&
+    while (count_refs() > max_refs_ * double(std::max<size_t>(items_.size(), 1)) &&
            res_[0] * res_[1] * res_[2] > 1)
       coarsen();
     const size_t cells = size_t(res_[0]) * res_[1] * res_[2];
     start_.assign(cells + 1, 0);
     // Pass 1: count references per cell; pass 2: fill.
-    for (uint32_t i = 0; i < positions.size(); ++i)
+    for (uint32_t i = 0; i < items_.size(); ++i)
       for_cells_of(i, [&](size_t c) { ++start_[c + 1]; });
     for (size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
     refs_.assign(start_[cells], 0);
     std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (uint32_t i = 0; i < positions.size(); ++i)
+    for (uint32_t i = 0; i < items_.size(); ++i)
       for_cells_of(i, [&](size_t c) { refs_[fill[c]++] = i; });
     counters.add(kBuildNodes, cells);
     counters.add(kBuildItemRefs, refs_.size());
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const override {
-    if (positions_.empty()) return false;
+    if ((items_.size() == 0)) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     float t0 = 0, t1 = 0;
     if (!bounds_.intersect(ray, inv, t0, t1)) return false;
@@ -129,7 +128,7 @@ class Grid final : public Structure {
   // References the current resolution would store, without storing them: O(N).
   [[nodiscard]] double count_refs() const {
     double total = 0;
-    for (uint32_t i = 0; i < positions_.size(); ++i) {
+    for (uint32_t i = 0; i < items_.size(); ++i) {
       int lo[3], hi[3];
       cell_range(i, lo, hi);
       total += double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
@@ -146,7 +145,7 @@ class Grid final : public Structure {
   }
 
   void cell_range(uint32_t i, int lo[3], int hi[3]) const {
-    const Aabb b = item_box(positions_, radii_, i);
+    const Aabb b = items_.box(i);
     for (int a = 0; a < 3; ++a) {
       lo[a] = std::clamp(int(std::floor((b.lo[a] - bounds_.lo[a]) / size_[a])), 0, res_[a] - 1);
       hi[a] = std::clamp(int(std::floor((b.hi[a] - bounds_.lo[a]) / size_[a])), 0, res_[a] - 1);
@@ -163,8 +162,7 @@ class Grid final : public Structure {
   }
 
   double per_cell_, max_cells_, max_refs_;
-  std::span<const Vec3> positions_;
-  std::span<const float> radii_;
+  ItemSet items_;
   Aabb bounds_;
   int res_[3] = {1, 1, 1};
   float size_[3] = {1, 1, 1};

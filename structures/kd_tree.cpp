@@ -46,11 +46,10 @@ class KdTree final : public Structure {
   explicit KdTree(const ParamValues& p)
       : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
 
-  void build(std::span<const Vec3> positions, std::span<const float> radii, OpCounters& counters) override {
-    positions_ = positions;
-    radii_ = radii;
-    bounds_ = items_bounds(positions, radii);
-    std::vector<uint32_t> all(positions.size());
+  void build(const ItemSet& set, OpCounters& counters) override {
+    items_ = set;
+    bounds_ = items_.bounds();
+    std::vector<uint32_t> all(items_.size());
     for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
     Subtree tree;
     if (!all.empty()) build_node(tree, std::move(all), bounds_, 0);
@@ -133,13 +132,13 @@ class KdTree final : public Structure {
     // patch that is a tangent direction. Splitting the cell's longest axis instead would cut
     // along the normal, through the surface, where every footprint straddles the plane.
     Aabb spread;
-    for (uint32_t i : items) spread.extend(positions_[i].cwiseMax(cell.lo).cwiseMin(cell.hi));
+    for (uint32_t i : items) spread.extend(items_.positions[i].cwiseMax(cell.lo).cwiseMin(cell.hi));
     const Vec3 ext = spread.extent();
     int ax = 0;
     if (ext.y() > ext[ax]) ax = 1;
     if (ext.z() > ext[ax]) ax = 2;
     if (!(ext[ax] > 0)) return make_leaf(out, items);
-    auto key = [&](uint32_t i) { return std::clamp(positions_[i][ax], cell.lo[ax], cell.hi[ax]); };
+    auto key = [&](uint32_t i) { return std::clamp(items_.positions[i][ax], cell.lo[ax], cell.hi[ax]); };
     auto mid = items.begin() + long(items.size() / 2);
     std::nth_element(items.begin(), mid, items.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
     float split = key(*mid);
@@ -149,14 +148,14 @@ class KdTree final : public Structure {
     left.reserve(items.size() * 3 / 4);
     right.reserve(items.size() * 3 / 4);
     for (uint32_t i : items) {
-      const Aabb b = item_box(positions_, radii_, i);
+      const Aabb b = items_.box(i);
       if (b.lo[ax] <= split) left.push_back(i);
       if (b.hi[ax] >= split) right.push_back(i);
     }
     // A split must pay: if most items straddle the plane (footprints wider than the cell, or
     // identical points) the children would only duplicate references; stop here (such leaves
     // exceed leaf_size) rather than recurse to max_depth.
-    if (left.size() + right.size() >= items.size() + items.size() * 3 / 5 + 1) return make_leaf(out, items);
+    if (left.size() + right.size() >= items.size() + items.size() * 2 / 5 + 1) return make_leaf(out, items);
     items.clear();
     items.shrink_to_fit();
     Aabb lcell = cell, rcell = cell;
@@ -183,7 +182,7 @@ class KdTree final : public Structure {
   // the normal, and an oblique ray crosses ever more of them as N grows.
   bool cut_empty_space(Subtree& out, std::vector<uint32_t>& items, const Aabb& cell, int depth) const {
     Aabb reach;
-    for (uint32_t i : items) reach.extend(item_box(positions_, radii_, i));
+    for (uint32_t i : items) reach.extend(items_.box(i));
     reach.lo = reach.lo.cwiseMax(cell.lo);
     reach.hi = reach.hi.cwiseMin(cell.hi);
     const Vec3 ext = cell.extent();
@@ -218,8 +217,7 @@ class KdTree final : public Structure {
 
   size_t leaf_size_;
   int max_depth_;
-  std::span<const Vec3> positions_;
-  std::span<const float> radii_;
+  ItemSet items_;
   Aabb bounds_;
   std::vector<KdNode> nodes_;
   std::vector<uint32_t> refs_;

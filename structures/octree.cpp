@@ -23,12 +23,11 @@ class Octree final : public Structure {
  public:
   explicit Octree(const ParamValues& p) : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
 
-  void build(std::span<const Vec3> positions, std::span<const float> radii, OpCounters& counters) override {
-    positions_ = positions;
-    radii_ = radii;
+  void build(const ItemSet& set, OpCounters& counters) override {
+    items_ = set;
     nodes_.assign(1, OctNode{});
     refs_.clear();
-    const Aabb b = items_bounds(positions, radii);
+    const Aabb b = items_.bounds();
     // A cube around the bounds, a little larger and not centred on them, so that the mid-planes
     // of the first levels do not fall exactly on the symmetry planes of symmetric data (a line or
     // plane through the centre would straddle them at every level). A single point keeps a
@@ -36,7 +35,7 @@ class Octree final : public Structure {
     const float side = b.empty() ? 0.0f : 1.0137f * b.extent().maxCoeff();
     root_lo_ = b.empty() ? Vec3::Zero() : Vec3(b.lo - Vec3::Constant(0.0049f * side));
     root_side_ = side;
-    std::vector<uint32_t> all(positions.size());
+    std::vector<uint32_t> all(items_.size());
     for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
     build_node(0, std::move(all), root_lo_, root_side_, 0);
     counters.add(kBuildNodes, nodes_.size());
@@ -44,7 +43,7 @@ class Octree final : public Structure {
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const override {
-    if (positions_.empty()) return false;
+    if ((items_.size() == 0)) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     struct Todo {
       uint32_t node;
@@ -104,7 +103,7 @@ class Octree final : public Structure {
     const float half = 0.5f * side;
     std::array<std::vector<uint32_t>, 8> kids;
     for (uint32_t i : items) {
-      const Aabb b = item_box(positions_, radii_, i);
+      const Aabb b = items_.box(i);
       const Vec3 mid = lo + Vec3::Constant(half);
       for (uint32_t c = 0; c < 8; ++c) {
         bool in = true;
@@ -138,8 +137,7 @@ class Octree final : public Structure {
 
   size_t leaf_size_;
   int max_depth_;
-  std::span<const Vec3> positions_;
-  std::span<const float> radii_;
+  ItemSet items_;
   Vec3 root_lo_ = Vec3::Zero();
   float root_side_ = 0;
   std::vector<OctNode> nodes_;

@@ -42,11 +42,10 @@ class SphereTree final : public Structure {
   explicit SphereTree(const ParamValues& p)
       : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
 
-  void build(std::span<const Vec3> positions, std::span<const float> radii, OpCounters& counters) override {
-    positions_ = positions;
-    radii_ = radii;
+  void build(const ItemSet& set, OpCounters& counters) override {
+    items_ = set;
     nodes_.clear();
-    order_.resize(positions.size());
+    order_.resize(set.size());
     for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
     if (!order_.empty()) build_node(0, uint32_t(order_.size()), 0);
     counters.add(kBuildNodes, nodes_.size());
@@ -94,20 +93,19 @@ class SphereTree final : public Structure {
   }
 
  private:
-  float radius_of(uint32_t i) const { return radii_.empty() ? 0.0f : radii_[i]; }
 
   void build_node(uint32_t begin, uint32_t end, int depth) {
     const auto me = uint32_t(nodes_.size());
     nodes_.emplace_back();
     Aabb reach, centres;
     for (uint32_t k = begin; k < end; ++k) {
-      reach.extend(item_box(positions_, radii_, order_[k]));
-      centres.extend(positions_[order_[k]]);
+      reach.extend(items_.box(order_[k]));
+      centres.extend(items_.positions[order_[k]]);
     }
     const Vec3 c = reach.center();
     float r = 0;
     for (uint32_t k = begin; k < end; ++k)
-      r = std::max(r, (positions_[order_[k]] - c).norm() + radius_of(order_[k]));
+      r = std::max(r, (items_.positions[order_[k]] - c).norm() + items_.radius(order_[k]));
     nodes_[me].centre = c;
     nodes_[me].radius = r;
     const uint32_t n = end - begin;
@@ -123,7 +121,7 @@ class SphereTree final : public Structure {
     if (ext.z() > ext[ax]) ax = 2;
     const uint32_t mid = begin + n / 2;
     std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, [&](uint32_t a, uint32_t b) {
-      const float pa = positions_[a][ax], pb = positions_[b][ax];
+      const float pa = items_.positions[a][ax], pb = items_.positions[b][ax];
       return pa < pb || (pa == pb && a < b);
     });
     build_node(begin, mid, depth + 1);
@@ -133,8 +131,7 @@ class SphereTree final : public Structure {
 
   size_t leaf_size_;
   int max_depth_;
-  std::span<const Vec3> positions_;
-  std::span<const float> radii_;
+  ItemSet items_;
   std::vector<SphereNode> nodes_;
   std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
 };

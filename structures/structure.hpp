@@ -17,6 +17,28 @@
 
 namespace pcrt {
 
+// What a structure indexes: a position per item, a bounding radius (the footprint fits in the
+// sphere of that radius), and optionally tighter axis half-extents (a disc of radius r and normal
+// n fits in the box of half-extents r * sqrt(1 - n_a^2): much thinner than the cube of side 2r
+// along the normal, so far fewer cells reference it). The spans stay the method's.
+struct ItemSet {
+  std::span<const Vec3> positions;
+  std::span<const float> radii;         // empty: points
+  std::span<const Vec3> half_extents;   // empty: the cube of the radius
+
+  [[nodiscard]] size_t size() const { return positions.size(); }
+  [[nodiscard]] float radius(uint32_t i) const { return radii.empty() ? 0.0f : radii[i]; }
+  [[nodiscard]] Aabb box(uint32_t i) const {
+    const Vec3 e = half_extents.empty() ? Vec3::Constant(radius(i)) : half_extents[i];
+    return Aabb{positions[i] - e, positions[i] + e};
+  }
+  [[nodiscard]] Aabb bounds() const {
+    Aabb b;
+    for (uint32_t i = 0; i < size(); ++i) b.extend(box(i));
+    return b;
+  }
+};
+
 // One leaf as a ray sees it: the items (point indices) stored there and the ray's parameter
 // interval inside the leaf's bounds.
 struct LeafVisit {
@@ -36,8 +58,8 @@ class LeafIntersector {
 class Structure {
  public:
   virtual ~Structure() = default;
-  // positions and radii stay the caller's and must outlive the structure (nanoflann's rule).
-  virtual void build(std::span<const Vec3> positions, std::span<const float> radii, OpCounters& counters) = 0;
+  // The item spans stay the caller's and must outlive the structure (nanoflann's rule).
+  virtual void build(const ItemSet& items, OpCounters& counters) = 0;
   // Visits leaves in front-to-back order of t_enter until the next leaf starts beyond hit.t.
   virtual bool closest_hit(const Ray& ray, const LeafIntersector& leaf_intersector, Hit& hit,
                            OpCounters& counters) const = 0;
@@ -65,18 +87,6 @@ inline const Counter kLeavesVisited{"leaves_visited", "leaves handed to the leaf
 inline const Counter kItemsVisited{"items_visited", "items (points) in the leaves handed over"};
 inline const Counter kBuildNodes{"build_nodes", "nodes (grid: cells) created by structure builds"};
 inline const Counter kBuildItemRefs{"build_item_refs", "item references stored in leaves (duplicates included)"};
-
-// The box a point's footprint can reach: p +- r.
-inline Aabb item_box(std::span<const Vec3> positions, std::span<const float> radii, uint32_t i) {
-  const float r = radii.empty() ? 0.0f : radii[i];
-  return Aabb{positions[i] - Vec3::Constant(r), positions[i] + Vec3::Constant(r)};
-}
-
-inline Aabb items_bounds(std::span<const Vec3> positions, std::span<const float> radii) {
-  Aabb b;
-  for (uint32_t i = 0; i < positions.size(); ++i) b.extend(item_box(positions, radii, i));
-  return b;
-}
 
 // Whether a leaf entered at t_enter may still hold a hit nearer than hit_t. The slack absorbs
 // rounding between a hit point and the cell planes, so that a hit exactly on a cell boundary is

@@ -53,7 +53,7 @@ const Scene& scene(int64_t n) {
 
 std::unique_ptr<Structure> make(const StructureInfo& info, const Scene& s, OpCounters& c) {
   auto st = info.create(resolve_params(info.params, {}, info.id));
-  st->build(s.method->item_positions(), s.method->item_radii(), c);
+  st->build(s.method->items(), c);
   return st;
 }
 

@@ -87,7 +87,7 @@ void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const 
     const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
     auto s = info.create(resolve_params(info.params, {}, id));
     OpCounters c;
-    s->build(method->item_positions(), method->item_radii(), c);
+    s->build(method->items(), c);
     return s;
   };
   const auto oracle = trace_all(*make("brute_force"), *method, rays);
@@ -167,7 +167,7 @@ TEST_CASE("structure parameters and memory", "[structures]") {
     const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
     auto s = info.create(resolve_params(info.params, {}, id));
     OpCounters c;
-    s->build(d.cloud.positions, radii, c);
+    s->build(ItemSet{d.cloud.positions, radii, {}}, c);
     INFO(id << ": " << s->memory_bytes() << " bytes");
     REQUIRE(s->memory_bytes() > 0);
     REQUIRE(s->memory_bytes() < 64 * d.cloud.size());  // indices, not copies of points

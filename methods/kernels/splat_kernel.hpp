@@ -20,4 +20,17 @@ inline float intersect_splat(const Ray& ray, const Vec3& c, const Vec3& n, float
   return t;
 }
 
+// A splat packed into one 32-byte record: a leaf loop touches one cache line per item instead of
+// three arrays.
+struct alignas(32) PackedSplat {
+  Vec3 c;
+  float r;
+  Vec3 n;
+  uint32_t index;
+};
+
+inline float intersect_splat(const Ray& ray, const PackedSplat& s, float tmin, float tmax) {
+  return intersect_splat(ray, s.c, s.n, s.r, tmin, tmax);
+}
+
 }  // namespace pcrt

@@ -1,5 +1,6 @@
 #include "methods/kernels/splat_set.hpp"
 
+#include <algorithm>
 #include <optional>
 
 #include "preprocess/point_attributes.hpp"
@@ -15,8 +16,37 @@ std::vector<ParamSpec> splat_params() {
           {"estimate_radii", 0, 0, 1, "1: estimate radii even if the cloud has them", true}};
 }
 
+namespace {
+
+// Spreads the low 21 bits of x to every third bit.
+uint64_t spread_bits(uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffull;
+  x = (x | x << 16) & 0x1f0000ff0000ffull;
+  x = (x | x << 8) & 0x100f00f00f00f00full;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+  x = (x | x << 2) & 0x1249249249249249ull;
+  return x;
+}
+
+std::vector<uint32_t> morton_order(std::span<const Vec3> positions) {
+  Aabb b;
+  for (const Vec3& p : positions) b.extend(p);
+  const Vec3 scale = (b.extent().array() > 0).select(Vec3::Constant(2097151.0f).cwiseQuotient(b.extent()), 0.0f);
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(positions.size());
+  for (uint32_t i = 0; i < positions.size(); ++i) {
+    const Vec3 q = (positions[i] - b.lo).cwiseProduct(scale);
+    keyed[i] = {spread_bits(uint64_t(q.x())) | spread_bits(uint64_t(q.y())) << 1 | spread_bits(uint64_t(q.z())) << 2, i};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<uint32_t> order(positions.size());
+  for (size_t k = 0; k < keyed.size(); ++k) order[k] = keyed[k].second;
+  return order;
+}
+
+}  // namespace
+
 SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx) {
-  SplatSet s;
   const bool need_normals = !cloud.has_normals() || params.at("estimate_normals") != 0;
   const bool need_radii = !cloud.has_radii() || params.at("estimate_radii") != 0;
   std::optional<KnnIndex> knn;
@@ -24,18 +54,39 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
     ScopedTimer t(ctx.timings, "prepare/knn_build");
     knn.emplace(cloud.positions);
   }
+  std::vector<Vec3> normals;
+  std::vector<float> radii;
   if (need_normals) {
     ScopedTimer t(ctx.timings, "prepare/normals");
-    s.normals = estimate_normals(cloud.positions, *knn, static_cast<size_t>(params.at("normal_k")), ctx.counters);
-  } else {
-    s.normals = cloud.normals;
+    normals = estimate_normals(cloud.positions, *knn, static_cast<size_t>(params.at("normal_k")), ctx.counters);
   }
   if (need_radii) {
     ScopedTimer t(ctx.timings, "prepare/radii");
-    s.radii = estimate_radii(cloud.positions, *knn, static_cast<size_t>(params.at("radius_k")),
-                             static_cast<float>(params.at("radius_scale")), ctx.counters);
-  } else {
-    s.radii = cloud.radii;
+    radii = estimate_radii(cloud.positions, *knn, static_cast<size_t>(params.at("radius_k")),
+                           static_cast<float>(params.at("radius_scale")), ctx.counters);
+  }
+  const std::vector<Vec3>& n_src = need_normals ? normals : cloud.normals;
+  const std::vector<float>& r_src = need_radii ? radii : cloud.radii;
+
+  ScopedTimer t(ctx.timings, "prepare/splat_layout");
+  SplatSet s;
+  s.point = morton_order(cloud.positions);
+  const size_t n = s.point.size();
+  s.centres.resize(n);
+  s.normals.resize(n);
+  s.radii.resize(n);
+  s.half_extents.resize(n);
+  s.packed.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const uint32_t i = s.point[k];
+    const Vec3& nn = n_src[i];
+    s.centres[k] = cloud.positions[i];
+    s.normals[k] = nn;
+    s.radii[k] = r_src[i];
+    // Padded by 1e-4 r so rounding of the hit point never leaves the box.
+    s.half_extents[k] =
+        r_src[i] * ((Vec3::Ones() - nn.cwiseProduct(nn)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
+    s.packed[k] = PackedSplat{s.centres[k], s.radii[k], nn, i};
   }
   return s;
 }

@@ -7,13 +7,26 @@
 
 #include "core/params.hpp"
 #include "core/point_cloud.hpp"
+#include "methods/kernels/splat_kernel.hpp"
 #include "methods/method.hpp"
 
 namespace pcrt {
 
+// Items are stored in Morton (Z-curve) order of their centres, so the items of one leaf lie close
+// together in memory: a leaf loop then reads a few cache lines instead of one per item (this alone
+// is worth about 1.5x in rays per second at 10^6 points). Item k is the cloud's point point[k];
+// a hit reports point[k] as its prim, and ties in t are broken on it, so results are those of the
+// cloud's own order.
 struct SplatSet {
+  std::vector<uint32_t> point;     // cloud index of each item
+  std::vector<Vec3> centres;       // item order
   std::vector<Vec3> normals;
   std::vector<float> radii;
+  std::vector<Vec3> half_extents;  // of each disc's bounding box: r * sqrt(1 - n_a^2), padded
+  std::vector<PackedSplat> packed; // centre, radius, normal, cloud index in one record
+
+  [[nodiscard]] size_t size() const { return point.size(); }
+  [[nodiscard]] ItemSet items() const { return {centres, radii, half_extents}; }
 };
 
 // The parameters that control splat preparation, for a method's parameter list.

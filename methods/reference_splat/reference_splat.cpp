@@ -15,35 +15,33 @@ class ReferenceSplat final : public Method {
   explicit ReferenceSplat(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    positions_ = cloud.positions;
     splats_ = prepare_splats(cloud, params_, ctx);
   }
-  [[nodiscard]] std::span<const Vec3> item_positions() const override { return positions_; }
-  [[nodiscard]] std::span<const float> item_radii() const override { return splats_.radii; }
+  [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const override {
-    bool found = false;
-    for (uint32_t i : leaf.items) {
-      const float t = intersect_splat(ray, positions_[i], splats_.normals[i], splats_.radii[i], ray.tmin,
-                                      std::nextafter(hit.t, kInfinity));
-      if (t != kInfinity && closer(t, i, hit)) {
+    int best = -1;
+    float t_limit = std::nextafter(hit.t, kInfinity);  // ties are resolved by closer()
+    for (uint32_t k : leaf.items) {
+      const PackedSplat& s = splats_.packed[k];
+      const float t = intersect_splat(ray, s, ray.tmin, t_limit);
+      if (t != kInfinity && closer(t, s.index, hit)) {
         hit.t = t;
-        hit.prim = i;
-        found = true;
+        hit.prim = s.index;
+        best = int(k);
+        t_limit = std::nextafter(t, kInfinity);
       }
     }
     counters.add(kSplatTests, leaf.items.size());
-    if (found) {
-      hit.p = ray.at(hit.t);
-      hit.n = splats_.normals[hit.prim];
-      hit.footprint = splats_.radii[hit.prim];
-    }
-    return found;
+    if (best < 0) return false;
+    hit.p = ray.at(hit.t);
+    hit.n = splats_.normals[size_t(best)];
+    hit.footprint = splats_.radii[size_t(best)];
+    return true;
   }
 
  private:
   ParamValues params_;
-  std::span<const Vec3> positions_;
   SplatSet splats_;
 };
 
