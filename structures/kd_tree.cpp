@@ -1,7 +1,7 @@
 // Spatial kd-tree (thesis section 5.4; Wald and Seidel 2005, Hubo et al. 2006, Cai et al. 2011).
 // Split: the axis of widest spread of the item centres (clamped to the cell), at their median,
 // so depth grows like log2(N/K) and the build costs O(N log N) (nth_element per level). A node
-// stays a leaf when over 60% of its items would straddle the plane (splitting would not pay).
+// stays a leaf when over 40% of its items would straddle the plane (splitting would not pay).
 // Empty space is cut off first: a side of the cell over 30% empty becomes an empty leaf. An item is
 // referenced by every leaf its footprint box overlaps (inclusive), so no hit is lost at a plane.
 // Traversal: front to back with a stack of (node, t_enter, t_exit), as in pbrt's KdTreeAggregate.
@@ -152,7 +152,7 @@ class KdTree final : public Structure {
       if (b.lo[ax] <= split) left.push_back(i);
       if (b.hi[ax] >= split) right.push_back(i);
     }
-    // A split must pay: if most items straddle the plane (footprints wider than the cell, or
+    // A split must pay: if over 40% of the items straddle the plane (footprints wider than the cell, or
     // identical points) the children would only duplicate references; stop here (such leaves
     // exceed leaf_size) rather than recurse to max_depth.
     if (left.size() + right.size() >= items.size() + items.size() * 2 / 5 + 1) return make_leaf(out, items);

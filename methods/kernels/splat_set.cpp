@@ -8,6 +8,11 @@
 
 namespace pcrt {
 
+std::vector<ParamSpec> normal_params() {
+  return {{"normal_k", 16, 3, 256, "neighbours in the PCA normal fit", true},
+          {"estimate_normals", 0, 0, 1, "1: estimate normals even if the cloud has them", true}};
+}
+
 std::vector<ParamSpec> splat_params() {
   return {{"normal_k", 16, 3, 256, "neighbours in the PCA normal fit", true},
           {"radius_k", 8, 1, 256, "splat radius = radius_scale * distance to the radius_k-th neighbour", true},
@@ -46,9 +51,9 @@ std::vector<uint32_t> morton_order(std::span<const Vec3> positions) {
 
 }  // namespace
 
-SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx) {
+SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx, float fixed_radius) {
   const bool need_normals = !cloud.has_normals() || params.at("estimate_normals") != 0;
-  const bool need_radii = !cloud.has_radii() || params.at("estimate_radii") != 0;
+  const bool need_radii = fixed_radius <= 0 && (!cloud.has_radii() || params.at("estimate_radii") != 0);
   std::optional<KnnIndex> knn;
   if (need_normals || need_radii) {
     ScopedTimer t(ctx.timings, "prepare/knn_build");
@@ -66,7 +71,8 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
                            static_cast<float>(params.at("radius_scale")), ctx.counters);
   }
   const std::vector<Vec3>& n_src = need_normals ? normals : cloud.normals;
-  const std::vector<float>& r_src = need_radii ? radii : cloud.radii;
+  if (fixed_radius > 0) radii.assign(cloud.size(), fixed_radius);
+  const std::vector<float>& r_src = need_radii || fixed_radius > 0 ? radii : cloud.radii;
 
   ScopedTimer t(ctx.timings, "prepare/splat_layout");
   SplatSet s;

@@ -31,7 +31,12 @@ struct SplatSet {
 
 // The parameters that control splat preparation, for a method's parameter list.
 std::vector<ParamSpec> splat_params();
+// Only the normal parameters, for methods with one global radius.
+std::vector<ParamSpec> normal_params();
 
-SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx);
+// Normals and radii from the cloud or estimated; `fixed_radius` (> 0) gives every splat that
+// radius instead (methods whose paper uses one global radius).
+SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx,
+                        float fixed_radius = 0);
 
 }  // namespace pcrt

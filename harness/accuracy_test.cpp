@@ -1,0 +1,89 @@
+// The accuracy bounds of the method issues, checked for every registered method on the default
+// sphere and torus of 10^5 points. A method that cannot meet a bound as its paper describes it is
+// listed below with the bound it misses and why; the test checks that it still misses exactly
+// that one (so a fix shows up, and nothing else slips).
+#include <catch2/catch.hpp>
+#include <map>
+#include <set>
+
+#include "core/dataset.hpp"
+#include "harness/accuracy.hpp"
+#include "preprocess/point_attributes.hpp"
+
+using namespace pcrt;
+
+namespace {
+
+// The exact surface as an intersector: the evaluator must find it perfect.
+struct ExactScene final : SceneIntersector {
+  const Surface& s;
+  explicit ExactScene(const Surface& surface) : s(surface) {}
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters&) const override {
+    float t = 0;
+    Vec3 n;
+    if (!s.intersect(ray, t, n) || t >= hit.t) return false;
+    hit = Hit{t, ray.at(t), n, 0, 0};
+    return true;
+  }
+};
+
+std::set<std::string> missed_bounds(const AccuracyReport& r) {
+  const AccuracyBounds b;
+  std::set<std::string> m;
+  if (r.hole_rate > b.max_hole_rate) m.insert("holes");
+  if (r.false_hit_rate > b.max_false_hit_rate) m.insert("false hits");
+  if (!(r.distance_median_h <= b.max_distance_median_h)) m.insert("distance median");
+  if (!(r.distance_p95_h <= b.max_distance_p95_h)) m.insert("distance p95");
+  if (!(r.normal_median_deg <= b.max_normal_median_deg)) m.insert("normal median");
+  return m;
+}
+
+// (method, dataset) -> the bounds it is known to miss. Each entry is explained in the method's
+// README and in the README's accuracy table.
+const std::map<std::pair<std::string, std::string>, std::set<std::string>> kKnownMisses = {
+    // Flat discs carry their centre's normal across the whole disc: on the torus's tube (radius
+    // 0.25) a disc of 8th-neighbour radius tilts ~3 degrees at its rim. Not surveyed methods.
+    {{"reference_splat", "torus"}, {"normal median"}},
+    {{"embree_oriented_disc", "torus"}, {"normal median"}},
+};
+
+}  // namespace
+
+TEST_CASE("the accuracy evaluator finds the exact surface perfect", "[accuracy]") {
+  for (const char* spec : {"sphere:n=100000", "torus:n=100000"}) {
+    const Dataset d = load_dataset(spec);
+    const double h = 0.005;
+    const auto rays = accuracy_rays(*d.truth, h, 4000, 1);
+    OpCounters c;
+    const AccuracyReport r = evaluate_accuracy(ExactScene(*d.truth), *d.truth, h, rays, c);
+    INFO(spec);
+    REQUIRE(r.judged_hits > 2000);
+    REQUIRE(r.judged_misses > 50);
+    REQUIRE(r.holes == 0);
+    REQUIRE(r.false_hits == 0);
+    REQUIRE(r.distance_p95_h < 1e-2);
+    REQUIRE(r.normal_p95_deg < 0.1);
+  }
+}
+
+TEST_CASE("every method meets the accuracy bounds or misses exactly its documented ones", "[accuracy][methods]") {
+  for (const char* name : {"sphere", "torus"}) {
+    const Dataset d = load_dataset(std::string(name) + ":n=100000");
+    OpCounters c;
+    const KnnIndex knn(d.cloud.positions);
+    const double h = mean_spacing(d.cloud.positions, knn, c);
+    const auto rays = accuracy_rays(*d.truth, h, 10000, 7);
+    for (const MethodInfo& m : MethodRegistry::instance().all()) {
+      Timings t;
+      // The oracle's default structure is brute force; the kd-tree gives it the same hits faster.
+      const std::string structure = m.structure == "brute_force" ? "kd_tree" : "";
+      const PointScene scene(d.cloud, SceneOptions{m.id, structure, {}}, c, t);
+      const AccuracyReport r = evaluate_accuracy(scene, *d.truth, h, rays, c);
+      INFO(m.id << " on " << name << ": holes " << r.hole_rate << ", false hits " << r.false_hit_rate
+                << ", distance median " << r.distance_median_h << " h, p95 " << r.distance_p95_h
+                << " h, normal median " << r.normal_median_deg << " deg");
+      const auto known = kKnownMisses.find({m.id, name});
+      REQUIRE(missed_bounds(r) == (known == kKnownMisses.end() ? std::set<std::string>{} : known->second));
+    }
+  }
+}
