@@ -42,6 +42,12 @@ expect_error "bad_header.csv: line 1" trace --method reference_splat --data sphe
 expect_error "short_row.csv: line 3" trace --method reference_splat --data sphere:n=100 --rays "$dir/short_row.csv" --out "$dir/h.csv"
 expect_error "cannot open" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/no/such/dir/h.csv"
 
+printf "0 0 0\\n1 0 0\\n0 1 0\\n1 1 1\\n" >"$dir/four.xyz"
+expect_error "is a file; accuracy needs a generator" accuracy --method reference_splat --data "$dir/four.xyz"
+expect_error "traces through its own embree_bvh" trace --method embree_oriented_disc --structure kd_tree --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/h.csv"
+expect_error "--rays 0 is outside" accuracy --method reference_splat --data sphere:n=100 --rays 0
+expect_error "--data is required" anchor
+
 # A failing run leaves an existing output untouched.
 echo "precious" >"$dir/keep.png"
 "$pcrt" render --method reference_splat --data "$dir/trunc.ply" --out "$dir/keep.png" 2>/dev/null
