@@ -24,8 +24,8 @@ class Camera {
   // Looks at the centre of `bounds` from direction `view_dir`, far enough that the bounding
   // sphere fills the frame.
   static Camera framing(const Aabb& bounds, int width, int height,
-                        const Vec3& view_dir = Vec3(0.55f, -0.75f, 0.4f), const Vec3& up = Vec3::UnitZ(),
-                        float vfov = 35.0f) {
+                        const Vec3& view_dir = Vec3(0.55f, -0.75f, 0.4f),
+                        const Vec3& up = Vec3::UnitZ(), float vfov = 35.0f) {
     const Vec3 c = bounds.center();
     const float r = std::max(0.5f * bounds.diagonal(), 1e-6f);
     const float dist = 1.05f * r / std::sin(0.5f * vfov * 3.14159265358979f / 180.0f);

@@ -30,7 +30,8 @@ Counter::Counter(const char* name, const char* description) {
     }
   }
   if (r.count == kMaxCounters) {
-    std::fprintf(stderr, "pcrt: more than %zu counters registered; raise kMaxCounters\n", kMaxCounters);
+    std::fprintf(stderr, "pcrt: more than %zu counters registered; raise kMaxCounters\n",
+                 kMaxCounters);
     std::abort();
   }
   id_ = static_cast<uint32_t>(r.count);

@@ -1,6 +1,6 @@
-#include <catch2/catch.hpp>
-
 #include "core/counters.hpp"
+
+#include <catch2/catch.hpp>
 
 using namespace pcrt;
 

@@ -15,11 +15,12 @@ namespace {
 constexpr double kMaxPoints = 2e8;  // 4.8 GB of positions and normals
 
 std::vector<ParamSpec> common_params() {
-  return {{"n", 10000, 1, kMaxPoints, "number of points", true},
-          {"seed", 1, 0, 1e18, "random seed", true},
-          {"noise", 0, 0, 1e30, "standard deviation of isotropic Gaussian noise added to positions"},
-          {"density", 0, 0, 0.99,
-           "non-uniformity: density falls linearly along x from 1 to 1-density (0 = uniform)"}};
+  return {
+      {"n", 10000, 1, kMaxPoints, "number of points", true},
+      {"seed", 1, 0, 1e18, "random seed", true},
+      {"noise", 0, 0, 1e30, "standard deviation of isotropic Gaussian noise added to positions"},
+      {"density", 0, 0, 0.99,
+       "non-uniformity: density falls linearly along x from 1 to 1-density (0 = uniform)"}};
 }
 
 std::vector<ParamSpec> with_common(std::vector<ParamSpec> shape) {
@@ -41,7 +42,8 @@ std::shared_ptr<const Surface> make_surface(const std::string& name, const Param
     return s;
   }
   if (name == "torus") {
-    if (p.at("r") >= p.at("R")) input_error("dataset torus: r ({}) must be smaller than R ({})", p.at("r"), p.at("R"));
+    if (p.at("r") >= p.at("R"))
+      input_error("dataset torus: r ({}) must be smaller than R ({})", p.at("r"), p.at("R"));
     auto s = std::make_shared<TorusSurface>();
     s->major = f("R");
     s->minor = f("r");
@@ -95,7 +97,8 @@ PointCloud generate(const std::string& name, const ParamValues& p, const Surface
         if (rng.uniform_double() >= w) continue;
       }
     }
-    if (noise > 0) x += Vec3(float(gauss(gauss_engine)), float(gauss(gauss_engine)), float(gauss(gauss_engine)));
+    if (noise > 0)
+      x += Vec3(float(gauss(gauss_engine)), float(gauss(gauss_engine)), float(gauss(gauss_engine)));
     cloud.positions.push_back(x);
     cloud.normals.push_back(normal);
   }
@@ -108,13 +111,16 @@ const std::vector<GeneratorInfo>& generators() {
   static const std::vector<GeneratorInfo> list = {
       {"sphere", "uniform random points on a sphere at the origin",
        with_common({{"radius", 1, 1e-30, 1e30, "sphere radius"}})},
-      {"fibonacci_sphere", "Fibonacci-spiral points on a sphere at the origin (near-uniform, seed only affects noise)",
+      {"fibonacci_sphere",
+       "Fibonacci-spiral points on a sphere at the origin (near-uniform, seed only affects noise)",
        with_common({{"radius", 1, 1e-30, 1e30, "sphere radius"}})},
       {"plane", "uniform random points on the square z=0, |x|,|y| <= size/2",
        with_common({{"size", 2, 1e-30, 1e30, "side of the square"}})},
       {"torus", "uniform (by area) random points on a torus around the z axis at the origin",
-       with_common({{"R", 1, 1e-30, 1e30, "major radius"}, {"r", 0.25, 1e-30, 1e30, "minor radius"}})},
-      {"bumpy_sphere", "uniform (by area) points on a sphere displaced by a*sin(f x)sin(f y)sin(f z)",
+       with_common(
+           {{"R", 1, 1e-30, 1e30, "major radius"}, {"r", 0.25, 1e-30, 1e30, "minor radius"}})},
+      {"bumpy_sphere",
+       "uniform (by area) points on a sphere displaced by a*sin(f x)sin(f y)sin(f z)",
        with_common({{"radius", 1, 1e-30, 1e30, "base radius"},
                     {"amplitude", 0.05, 0, 0.5, "relative displacement"},
                     {"frequency", 6, 0, 100, "angular frequency f"}})},
@@ -143,7 +149,8 @@ ParamValues parse_generator_spec(const std::string& spec, const GeneratorInfo** 
       const std::string item = rest.substr(pos, comma - pos);
       pos = comma + 1;
       const size_t eq = item.find('=');
-      if (eq == std::string::npos || eq == 0) input_error("dataset '{}': '{}' is not key=value", spec, item);
+      if (eq == std::string::npos || eq == 0)
+        input_error("dataset '{}': '{}' is not key=value", spec, item);
       const std::string key = item.substr(0, eq);
       if (given.count(key)) input_error("dataset '{}': '{}' given twice", spec, key);
       given[key] = parse_number(item.substr(eq + 1), fmt::format("dataset '{}': {}", spec, key));
@@ -160,8 +167,9 @@ Dataset load_dataset(const std::string& spec) {
   if (spec.empty()) input_error("dataset '': empty name");
   std::error_code ec;
   if (std::filesystem::exists(spec, ec)) return Dataset{read_point_cloud(spec), nullptr};
-  const bool looks_like_path = spec.find('/') != std::string::npos ||
-                               (spec.find(':') == std::string::npos && spec.find('.') != std::string::npos);
+  const bool looks_like_path =
+      spec.find('/') != std::string::npos ||
+      (spec.find(':') == std::string::npos && spec.find('.') != std::string::npos);
   if (looks_like_path) input_error("{}: no such file", spec);
   const GeneratorInfo* info = nullptr;
   const auto values = parse_generator_spec(spec, &info);

@@ -1,17 +1,20 @@
+#include "core/dataset.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/dataset.hpp"
 #include "core/error.hpp"
 
 using namespace pcrt;
 
 TEST_CASE("generated clouds lie on their exact surface with exact normals", "[data]") {
-  for (const char* spec : {"sphere:n=2000", "fibonacci_sphere:n=2000", "plane:n=2000", "torus:n=2000",
-                           "bumpy_sphere:n=2000", "sphere:n=2000,density=0.8", "torus:n=500,R=2,r=0.5"}) {
+  for (const char* spec :
+       {"sphere:n=2000", "fibonacci_sphere:n=2000", "plane:n=2000", "torus:n=2000",
+        "bumpy_sphere:n=2000", "sphere:n=2000,density=0.8", "torus:n=500,R=2,r=0.5"}) {
     INFO(spec);
     const Dataset d = load_dataset(spec);
-    REQUIRE(d.cloud.size() == (std::string(spec).find("n=500") != std::string::npos ? 500u : 2000u));
+    REQUIRE(d.cloud.size() ==
+            (std::string(spec).find("n=500") != std::string::npos ? 500u : 2000u));
     REQUIRE(d.cloud.has_normals());
     for (size_t i = 0; i < d.cloud.size(); ++i) {
       REQUIRE(std::abs(d.truth->signed_distance(d.cloud.positions[i])) < 2e-5f);
@@ -49,7 +52,8 @@ TEST_CASE("non-uniform density thins along x", "[data]") {
   const Dataset d = load_dataset("plane:n=20000,density=0.9");
   size_t left = 0;
   for (const Vec3& p : d.cloud.positions) left += p.x() < 0;
-  // Density 1 -> 0.1 linearly: the left half holds (1 + 0.55)/(2 * 0.55) ... = 0.7045 of the points.
+  // Density 1 -> 0.1 linearly: the left half holds (1 + 0.55)/(2 * 0.55) ... = 0.7045 of the
+  // points.
   REQUIRE(double(left) / 20000 == Approx(0.7045).epsilon(0.03));
 }
 

@@ -33,7 +33,8 @@ void write_png(const std::string& path, const Image& image, PngEncoding encoding
   std::vector<uint8_t> rgb(size_t(w) * h * 3);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c) rgb[(size_t(y) * w + x) * 3 + c] = to_byte(image.at(x, y)[c], encoding);
+      for (int c = 0; c < 3; ++c)
+        rgb[(size_t(y) * w + x) * 3 + c] = to_byte(image.at(x, y)[c], encoding);
 
   write_file_atomically(
       path,

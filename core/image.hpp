@@ -10,7 +10,8 @@ namespace pcrt {
 
 class Image {
  public:
-  Image(int width, int height) : width_(width), height_(height), pixels_(size_t(width) * height, Vec3::Zero()) {}
+  Image(int width, int height)
+      : width_(width), height_(height), pixels_(size_t(width) * height, Vec3::Zero()) {}
   [[nodiscard]] int width() const { return width_; }
   [[nodiscard]] int height() const { return height_; }
   Vec3& at(int x, int y) { return pixels_[size_t(y) * width_ + x]; }
@@ -26,6 +27,7 @@ enum class PngEncoding { kSrgb, kLinear };
 
 // 8-bit RGB PNG; kSrgb applies the sRGB transfer curve to linear radiance, kLinear stores
 // values in [0,1] as they are (for normal and depth images). Written atomically.
-void write_png(const std::string& path, const Image& image, PngEncoding encoding = PngEncoding::kSrgb);
+void write_png(const std::string& path, const Image& image,
+               PngEncoding encoding = PngEncoding::kSrgb);
 
 }  // namespace pcrt

@@ -13,7 +13,8 @@ double parse_number(const std::string& text, const std::string& what) {
   const char* e = b + text.size();
   if (b != e && *b == '+') ++b;
   auto [end, ec] = std::from_chars(b, e, v);
-  if (text.empty() || ec != std::errc() || end != e) input_error("{}: '{}' is not a number", what, text);
+  if (text.empty() || ec != std::errc() || end != e)
+    input_error("{}: '{}' is not a number", what, text);
   if (!std::isfinite(v)) input_error("{}: '{}' is not finite", what, text);
   return v;
 }
@@ -23,10 +24,12 @@ void check_param(const ParamSpec& spec, double value, const std::string& context
   if (spec.integer && value != std::floor(value))
     input_error("{}: {} must be an integer, not {}", context, spec.name, value);
   if (value < spec.min_value || value > spec.max_value)
-    input_error("{}: {}={} is outside its range [{}, {}]", context, spec.name, value, spec.min_value, spec.max_value);
+    input_error("{}: {}={} is outside its range [{}, {}]", context, spec.name, value,
+                spec.min_value, spec.max_value);
 }
 
-ParamValues resolve_params(const std::vector<ParamSpec>& specs, const ParamValues& given, const std::string& context) {
+ParamValues resolve_params(const std::vector<ParamSpec>& specs, const ParamValues& given,
+                           const std::string& context) {
   ParamValues out;
   for (const auto& s : specs) out[s.name] = s.default_value;
   for (const auto& [name, value] : given) {
@@ -36,7 +39,8 @@ ParamValues resolve_params(const std::vector<ParamSpec>& specs, const ParamValue
     if (!spec) {
       std::string known;
       for (const auto& s : specs) known += (known.empty() ? "" : ", ") + s.name;
-      input_error("{}: unknown parameter '{}' (known: {})", context, name, known.empty() ? "none" : known);
+      input_error("{}: unknown parameter '{}' (known: {})", context, name,
+                  known.empty() ? "none" : known);
     }
     check_param(*spec, value, context);
     out[name] = value;

@@ -21,7 +21,8 @@ using ParamValues = std::map<std::string, double>;
 
 // Defaults for every spec, overridden by `given` (which must only name specs in `specs`).
 // Throws InputError "<context>: ..." for unknown names, non-integers and out-of-range values.
-ParamValues resolve_params(const std::vector<ParamSpec>& specs, const ParamValues& given, const std::string& context);
+ParamValues resolve_params(const std::vector<ParamSpec>& specs, const ParamValues& given,
+                           const std::string& context);
 
 // Checks one value against its spec; throws InputError naming `context` and the parameter.
 void check_param(const ParamSpec& spec, double value, const std::string& context);

@@ -31,13 +31,17 @@ std::optional<PlyType> parse_type(std::string_view s) {
 size_t type_size(PlyType t) {
   switch (t) {
     case PlyType::kInt8:
-    case PlyType::kUint8: return 1;
+    case PlyType::kUint8:
+      return 1;
     case PlyType::kInt16:
-    case PlyType::kUint16: return 2;
+    case PlyType::kUint16:
+      return 2;
     case PlyType::kInt32:
     case PlyType::kUint32:
-    case PlyType::kFloat32: return 4;
-    case PlyType::kFloat64: return 8;
+    case PlyType::kFloat32:
+      return 4;
+    case PlyType::kFloat64:
+      return 8;
   }
   return 0;
 }
@@ -78,17 +82,22 @@ PlyHeader parse_header(const std::string& text, const std::string& path) {
     std::vector<std::string> tok;
     for (std::string t; in >> t;) tok.push_back(t);
     if (line_no == 1) {
-      if (tok.size() != 1 || tok[0] != "ply") input_error("{}: not a PLY file (first line is not 'ply')", path);
+      if (tok.size() != 1 || tok[0] != "ply")
+        input_error("{}: not a PLY file (first line is not 'ply')", path);
       continue;
     }
     if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
     if (tok[0] == "end_header") break;
     if (tok[0] == "format") {
       if (tok.size() != 3) input_error("{}: header line {}: malformed format line", path, line_no);
-      if (tok[1] == "ascii") h.format = PlyFormat::kAscii;
-      else if (tok[1] == "binary_little_endian") h.format = PlyFormat::kBinaryLittleEndian;
-      else if (tok[1] == "binary_big_endian") h.format = PlyFormat::kBinaryBigEndian;
-      else input_error("{}: header line {}: unknown format '{}'", path, line_no, tok[1]);
+      if (tok[1] == "ascii")
+        h.format = PlyFormat::kAscii;
+      else if (tok[1] == "binary_little_endian")
+        h.format = PlyFormat::kBinaryLittleEndian;
+      else if (tok[1] == "binary_big_endian")
+        h.format = PlyFormat::kBinaryBigEndian;
+      else
+        input_error("{}: header line {}: unknown format '{}'", path, line_no, tok[1]);
       have_format = true;
     } else if (tok[0] == "element") {
       if (tok.size() != 3) input_error("{}: header line {}: malformed element line", path, line_no);
@@ -96,10 +105,12 @@ PlyHeader parse_header(const std::string& text, const std::string& path) {
       e.name = tok[1];
       auto [p, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), e.count);
       if (ec != std::errc() || p != tok[2].data() + tok[2].size())
-        input_error("{}: header line {}: element count '{}' is not a non-negative integer", path, line_no, tok[2]);
+        input_error("{}: header line {}: element count '{}' is not a non-negative integer", path,
+                    line_no, tok[2]);
       h.elements.push_back(std::move(e));
     } else if (tok[0] == "property") {
-      if (h.elements.empty()) input_error("{}: header line {}: property before any element", path, line_no);
+      if (h.elements.empty())
+        input_error("{}: header line {}: property before any element", path, line_no);
       PlyProperty prop;
       if (tok.size() == 5 && tok[1] == "list") {
         auto ct = parse_type(tok[2]);
@@ -110,7 +121,8 @@ PlyHeader parse_header(const std::string& text, const std::string& path) {
         prop = PlyProperty{tok[4], *it, true, *ct};
       } else if (tok.size() == 3) {
         auto t = parse_type(tok[1]);
-        if (!t) input_error("{}: header line {}: unknown property type '{}'", path, line_no, tok[1]);
+        if (!t)
+          input_error("{}: header line {}: unknown property type '{}'", path, line_no, tok[1]);
         prop = PlyProperty{tok[2], *t, false, PlyType::kUint8};
       } else {
         input_error("{}: header line {}: malformed property line", path, line_no);
@@ -136,34 +148,49 @@ VertexLayout vertex_layout(const PlyElement& e, const std::string& path) {
   for (size_t i = 0; i < e.properties.size(); ++i) {
     const std::string& n = e.properties[i].name;
     int* slot = nullptr;
-    if (n == "x") slot = &l.x;
-    else if (n == "y") slot = &l.y;
-    else if (n == "z") slot = &l.z;
-    else if (n == "nx") slot = &l.nx;
-    else if (n == "ny") slot = &l.ny;
-    else if (n == "nz") slot = &l.nz;
-    else if (n == "red" || n == "diffuse_red") slot = &l.r;
-    else if (n == "green" || n == "diffuse_green") slot = &l.g;
-    else if (n == "blue" || n == "diffuse_blue") slot = &l.b;
-    else if (n == "radius" || n == "scale") slot = &l.radius;
+    if (n == "x")
+      slot = &l.x;
+    else if (n == "y")
+      slot = &l.y;
+    else if (n == "z")
+      slot = &l.z;
+    else if (n == "nx")
+      slot = &l.nx;
+    else if (n == "ny")
+      slot = &l.ny;
+    else if (n == "nz")
+      slot = &l.nz;
+    else if (n == "red" || n == "diffuse_red")
+      slot = &l.r;
+    else if (n == "green" || n == "diffuse_green")
+      slot = &l.g;
+    else if (n == "blue" || n == "diffuse_blue")
+      slot = &l.b;
+    else if (n == "radius" || n == "scale")
+      slot = &l.radius;
     if (!slot) continue;
     if (e.properties[i].is_list) input_error("{}: vertex property '{}' is a list", path, n);
     *slot = static_cast<int>(i);
   }
   if (l.x < 0 || l.y < 0 || l.z < 0) input_error("{}: vertex element lacks x, y and z", path);
   const int normals = (l.nx >= 0) + (l.ny >= 0) + (l.nz >= 0);
-  if (normals != 0 && normals != 3) input_error("{}: vertex element has only some of nx, ny, nz", path);
+  if (normals != 0 && normals != 3)
+    input_error("{}: vertex element has only some of nx, ny, nz", path);
   const int colours = (l.r >= 0) + (l.g >= 0) + (l.b >= 0);
-  if (colours != 0 && colours != 3) input_error("{}: vertex element has only some of red, green, blue", path);
+  if (colours != 0 && colours != 3)
+    input_error("{}: vertex element has only some of red, green, blue", path);
   return l;
 }
 
 uint8_t colour_byte(double v, PlyType t) {
   switch (t) {
     case PlyType::kFloat32:
-    case PlyType::kFloat64: return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
-    case PlyType::kUint16: return static_cast<uint8_t>(std::clamp(v, 0.0, 65535.0) / 257.0);
-    default: return static_cast<uint8_t>(std::clamp(v, 0.0, 255.0));
+    case PlyType::kFloat64:
+      return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
+    case PlyType::kUint16:
+      return static_cast<uint8_t>(std::clamp(v, 0.0, 65535.0) / 257.0);
+    default:
+      return static_cast<uint8_t>(std::clamp(v, 0.0, 255.0));
   }
 }
 
@@ -184,7 +211,8 @@ struct VertexSink {
     auto v = [&](int i) { return values[size_t(i)]; };
     auto f = [&](int i) { return static_cast<float>(v(i)); };
     Vec3 p(f(layout.x), f(layout.y), f(layout.z));
-    if (!p.allFinite()) input_error("{}: vertex {} has a non-finite or out-of-range coordinate", path, index);
+    if (!p.allFinite())
+      input_error("{}: vertex {} has a non-finite or out-of-range coordinate", path, index);
     cloud.positions.push_back(p);
     if (layout.nx >= 0) cloud.normals.emplace_back(f(layout.nx), f(layout.ny), f(layout.nz));
     if (layout.r >= 0) {
@@ -212,14 +240,22 @@ T load_raw(const char* p, bool swap) {
 
 double load_binary(const char* p, PlyType t, bool swap) {
   switch (t) {
-    case PlyType::kInt8: return load_raw<int8_t>(p, false);
-    case PlyType::kUint8: return load_raw<uint8_t>(p, false);
-    case PlyType::kInt16: return load_raw<int16_t>(p, swap);
-    case PlyType::kUint16: return load_raw<uint16_t>(p, swap);
-    case PlyType::kInt32: return load_raw<int32_t>(p, swap);
-    case PlyType::kUint32: return load_raw<uint32_t>(p, swap);
-    case PlyType::kFloat32: return load_raw<float>(p, swap);
-    case PlyType::kFloat64: return load_raw<double>(p, swap);
+    case PlyType::kInt8:
+      return load_raw<int8_t>(p, false);
+    case PlyType::kUint8:
+      return load_raw<uint8_t>(p, false);
+    case PlyType::kInt16:
+      return load_raw<int16_t>(p, swap);
+    case PlyType::kUint16:
+      return load_raw<uint16_t>(p, swap);
+    case PlyType::kInt32:
+      return load_raw<int32_t>(p, swap);
+    case PlyType::kUint32:
+      return load_raw<uint32_t>(p, swap);
+    case PlyType::kFloat32:
+      return load_raw<float>(p, swap);
+    case PlyType::kFloat64:
+      return load_raw<double>(p, swap);
   }
   return 0;
 }
@@ -230,16 +266,22 @@ size_t min_record_bytes(const PlyElement& e) {
   return s;
 }
 
-void read_binary(const std::string& text, const PlyHeader& h, const std::string& path, PointCloud& cloud) {
-  const bool swap = (h.format == PlyFormat::kBinaryBigEndian) == (std::endian::native == std::endian::little);
+void read_binary(const std::string& text, const PlyHeader& h, const std::string& path,
+                 PointCloud& cloud) {
+  const bool swap =
+      (h.format == PlyFormat::kBinaryBigEndian) == (std::endian::native == std::endian::little);
   size_t pos = h.data_offset;
   for (const PlyElement& e : h.elements) {
     const bool is_vertex = e.name == "vertex";
-    if (e.count > 0 && min_record_bytes(e) > 0 && e.count > (text.size() - pos) / min_record_bytes(e))
-      input_error("{}: truncated: the header promises {} '{}' elements but the file is too short for them", path, e.count, e.name);
+    if (e.count > 0 && min_record_bytes(e) > 0 &&
+        e.count > (text.size() - pos) / min_record_bytes(e))
+      input_error(
+          "{}: truncated: the header promises {} '{}' elements but the file is too short for them",
+          path, e.count, e.name);
     std::optional<VertexSink> sink;
     if (is_vertex) {
-      sink.emplace(VertexSink{e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size())});
+      sink.emplace(
+          VertexSink{e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size())});
       sink->reserve(e.count);
     }
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -267,20 +309,23 @@ void read_binary(const std::string& text, const PlyHeader& h, const std::string&
     }
   }
   if (pos != text.size())
-    input_error("{}: {} bytes follow the last element; the header's counts do not match the data", path,
-                text.size() - pos);
+    input_error("{}: {} bytes follow the last element; the header's counts do not match the data",
+                path, text.size() - pos);
 }
 
-void read_ascii(const std::string& text, const PlyHeader& h, const std::string& path, PointCloud& cloud) {
+void read_ascii(const std::string& text, const PlyHeader& h, const std::string& path,
+                PointCloud& cloud) {
   TextScanner scan(std::string_view(text).substr(h.data_offset), path, h.header_lines);
-  const size_t remaining_lines = static_cast<size_t>(std::count(text.begin() + long(h.data_offset), text.end(), '\n')) + 1;
+  const size_t remaining_lines =
+      static_cast<size_t>(std::count(text.begin() + long(h.data_offset), text.end(), '\n')) + 1;
   for (const PlyElement& e : h.elements) {
     if (e.count > remaining_lines)
-      input_error("{}: truncated: the header promises {} '{}' elements but only {} lines remain", path, e.count, e.name,
-                  remaining_lines);
+      input_error("{}: truncated: the header promises {} '{}' elements but only {} lines remain",
+                  path, e.count, e.name, remaining_lines);
     std::optional<VertexSink> sink;
     if (e.name == "vertex") {
-      sink.emplace(VertexSink{e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size())});
+      sink.emplace(
+          VertexSink{e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size())});
       sink->reserve(e.count);
     }
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -290,7 +335,8 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
       size_t t = 0;
       for (size_t k = 0; k < e.properties.size(); ++k) {
         if (t >= tok.size())
-          input_error("{}: line {}: '{}' element {} has too few values", path, scan.line(), e.name, i);
+          input_error("{}: line {}: '{}' element {} has too few values", path, scan.line(), e.name,
+                      i);
         if (e.properties[k].is_list) {
           const auto n = scan.number<long long>(t);
           if (n < 0) input_error("{}: line {}: negative list length", path, scan.line());
@@ -301,14 +347,15 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
         }
       }
       if (t != tok.size())
-        input_error("{}: line {}: '{}' element {} has {} values, the header says {}", path, scan.line(), e.name,
-                    i, tok.size(), t);
+        input_error("{}: line {}: '{}' element {} has {} values, the header says {}", path,
+                    scan.line(), e.name, i, tok.size(), t);
       if (sink) sink->emit(path, i);
     }
   }
   if (scan.next_line(false))
-    input_error("{}: line {}: data after the last element; the header's counts do not match the data", path,
-                scan.line());
+    input_error(
+        "{}: line {}: data after the last element; the header's counts do not match the data", path,
+        scan.line());
 }
 
 }  // namespace
@@ -316,12 +363,15 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
 PointCloud read_ply(const std::string& path) {
   const std::string text = read_file(path);
   const PlyHeader h = parse_header(text, path);
-  if (std::none_of(h.elements.begin(), h.elements.end(), [](const PlyElement& e) { return e.name == "vertex"; }))
+  if (std::none_of(h.elements.begin(), h.elements.end(),
+                   [](const PlyElement& e) { return e.name == "vertex"; }))
     input_error("{}: PLY file has no vertex element", path);
   PointCloud cloud;
   cloud.name = path;
-  if (h.format == PlyFormat::kAscii) read_ascii(text, h, path, cloud);
-  else read_binary(text, h, path, cloud);
+  if (h.format == PlyFormat::kAscii)
+    read_ascii(text, h, path, cloud);
+  else
+    read_binary(text, h, path, cloud);
   normalize_loaded_normals(cloud);
   return cloud;
 }
@@ -349,13 +399,15 @@ void write_ply(const std::string& path, const PointCloud& cloud, PlyFormat forma
             << " 1.0\ncomment written by pcrt\nelement vertex " << cloud.size() << "\n";
         out << "property float x\nproperty float y\nproperty float z\n";
         if (cloud.has_normals()) out << "property float nx\nproperty float ny\nproperty float nz\n";
-        if (cloud.has_colours()) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+        if (cloud.has_colours())
+          out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
         if (cloud.has_radii()) out << "property float radius\n";
         out << "end_header\n";
         const bool big = format == PlyFormat::kBinaryBigEndian;
         for (size_t i = 0; i < cloud.size(); ++i) {
           std::vector<float> f(cloud.positions[i].data(), cloud.positions[i].data() + 3);
-          if (cloud.has_normals()) f.insert(f.end(), cloud.normals[i].data(), cloud.normals[i].data() + 3);
+          if (cloud.has_normals())
+            f.insert(f.end(), cloud.normals[i].data(), cloud.normals[i].data() + 3);
           if (format == PlyFormat::kAscii) {
             for (size_t k = 0; k < f.size(); ++k) out << (k ? " " : "") << fmt::format("{}", f[k]);
             if (cloud.has_colours()) {
@@ -368,7 +420,9 @@ void write_ply(const std::string& path, const PointCloud& cloud, PlyFormat forma
             for (float v : f) put_binary(out, v, big);
             if (cloud.has_colours()) {
               const Rgb8& c = cloud.colours[i];
-              out.put(static_cast<char>(c.r)).put(static_cast<char>(c.g)).put(static_cast<char>(c.b));
+              out.put(static_cast<char>(c.r))
+                  .put(static_cast<char>(c.g))
+                  .put(static_cast<char>(c.b));
             }
             if (cloud.has_radii()) put_binary(out, cloud.radii[i], big);
           }

@@ -25,15 +25,19 @@ std::vector<std::string> PointCloud::attributes() const {
 void PointCloud::validate() const {
   const size_t n = size();
   if (n == 0) input_error("{}: the point cloud has no points", name);
-  if (has_normals() && normals.size() != n) input_error("{}: {} normals for {} points", name, normals.size(), n);
-  if (has_radii() && radii.size() != n) input_error("{}: {} radii for {} points", name, radii.size(), n);
-  if (has_colours() && colours.size() != n) input_error("{}: {} colours for {} points", name, colours.size(), n);
+  if (has_normals() && normals.size() != n)
+    input_error("{}: {} normals for {} points", name, normals.size(), n);
+  if (has_radii() && radii.size() != n)
+    input_error("{}: {} radii for {} points", name, radii.size(), n);
+  if (has_colours() && colours.size() != n)
+    input_error("{}: {} colours for {} points", name, colours.size(), n);
   for (size_t i = 0; i < n; ++i) {
     if (!positions[i].allFinite()) input_error("{}: point {} has a non-finite coordinate", name, i);
     if (has_normals()) {
       if (!normals[i].allFinite()) input_error("{}: point {} has a non-finite normal", name, i);
       if (std::abs(normals[i].squaredNorm() - 1.0f) > 1e-3f)
-        input_error("{}: point {} has a normal of length {:.4g}, not 1", name, i, normals[i].norm());
+        input_error("{}: point {} has a normal of length {:.4g}, not 1", name, i,
+                    normals[i].norm());
     }
     if (has_radii() && !(std::isfinite(radii[i]) && radii[i] >= 0.0f))
       input_error("{}: point {} has radius {}, not a finite value >= 0", name, i, radii[i]);

@@ -1,3 +1,5 @@
+#include "core/point_cloud_io.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -5,7 +7,6 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
-#include "core/point_cloud_io.hpp"
 #include "tests/test_helpers.hpp"
 
 using namespace pcrt;
@@ -24,15 +25,16 @@ PointCloud small_cloud() {
 }
 
 // Catch2's REQUIRE_THROWS_WITH with a substring matcher.
-#define REQUIRE_INPUT_ERROR(expr, text) \
-  REQUIRE_THROWS_WITH(expr, Catch::Matchers::Contains(text))
+#define REQUIRE_INPUT_ERROR(expr, text) REQUIRE_THROWS_WITH(expr, Catch::Matchers::Contains(text))
 
 }  // namespace
 
 TEST_CASE("PLY round trips in every format", "[io]") {
   const PointCloud c = small_cloud();
-  for (PlyFormat f : {PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian}) {
-    const std::string path = (pcrt::test::scratch_dir() / ("rt" + std::to_string(int(f)) + ".ply")).string();
+  for (PlyFormat f :
+       {PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian}) {
+    const std::string path =
+        (pcrt::test::scratch_dir() / ("rt" + std::to_string(int(f)) + ".ply")).string();
     write_ply(path, c, f);
     const PointCloud r = read_point_cloud(path);
     REQUIRE(r.size() == 3);
@@ -47,9 +49,11 @@ TEST_CASE("PLY round trips in every format", "[io]") {
 
 TEST_CASE("PLY reads double coordinates, skips unknown properties and face lists", "[io]") {
   // Big-endian doubles with an extra int property, then a face element with lists.
-  std::string bin = "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty double x\nproperty double y\n"
-                    "property double z\nproperty int label\nelement face 1\nproperty list uchar int vertex_indices\n"
-                    "end_header\n";
+  std::string bin =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty double x\nproperty double y\n"
+      "property double z\nproperty int label\nelement face 1\nproperty list uchar int "
+      "vertex_indices\n"
+      "end_header\n";
   auto put_be = [&](auto v) {
     char b[sizeof(v)];
     std::memcpy(b, &v, sizeof(v));
@@ -66,29 +70,48 @@ TEST_CASE("PLY reads double coordinates, skips unknown properties and face lists
 }
 
 TEST_CASE("malformed PLY files are rejected with the file and place named", "[io][errors]") {
-  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("trunc.ply", head + "0 0 0\n1 1 1\n")), "truncated");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("extra.ply", head + "0 0 0\n1 1 1\n2 2 2\n3 3 3\n")),
-                      "counts do not match");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("short.ply", head + "0 0 0\n1 1\n2 2 2\n")), "line 9");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("nan.ply", head + "0 0 0\nnan 1 1\n2 2 2\n")), "vertex 1");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("inf.ply", head + "0 0 0\n1 inf 1\n2 2 2\n")), "vertex 1");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("word.ply", head + "0 0 0\n1 x 1\n2 2 2\n")), "not a number");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\n")),
-                      "end_header");
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float "
+      "z\nend_header\n";
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("trunc.ply", head + "0 0 0\n1 1 1\n")),
+                      "truncated");
+  REQUIRE_INPUT_ERROR(
+      read_point_cloud(write_text("extra.ply", head + "0 0 0\n1 1 1\n2 2 2\n3 3 3\n")),
+      "counts do not match");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("short.ply", head + "0 0 0\n1 1\n2 2 2\n")),
+                      "line 9");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("nan.ply", head + "0 0 0\nnan 1 1\n2 2 2\n")),
+                      "vertex 1");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("inf.ply", head + "0 0 0\n1 inf 1\n2 2 2\n")),
+                      "vertex 1");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("word.ply", head + "0 0 0\n1 x 1\n2 2 2\n")),
+                      "not a number");
+  REQUIRE_INPUT_ERROR(
+      read_point_cloud(write_text("noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\n")),
+      "end_header");
   REQUIRE_INPUT_ERROR(read_point_cloud(write_text("notply.ply", "plx\n")), "not a PLY");
   REQUIRE_INPUT_ERROR(
-      read_point_cloud(write_text("empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n")),
+      read_point_cloud(write_text("empty.ply",
+                                  "ply\nformat ascii 1.0\nelement vertex 0\nproperty float "
+                                  "x\nproperty float y\nproperty float z\nend_header\n")),
       "no points");
-  REQUIRE_INPUT_ERROR(
-      read_point_cloud(write_text("partn.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nend_header\n0 0 0 1\n")),
-      "nx, ny, nz");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text(
+                          "partn.ply",
+                          "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty "
+                          "float y\nproperty float z\nproperty float nx\nend_header\n0 0 0 1\n")),
+                      "nx, ny, nz");
   // A binary file whose header promises far more vertices than it holds fails before allocating.
   REQUIRE_INPUT_ERROR(
-      read_point_cloud(write_text("lie.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n123456789012")),
+      read_point_cloud(
+          write_text("lie.ply",
+                     "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty "
+                     "float x\nproperty float y\nproperty float z\nend_header\n123456789012")),
       "too short");
-  const std::string bhead = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("btrunc.ply", bhead + std::string(20, '\0'))), "too short");
+  const std::string bhead =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float "
+      "y\nproperty float z\nend_header\n";
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("btrunc.ply", bhead + std::string(20, '\0'))),
+                      "too short");
 }
 
 TEST_CASE("XYZ and PWN files: 3 or 6 columns", "[io]") {
@@ -104,22 +127,28 @@ TEST_CASE("XYZ and PWN files: 3 or 6 columns", "[io]") {
   REQUIRE_INPUT_ERROR(read_point_cloud(write_text("d.xyz", "0 0 0 1\n")), "4 columns");
   REQUIRE_INPUT_ERROR(read_point_cloud(write_text("e.xyz", "0 0 nan\n")), "non-finite");
   REQUIRE_INPUT_ERROR(read_point_cloud(write_text("f.xyz", "\n# nothing\n")), "no points");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("g.xyz", "0 0 0 0 0 1\n1 1 1 0 0 0\n")), "zero normal");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("g.xyz", "0 0 0 0 0 1\n1 1 1 0 0 0\n")),
+                      "zero normal");
 }
 
 TEST_CASE("OFF files: vertices become points, faces are checked", "[io]") {
-  const PointCloud a = read_point_cloud(write_text("a.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+  const PointCloud a =
+      read_point_cloud(write_text("a.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
   REQUIRE(a.size() == 3);
   REQUIRE(read_point_cloud(write_text("b.off", "OFF 2 0 0\n0 0 0\n1 0 0\n")).size() == 2);
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("c.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n")), "vertex 2 of 3");
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("d.off", "OFF\n2 1 0\n0 0 0\n1 0 0\n3 0 1 5\n")), "names vertex 5");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("c.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n")),
+                      "vertex 2 of 3");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("d.off", "OFF\n2 1 0\n0 0 0\n1 0 0\n3 0 1 5\n")),
+                      "names vertex 5");
   REQUIRE_INPUT_ERROR(read_point_cloud(write_text("e.off", "OFX\n")), "not an OFF");
 }
 
 TEST_CASE("unknown extensions, missing files and duplicates", "[io]") {
-  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("a.txt", "0 0 0\n")), "unknown point cloud format");
+  REQUIRE_INPUT_ERROR(read_point_cloud(write_text("a.txt", "0 0 0\n")),
+                      "unknown point cloud format");
   REQUIRE_INPUT_ERROR(load_dataset("/nonexistent/cloud.ply"), "no such file");
-  const PointCloud d = read_point_cloud(write_text("dup.xyz", "0 0 0\n1 1 1\n0 0 0\n1 1 1\n2 2 2\n"));
+  const PointCloud d =
+      read_point_cloud(write_text("dup.xyz", "0 0 0\n1 1 1\n0 0 0\n1 1 1\n2 2 2\n"));
   REQUIRE(d.size() == 3);
   REQUIRE(d.positions[2] == Vec3(2, 2, 2));  // order of first occurrences kept
 }
@@ -131,8 +160,9 @@ TEST_CASE("real scans load when fetched", "[io][data]") {
     return;
   }
   size_t loaded = 0;
-  for (const char* f : {"cgal/points_3/kitten.xyz", "cgal/points_3/hippo1.ply", "cgal/points_3/oni.pwn",
-                        "cgal/points_3/b9_training.ply", "cgal/points_3/ball.ply", "bunny/bunny.ply"}) {
+  for (const char* f :
+       {"cgal/points_3/kitten.xyz", "cgal/points_3/hippo1.ply", "cgal/points_3/oni.pwn",
+        "cgal/points_3/b9_training.ply", "cgal/points_3/ball.ply", "bunny/bunny.ply"}) {
     if (!std::filesystem::exists(dir / f)) continue;
     const PointCloud c = read_point_cloud((dir / f).string());
     REQUIRE(c.size() > 1000);

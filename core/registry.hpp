@@ -19,7 +19,8 @@ class Registry {
   }
   void add(Info info) {
     entries_.push_back(std::move(info));
-    std::sort(entries_.begin(), entries_.end(), [](const Info& a, const Info& b) { return a.id < b.id; });
+    std::sort(entries_.begin(), entries_.end(),
+              [](const Info& a, const Info& b) { return a.id < b.id; });
   }
   [[nodiscard]] const std::vector<Info>& all() const { return entries_; }
   // Throws InputError "unknown <kind> '<id>' (known: ...)".

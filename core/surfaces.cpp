@@ -42,9 +42,12 @@ bool Surface::intersect(const Ray& ray, float& t, Vec3& n) const {
 }
 
 std::string SphereSurface::describe() const {
-  return fmt::format("sphere radius {} at ({}, {}, {})", radius, center.x(), center.y(), center.z());
+  return fmt::format("sphere radius {} at ({}, {}, {})", radius, center.x(), center.y(),
+                     center.z());
 }
-Aabb SphereSurface::bounds() const { return Aabb{center - Vec3::Constant(radius), center + Vec3::Constant(radius)}; }
+Aabb SphereSurface::bounds() const {
+  return Aabb{center - Vec3::Constant(radius), center + Vec3::Constant(radius)};
+}
 Vec3 SphereSurface::sample(Rng& rng, Vec3& normal) const {
   normal = uniform_direction(rng);
   return center + radius * normal;
@@ -99,7 +102,9 @@ bool PlaneSurface::intersect(const Ray& ray, float& t, Vec3& n) const {
   return true;
 }
 
-std::string TorusSurface::describe() const { return fmt::format("torus R={} r={} around z", major, minor); }
+std::string TorusSurface::describe() const {
+  return fmt::format("torus R={} r={} around z", major, minor);
+}
 float TorusSurface::signed_distance(const Vec3& x) const {
   const float q = std::hypot(x.x(), x.y()) - major;
   return std::hypot(q, x.z()) - minor;
@@ -119,14 +124,16 @@ Vec3 TorusSurface::sample(Rng& rng, Vec3& normal) const {
     const float theta = 2.0f * kPi * rng.uniform();
     const float phi = 2.0f * kPi * rng.uniform();
     if (rng.uniform() * (major + minor) > major + minor * std::cos(theta)) continue;
-    normal = Vec3(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta));
+    normal =
+        Vec3(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta));
     const float ring = major + minor * std::cos(theta);
     return Vec3(ring * std::cos(phi), ring * std::sin(phi), minor * std::sin(theta));
   }
 }
 
 std::string BumpySphereSurface::describe() const {
-  return fmt::format("bumpy sphere radius {} amplitude {} frequency {}", radius, amplitude, frequency);
+  return fmt::format("bumpy sphere radius {} amplitude {} frequency {}", radius, amplitude,
+                     frequency);
 }
 float BumpySphereSurface::implicit(const Vec3& x, Vec3* gradient) const {
   const float len = x.norm();
@@ -168,7 +175,8 @@ Vec3 BumpySphereSurface::sample(Rng& rng, Vec3& normal) const {
   while (true) {
     const Vec3 u = uniform_direction(rng);
     const float f = frequency;
-    const float r = radius * (1.0f + amplitude * std::sin(f * u.x()) * std::sin(f * u.y()) * std::sin(f * u.z()));
+    const float r = radius * (1.0f + amplitude * std::sin(f * u.x()) * std::sin(f * u.y()) *
+                                         std::sin(f * u.z()));
     Vec3 g;
     (void)implicit(r * u, &g);
     if (rng.uniform() * bound > r * r * g.norm()) continue;

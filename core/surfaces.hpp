@@ -35,7 +35,9 @@ struct SphereSurface final : Surface {
   Vec3 center = Vec3::Zero();
   float radius = 1.0f;
   [[nodiscard]] std::string describe() const override;
-  [[nodiscard]] float signed_distance(const Vec3& x) const override { return (x - center).norm() - radius; }
+  [[nodiscard]] float signed_distance(const Vec3& x) const override {
+    return (x - center).norm() - radius;
+  }
   [[nodiscard]] Vec3 normal(const Vec3& x) const override { return (x - center).normalized(); }
   [[nodiscard]] Aabb bounds() const override;
   Vec3 sample(Rng& rng, Vec3& normal) const override;

@@ -14,7 +14,8 @@ namespace pcrt {
 
 std::string read_file(const std::string& path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) input_error("{}: is a directory, not a point cloud file", path);
+  if (std::filesystem::is_directory(path, ec))
+    input_error("{}: is a directory, not a point cloud file", path);
   std::ifstream in(path, std::ios::binary);
   if (!in) input_error("{}: cannot open: {}", path, std::strerror(errno));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -27,7 +28,8 @@ void normalize_loaded_normals(PointCloud& cloud) {
   const bool all_zero = std::all_of(cloud.normals.begin(), cloud.normals.end(),
                                     [](const Vec3& n) { return n.squaredNorm() == 0.0f; });
   if (all_zero) {
-    std::fprintf(stderr, "pcrt: %s: every normal is zero; treating the cloud as having no normals\n",
+    std::fprintf(stderr,
+                 "pcrt: %s: every normal is zero; treating the cloud as having no normals\n",
                  cloud.name.c_str());
     cloud.normals.clear();
     return;
@@ -36,7 +38,8 @@ void normalize_loaded_normals(PointCloud& cloud) {
     Vec3& n = cloud.normals[i];
     if (!n.allFinite()) input_error("{}: point {} has a non-finite normal", cloud.name, i);
     const float len = n.norm();
-    if (!(len > 1e-12f)) input_error("{}: point {} has a zero normal while others do not", cloud.name, i);
+    if (!(len > 1e-12f))
+      input_error("{}: point {} has a zero normal while others do not", cloud.name, i);
     n /= len;
   }
 }
@@ -52,14 +55,18 @@ PointCloud read_xyz(const std::string& path) {
     if (columns == 0) {
       columns = tok.size();
       if (columns != 3 && columns != 6)
-        input_error("{}: line {}: {} columns; XYZ needs 3 (x y z) or 6 (x y z nx ny nz)", path, scan.line(), columns);
+        input_error("{}: line {}: {} columns; XYZ needs 3 (x y z) or 6 (x y z nx ny nz)", path,
+                    scan.line(), columns);
     } else if (tok.size() != columns) {
-      input_error("{}: line {}: {} columns where earlier lines have {}", path, scan.line(), tok.size(), columns);
+      input_error("{}: line {}: {} columns where earlier lines have {}", path, scan.line(),
+                  tok.size(), columns);
     }
     Vec3 p(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
     if (!p.allFinite()) input_error("{}: line {}: non-finite coordinate", path, scan.line());
     cloud.positions.push_back(p);
-    if (columns == 6) cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4), scan.number<float>(5));
+    if (columns == 6)
+      cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
+                                 scan.number<float>(5));
   }
   if (cloud.positions.empty()) input_error("{}: no points", path);
   normalize_loaded_normals(cloud);
@@ -98,11 +105,15 @@ PointCloud read_off(const std::string& path) {
     if (!scan.next_line()) input_error("{}: truncated: file ends at vertex {} of {}", path, i, nv);
     const auto& tok = scan.tokens();
     if (tok.size() < min_cols || (!has_colour && tok.size() != min_cols))
-      input_error("{}: line {}: vertex {} has {} values, expected {}", path, scan.line(), i, tok.size(), min_cols);
+      input_error("{}: line {}: vertex {} has {} values, expected {}", path, scan.line(), i,
+                  tok.size(), min_cols);
     Vec3 p(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
-    if (!p.allFinite()) input_error("{}: line {}: vertex {} has a non-finite coordinate", path, scan.line(), i);
+    if (!p.allFinite())
+      input_error("{}: line {}: vertex {} has a non-finite coordinate", path, scan.line(), i);
     cloud.positions.push_back(p);
-    if (has_normals) cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4), scan.number<float>(5));
+    if (has_normals)
+      cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
+                                 scan.number<float>(5));
   }
   for (long long f = 0; f < nf; ++f) {
     if (!scan.next_line()) input_error("{}: truncated: file ends at face {} of {}", path, f, nf);
@@ -111,10 +122,13 @@ PointCloud read_off(const std::string& path) {
       input_error("{}: line {}: face {} is malformed", path, scan.line(), f);
     for (long long k = 1; k <= n; ++k) {
       const auto v = scan.number<long long>(size_t(k));
-      if (v < 0 || v >= nv) input_error("{}: line {}: face {} names vertex {} of {}", path, scan.line(), f, v, nv);
+      if (v < 0 || v >= nv)
+        input_error("{}: line {}: face {} names vertex {} of {}", path, scan.line(), f, v, nv);
     }
   }
-  if (scan.next_line()) input_error("{}: line {}: data after the last face; the header's counts are wrong", path, scan.line());
+  if (scan.next_line())
+    input_error("{}: line {}: data after the last face; the header's counts are wrong", path,
+                scan.line());
   if (cloud.positions.empty()) input_error("{}: no vertices", path);
   normalize_loaded_normals(cloud);
   return cloud;
@@ -122,16 +136,21 @@ PointCloud read_off(const std::string& path) {
 
 PointCloud read_point_cloud(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   PointCloud cloud;
-  if (ext == ".ply") cloud = read_ply(path);
-  else if (ext == ".xyz" || ext == ".pwn") cloud = read_xyz(path);
-  else if (ext == ".off") cloud = read_off(path);
-  else input_error("{}: unknown point cloud format '{}' (use .ply, .xyz, .pwn or .off)", path, ext);
+  if (ext == ".ply")
+    cloud = read_ply(path);
+  else if (ext == ".xyz" || ext == ".pwn")
+    cloud = read_xyz(path);
+  else if (ext == ".off")
+    cloud = read_off(path);
+  else
+    input_error("{}: unknown point cloud format '{}' (use .ply, .xyz, .pwn or .off)", path, ext);
   cloud.validate();
   if (const size_t dropped = cloud.remove_duplicates())
-    std::fprintf(stderr, "pcrt: %s: dropped %zu exact duplicate points (%zu remain)\n", path.c_str(), dropped,
-                 cloud.size());
+    std::fprintf(stderr, "pcrt: %s: dropped %zu exact duplicate points (%zu remain)\n",
+                 path.c_str(), dropped, cloud.size());
   return cloud;
 }
 

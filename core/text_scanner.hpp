@@ -59,7 +59,9 @@ class TextScanner {
       i = j;
     }
   }
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+  static bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+  }
 
   std::string_view text_;
   std::string file_;

@@ -100,19 +100,26 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
   for (size_t i = 0; i < rays.size(); ++i) {
     const RayOutcome& o = out[i];
     switch (o.verdict) {
-      case Verdict::kIgnored: continue;
-      case Verdict::kHole: ++r.judged_hits, ++r.holes; break;
+      case Verdict::kIgnored:
+        continue;
+      case Verdict::kHole:
+        ++r.judged_hits, ++r.holes;
+        break;
       case Verdict::kGoodHit:
         ++r.judged_hits;
         dist.push_back(o.distance_h);
         angle.push_back(o.normal_deg);
         break;
-      case Verdict::kGoodMiss: ++r.judged_misses; break;
+      case Verdict::kGoodMiss:
+        ++r.judged_misses;
+        break;
       case Verdict::kFalseHit:
         ++r.false_hits;
         // A false hit on a ray the surface does hit still counts among the judged hits.
-        if (o.exact_hit) ++r.judged_hits;
-        else ++r.judged_misses;
+        if (o.exact_hit)
+          ++r.judged_hits;
+        else
+          ++r.judged_misses;
         break;
     }
   }
@@ -123,7 +130,9 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
     return double(v[k]);
   };
   r.hole_rate = r.judged_hits ? double(r.holes) / double(r.judged_hits) : 0;
-  r.false_hit_rate = (r.judged_hits + r.judged_misses) ? double(r.false_hits) / double(r.judged_hits + r.judged_misses) : 0;
+  r.false_hit_rate = (r.judged_hits + r.judged_misses)
+                         ? double(r.false_hits) / double(r.judged_hits + r.judged_misses)
+                         : 0;
   r.distance_median_h = quantile(dist, 0.5);
   r.distance_p95_h = quantile(dist, 0.95);
   r.normal_median_deg = quantile(angle, 0.5);

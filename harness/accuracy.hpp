@@ -13,13 +13,13 @@ namespace pcrt {
 
 struct AccuracyReport {
   size_t rays = 0;
-  size_t judged_hits = 0;    // exact ray hits, not grazing (|cos| >= 0.1)
-  size_t judged_misses = 0;  // exact ray passes the surface by more than 2h
-  size_t holes = 0;          // judged hits the method misses
-  size_t false_hits = 0;     // method hits on judged misses, or > 5h from the exact first hit
-  double mean_spacing = 0;   // h
-  double hole_rate = 0;      // holes / judged_hits
-  double false_hit_rate = 0; // false_hits / (judged_hits + judged_misses)
+  size_t judged_hits = 0;        // exact ray hits, not grazing (|cos| >= 0.1)
+  size_t judged_misses = 0;      // exact ray passes the surface by more than 2h
+  size_t holes = 0;              // judged hits the method misses
+  size_t false_hits = 0;         // method hits on judged misses, or > 5h from the exact first hit
+  double mean_spacing = 0;       // h
+  double hole_rate = 0;          // holes / judged_hits
+  double false_hit_rate = 0;     // false_hits / (judged_hits + judged_misses)
   double distance_median_h = 0;  // |signed distance| of reported hit points / h
   double distance_p95_h = 0;
   double normal_median_deg = 0;  // unsigned angle to the true normal
@@ -28,8 +28,8 @@ struct AccuracyReport {
 
 // The accuracy bounds every method issue states.
 struct AccuracyBounds {
-  double max_hole_rate = 0.01, max_false_hit_rate = 0.01, max_distance_median_h = 0.1, max_distance_p95_h = 0.5,
-         max_normal_median_deg = 3.0;
+  double max_hole_rate = 0.01, max_false_hit_rate = 0.01, max_distance_median_h = 0.1,
+         max_distance_p95_h = 0.5, max_normal_median_deg = 3.0;
   [[nodiscard]] bool met_by(const AccuracyReport& r) const {
     return r.hole_rate <= max_hole_rate && r.false_hit_rate <= max_false_hit_rate &&
            r.distance_median_h <= max_distance_median_h && r.distance_p95_h <= max_distance_p95_h &&

@@ -2,12 +2,13 @@
 // sphere and torus of 10^5 points. A method that cannot meet a bound as its paper describes it is
 // listed below with the bound it misses and why; the test checks that it still misses exactly
 // that one (so a fix shows up, and nothing else slips).
+#include "harness/accuracy.hpp"
+
 #include <catch2/catch.hpp>
 #include <map>
 #include <set>
 
 #include "core/dataset.hpp"
-#include "harness/accuracy.hpp"
 #include "preprocess/point_attributes.hpp"
 
 using namespace pcrt;
@@ -66,7 +67,8 @@ TEST_CASE("the accuracy evaluator finds the exact surface perfect", "[accuracy]"
   }
 }
 
-TEST_CASE("every method meets the accuracy bounds or misses exactly its documented ones", "[accuracy][methods]") {
+TEST_CASE("every method meets the accuracy bounds or misses exactly its documented ones",
+          "[accuracy][methods]") {
   for (const char* name : {"sphere", "torus"}) {
     const Dataset d = load_dataset(std::string(name) + ":n=100000");
     OpCounters c;
@@ -79,11 +81,12 @@ TEST_CASE("every method meets the accuracy bounds or misses exactly its document
       const std::string structure = m.structure == "brute_force" ? "kd_tree" : "";
       const PointScene scene(d.cloud, SceneOptions{m.id, structure, {}}, c, t);
       const AccuracyReport r = evaluate_accuracy(scene, *d.truth, h, rays, c);
-      INFO(m.id << " on " << name << ": holes " << r.hole_rate << ", false hits " << r.false_hit_rate
-                << ", distance median " << r.distance_median_h << " h, p95 " << r.distance_p95_h
-                << " h, normal median " << r.normal_median_deg << " deg");
+      INFO(m.id << " on " << name << ": holes " << r.hole_rate << ", false hits "
+                << r.false_hit_rate << ", distance median " << r.distance_median_h << " h, p95 "
+                << r.distance_p95_h << " h, normal median " << r.normal_median_deg << " deg");
       const auto known = kKnownMisses.find({m.id, name});
-      REQUIRE(missed_bounds(r) == (known == kKnownMisses.end() ? std::set<std::string>{} : known->second));
+      REQUIRE(missed_bounds(r) ==
+              (known == kKnownMisses.end() ? std::set<std::string>{} : known->second));
     }
   }
 }

@@ -8,8 +8,8 @@
 
 namespace pcrt {
 
-CliArgs::CliArgs(std::string command, std::string usage, std::vector<OptionSpec> options, size_t min_positional,
-                 size_t max_positional)
+CliArgs::CliArgs(std::string command, std::string usage, std::vector<OptionSpec> options,
+                 size_t min_positional, size_t max_positional)
     : command_(std::move(command)),
       usage_(std::move(usage)),
       options_(std::move(options)),
@@ -24,7 +24,8 @@ bool CliArgs::parse(const std::vector<std::string>& args) {
       return false;
     }
     if (a.rfind("--", 0) != 0 || a.size() == 2) {
-      if (!a.empty() && a[0] == '-' && a.size() > 1 && !(a.size() > 1 && (std::isdigit(a[1]) || a[1] == '.')))
+      if (!a.empty() && a[0] == '-' && a.size() > 1 &&
+          !(a.size() > 1 && (std::isdigit(a[1]) || a[1] == '.')))
         input_error("pcrt {}: unknown option '{}' (see pcrt {} --help)", command_, a, command_);
       positional_.push_back(a);
       continue;
@@ -38,22 +39,26 @@ bool CliArgs::parse(const std::vector<std::string>& args) {
     const OptionSpec* spec = nullptr;
     for (const auto& o : options_)
       if (o.name == name) spec = &o;
-    if (!spec) input_error("pcrt {}: unknown option '--{}' (see pcrt {} --help)", command_, name, command_);
-    if (!spec->repeatable && values_.count(name)) input_error("pcrt {}: --{} given twice", command_, name);
+    if (!spec)
+      input_error("pcrt {}: unknown option '--{}' (see pcrt {} --help)", command_, name, command_);
+    if (!spec->repeatable && values_.count(name))
+      input_error("pcrt {}: --{} given twice", command_, name);
     if (spec->value_name.empty()) {
       if (inline_value) input_error("pcrt {}: --{} takes no value", command_, name);
       values_[name].push_back("1");
       continue;
     }
     if (!inline_value) {
-      if (i + 1 >= args.size()) input_error("pcrt {}: --{} needs a value ({})", command_, name, spec->value_name);
+      if (i + 1 >= args.size())
+        input_error("pcrt {}: --{} needs a value ({})", command_, name, spec->value_name);
       inline_value = args[++i];
     }
     values_[name].push_back(*inline_value);
   }
   if (positional_.size() < min_pos_ || positional_.size() > max_pos_)
     input_error("pcrt {}: expected {}{} argument(s), got {}: usage: {}", command_, min_pos_,
-                max_pos_ != min_pos_ ? fmt::format(" to {}", max_pos_) : "", positional_.size(), usage_);
+                max_pos_ != min_pos_ ? fmt::format(" to {}", max_pos_) : "", positional_.size(),
+                usage_);
   return true;
 }
 
@@ -72,25 +77,29 @@ std::vector<std::string> CliArgs::all(const std::string& name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-long long CliArgs::integer(const std::string& name, long long fallback, long long lo, long long hi) const {
+long long CliArgs::integer(const std::string& name, long long fallback, long long lo,
+                           long long hi) const {
   if (!has(name)) return fallback;
   const std::string v = get(name);
   long long x = 0;
   auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
   if (v.empty() || ec != std::errc() || end != v.data() + v.size())
     input_error("pcrt {}: --{} '{}' is not an integer", command_, name, v);
-  if (x < lo || x > hi) input_error("pcrt {}: --{} {} is outside [{}, {}]", command_, name, x, lo, hi);
+  if (x < lo || x > hi)
+    input_error("pcrt {}: --{} {} is outside [{}, {}]", command_, name, x, lo, hi);
   return x;
 }
 
 double CliArgs::number(const std::string& name, double fallback) const {
-  return has(name) ? parse_number(get(name), fmt::format("pcrt {}: --{}", command_, name)) : fallback;
+  return has(name) ? parse_number(get(name), fmt::format("pcrt {}: --{}", command_, name))
+                   : fallback;
 }
 
 std::string CliArgs::help() const {
   std::string h = fmt::format("usage: {}\n\noptions:\n", usage_);
   for (const auto& o : options_) {
-    const std::string left = o.value_name.empty() ? "--" + o.name : fmt::format("--{} {}", o.name, o.value_name);
+    const std::string left =
+        o.value_name.empty() ? "--" + o.name : fmt::format("--{} {}", o.name, o.value_name);
     h += fmt::format("  {:<26} {}\n", left, o.help);
   }
   h += fmt::format("  {:<26} {}\n", "--help", "show this help");

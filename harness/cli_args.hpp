@@ -10,7 +10,7 @@
 namespace pcrt {
 
 struct OptionSpec {
-  std::string name;  // without the leading "--"
+  std::string name;        // without the leading "--"
   std::string value_name;  // empty for a flag
   std::string help;
   bool repeatable = false;
@@ -18,8 +18,8 @@ struct OptionSpec {
 
 class CliArgs {
  public:
-  CliArgs(std::string command, std::string usage, std::vector<OptionSpec> options, size_t min_positional,
-          size_t max_positional);
+  CliArgs(std::string command, std::string usage, std::vector<OptionSpec> options,
+          size_t min_positional, size_t max_positional);
   // Throws InputError for anything malformed; returns false if --help was asked (help printed).
   bool parse(const std::vector<std::string>& args);
 
@@ -27,7 +27,8 @@ class CliArgs {
   [[nodiscard]] std::string get(const std::string& name, const std::string& fallback = "") const;
   [[nodiscard]] std::string require(const std::string& name) const;
   [[nodiscard]] std::vector<std::string> all(const std::string& name) const;
-  [[nodiscard]] long long integer(const std::string& name, long long fallback, long long lo, long long hi) const;
+  [[nodiscard]] long long integer(const std::string& name, long long fallback, long long lo,
+                                  long long hi) const;
   [[nodiscard]] double number(const std::string& name, double fallback) const;
   [[nodiscard]] const std::vector<std::string>& positional() const { return positional_; }
   [[nodiscard]] std::string help() const;

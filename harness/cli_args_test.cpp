@@ -1,15 +1,17 @@
+#include "harness/cli_args.hpp"
+
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
-#include "harness/cli_args.hpp"
 
 using namespace pcrt;
 using Catch::Matchers::Contains;
 
 TEST_CASE("strict command-line options", "[cli]") {
   auto make = [] {
-    return CliArgs("t", "pcrt t", {{"out", "FILE", "output"}, {"json", "", "flag"}, {"set", "N=V", "repeat", true}},
-                   0, 1);
+    return CliArgs(
+        "t", "pcrt t",
+        {{"out", "FILE", "output"}, {"json", "", "flag"}, {"set", "N=V", "repeat", true}}, 0, 1);
   };
   CliArgs a = make();
   REQUIRE(a.parse({"x", "--out", "f.png", "--json", "--set", "a=1", "--set=b=2"}));

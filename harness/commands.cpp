@@ -1,8 +1,8 @@
 #include "harness/commands.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/global_control.h>
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -32,8 +32,12 @@ using nlohmann::json;
 json params_json(const std::vector<ParamSpec>& specs) {
   json a = json::array();
   for (const auto& p : specs)
-    a.push_back({{"name", p.name}, {"default", p.default_value}, {"min", p.min_value}, {"max", p.max_value},
-                 {"integer", p.integer}, {"description", p.description}});
+    a.push_back({{"name", p.name},
+                 {"default", p.default_value},
+                 {"min", p.min_value},
+                 {"max", p.max_value},
+                 {"integer", p.integer},
+                 {"description", p.description}});
   return a;
 }
 
@@ -51,7 +55,8 @@ void write_json(const std::string& path, const json& j) {
 std::unique_ptr<tbb::global_control> limit_threads(const CliArgs& a) {
   const long long t = a.integer("threads", 0, 0, 1024);
   if (t == 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(t));
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(t));
 }
 
 std::vector<OptionSpec> scene_options() {
@@ -92,8 +97,10 @@ Vec3 parse_vector(const std::string& text, const std::string& what) {
 }
 
 json scene_json(const PointScene& scene, const PointCloud& cloud, const std::string& data) {
-  json params = {{"method", scene.method_info().id}, {"structure", scene.structure_id()},
-                 {"dataset", data}, {"N", cloud.size()}};
+  json params = {{"method", scene.method_info().id},
+                 {"structure", scene.structure_id()},
+                 {"dataset", data},
+                 {"N", cloud.size()}};
   for (const auto& [k, v] : scene.method_params()) params["method_params"][k] = v;
   for (const auto& [k, v] : scene.structure_params()) params["structure_params"][k] = v;
   return params;
@@ -102,7 +109,8 @@ json scene_json(const PointScene& scene, const PointCloud& cloud, const std::str
 }  // namespace
 
 int command_info(const Args& args) {
-  CliArgs a("info", "pcrt info DATA [--json]", {{"json", "", "print JSON"}, {"threads", "N", "worker threads"}}, 1, 1);
+  CliArgs a("info", "pcrt info DATA [--json]",
+            {{"json", "", "print JSON"}, {"threads", "N", "worker threads"}}, 1, 1);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   const Dataset d = load_dataset(a.positional()[0]);
@@ -113,36 +121,41 @@ int command_info(const Args& args) {
   const Aabb b = c.bounds();
   json j = {{"name", c.name},
             {"points", c.size()},
-            {"bounds", {{"min", {b.lo.x(), b.lo.y(), b.lo.z()}}, {"max", {b.hi.x(), b.hi.y(), b.hi.z()}}}},
+            {"bounds",
+             {{"min", {b.lo.x(), b.lo.y(), b.lo.z()}}, {"max", {b.hi.x(), b.hi.y(), b.hi.z()}}}},
             {"attributes", c.attributes()},
             {"mean_spacing", h},
             {"ground_truth", d.truth ? json(d.truth->describe()) : json(nullptr)}};
   if (a.has("json")) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    std::printf("%s\n  points        %zu\n  bounds        (%g, %g, %g) - (%g, %g, %g)\n  attributes    %s\n"
-                "  mean spacing  %g\n  ground truth  %s\n",
-                c.name.c_str(), c.size(), b.lo.x(), b.lo.y(), b.lo.z(), b.hi.x(), b.hi.y(), b.hi.z(),
-                fmt::format("{}", fmt::join(c.attributes(), ", ")).c_str(), h,
-                d.truth ? d.truth->describe().c_str() : "none (file)");
+    std::printf(
+        "%s\n  points        %zu\n  bounds        (%g, %g, %g) - (%g, %g, %g)\n  attributes    %s\n"
+        "  mean spacing  %g\n  ground truth  %s\n",
+        c.name.c_str(), c.size(), b.lo.x(), b.lo.y(), b.lo.z(), b.hi.x(), b.hi.y(), b.hi.z(),
+        fmt::format("{}", fmt::join(c.attributes(), ", ")).c_str(), h,
+        d.truth ? d.truth->describe().c_str() : "none (file)");
   }
   return 0;
 }
 
 int command_render(const Args& args) {
   auto opts = scene_options();
-  opts.insert(opts.end(), {{"out", "FILE.png", "image to write"},
-                           {"width", "W", "image width in pixels (default 512)"},
-                           {"height", "H", "image height in pixels (default 512)"},
-                           {"spp", "S", "samples per pixel (default 1)"},
-                           {"bounces", "B", "BRDF bounces after the primary hit (default 1)"},
-                           {"seed", "N", "random seed (default 1)"},
-                           {"no-light", "", "no point light: sky illumination only"},
-                           {"view", "X,Y,Z", "direction from the cloud's centre to the camera (default 0.55,-0.75,0.4)"},
-                           {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
-                           {"ray-epsilon", "E", "offset of secondary ray origins (default 1e-3 x scene diagonal)"},
-                           {"depth", "FILE.png", "also write the primary-hit depth image"},
-                           {"normals", "FILE.png", "also write the primary-hit normal image"}});
+  opts.insert(
+      opts.end(),
+      {{"out", "FILE.png", "image to write"},
+       {"width", "W", "image width in pixels (default 512)"},
+       {"height", "H", "image height in pixels (default 512)"},
+       {"spp", "S", "samples per pixel (default 1)"},
+       {"bounces", "B", "BRDF bounces after the primary hit (default 1)"},
+       {"seed", "N", "random seed (default 1)"},
+       {"no-light", "", "no point light: sky illumination only"},
+       {"view", "X,Y,Z",
+        "direction from the cloud's centre to the camera (default 0.55,-0.75,0.4)"},
+       {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
+       {"ray-epsilon", "E", "offset of secondary ray origins (default 1e-3 x scene diagonal)"},
+       {"depth", "FILE.png", "also write the primary-hit depth image"},
+       {"normals", "FILE.png", "also write the primary-hit normal image"}});
   CliArgs a("render", "pcrt render --method ID --data DATA --out FILE.png [options]", opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
@@ -178,8 +191,14 @@ int command_render(const Args& args) {
   if (a.has("normals")) write_png(a.get("normals"), r.normals, PngEncoding::kLinear);
 
   json params = scene_json(scene, d.cloud, a.get("data"));
-  params.update({{"M", rs.width * rs.height}, {"width", rs.width}, {"height", rs.height}, {"S", rs.spp},
-                 {"B", rs.bounces}, {"seed", rs.seed}, {"point_light", rs.point_light}, {"threads", rs.threads}});
+  params.update({{"M", rs.width * rs.height},
+                 {"width", rs.width},
+                 {"height", rs.height},
+                 {"S", rs.spp},
+                 {"B", rs.bounces},
+                 {"seed", rs.seed},
+                 {"point_light", rs.point_light},
+                 {"threads", rs.threads}});
   const json stats = {{"params", params},
                       {"counters", counters_json(r.counters)},
                       {"prepare_counters", counters_json(prep)},
@@ -187,11 +206,13 @@ int command_render(const Args& args) {
                       {"structure_bytes", scene.structure_bytes()},
                       {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0}};
   if (a.has("stats")) write_json(a.get("stats"), stats);
-  std::printf("%s: %s on %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), scene.method_info().id.c_str(),
-              scene.structure_id().c_str(), d.cloud.size(), rs.width, rs.height, rs.spp, rs.bounces);
-  std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"], timings["build"],
-              r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
-  for (const auto& [name, value] : r.counters.to_map()) std::printf("  %-28s %llu\n", name.c_str(), (unsigned long long)value);
+  std::printf("%s: %s on %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(),
+              scene.method_info().id.c_str(), scene.structure_id().c_str(), d.cloud.size(),
+              rs.width, rs.height, rs.spp, rs.bounces);
+  std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"],
+              timings["build"], r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
+  for (const auto& [name, value] : r.counters.to_map())
+    std::printf("  %-28s %llu\n", name.c_str(), (unsigned long long)value);
   return 0;
 }
 
@@ -209,15 +230,18 @@ std::vector<Ray> read_rays(const std::string& path) {
     const auto& tok = lines.tokens();
     if (!header) {
       const std::vector<std::string_view> want{"ox", "oy", "oz", "dx", "dy", "dz"};
-      if (tok != want) input_error("{}: line {}: header must be 'ox,oy,oz,dx,dy,dz'", path, lines.line());
+      if (tok != want)
+        input_error("{}: line {}: header must be 'ox,oy,oz,dx,dy,dz'", path, lines.line());
       header = true;
       continue;
     }
-    if (tok.size() != 6) input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
+    if (tok.size() != 6)
+      input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
     Ray r;
     r.o = Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
     const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
-    if (!r.o.allFinite() || !d.allFinite()) input_error("{}: line {}: non-finite value", path, lines.line());
+    if (!r.o.allFinite() || !d.allFinite())
+      input_error("{}: line {}: non-finite value", path, lines.line());
     if (!(d.norm() > 0)) input_error("{}: line {}: zero direction", path, lines.line());
     r.d = d.normalized();
     rays.push_back(r);
@@ -231,8 +255,10 @@ std::vector<Ray> read_rays(const std::string& path) {
 int command_trace(const Args& args) {
   auto opts = scene_options();
   opts.insert(opts.end(), {{"rays", "RAYS.csv", "rays, header ox,oy,oz,dx,dy,dz"},
-                           {"out", "HITS.csv", "hits: ray,hit,t,px,py,pz,nx,ny,nz (t along the unit direction)"}});
-  CliArgs a("trace", "pcrt trace --method ID --data DATA --rays RAYS.csv --out HITS.csv [options]", opts, 0, 0);
+                           {"out", "HITS.csv",
+                            "hits: ray,hit,t,px,py,pz,nx,ny,nz (t along the unit direction)"}});
+  CliArgs a("trace", "pcrt trace --method ID --data DATA --rays RAYS.csv --out HITS.csv [options]",
+            opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   const SceneOptions so = scene_options_from(a);
@@ -258,8 +284,8 @@ int command_trace(const Args& args) {
     for (size_t i = 0; i < rays.size(); ++i) {
       const Hit& h = hits[i];
       if (found[i])
-        o << fmt::format("{},1,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", i, h.t, h.p.x(), h.p.y(), h.p.z(),
-                         h.n.x(), h.n.y(), h.n.z());
+        o << fmt::format("{},1,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", i, h.t, h.p.x(),
+                         h.p.y(), h.p.z(), h.n.x(), h.n.y(), h.n.z());
       else
         o << i << ",0,,,,,,,\n";
     }
@@ -285,7 +311,9 @@ int command_accuracy(const Args& args) {
   opts.insert(opts.end(), {{"rays", "N", "number of rays (default 20000)"},
                            {"seed", "N", "ray seed (default 1)"},
                            {"json", "", "print JSON"}});
-  CliArgs a("accuracy", "pcrt accuracy --method ID --data GENERATOR_SPEC [--structure ID] [--rays N] [--json]", opts, 0, 0);
+  CliArgs a("accuracy",
+            "pcrt accuracy --method ID --data GENERATOR_SPEC [--structure ID] [--rays N] [--json]",
+            opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   const SceneOptions so = scene_options_from(a);
@@ -293,7 +321,10 @@ int command_accuracy(const Args& args) {
   const auto seed = uint64_t(a.integer("seed", 1, 0, 1ll << 62));
   const std::string data = a.require("data");
   const Dataset d = load_dataset(data);
-  if (!d.truth) input_error("pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface", data);
+  if (!d.truth)
+    input_error(
+        "pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface",
+        data);
   Timings timings;
   OpCounters prep, counters;
   const PointScene scene(d.cloud, so, prep, timings);
@@ -307,21 +338,36 @@ int command_accuracy(const Args& args) {
   }
   const bool ok = AccuracyBounds{}.met_by(r);
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-  const json j = {{"method", scene.method_info().id}, {"structure", scene.structure_id()}, {"dataset", data},
-                  {"N", d.cloud.size()}, {"mean_spacing", h}, {"rays", r.rays}, {"judged_hits", r.judged_hits},
-                  {"judged_misses", r.judged_misses}, {"holes", r.holes}, {"false_hits", r.false_hits},
-                  {"hole_rate", r.hole_rate}, {"false_hit_rate", r.false_hit_rate},
-                  {"distance_median_h", num(r.distance_median_h)}, {"distance_p95_h", num(r.distance_p95_h)},
-                  {"normal_median_deg", num(r.normal_median_deg)}, {"normal_p95_deg", num(r.normal_p95_deg)},
-                  {"meets_bounds", ok}, {"counters", counters_json(counters)}, {"timings", timings}};
+  const json j = {{"method", scene.method_info().id},
+                  {"structure", scene.structure_id()},
+                  {"dataset", data},
+                  {"N", d.cloud.size()},
+                  {"mean_spacing", h},
+                  {"rays", r.rays},
+                  {"judged_hits", r.judged_hits},
+                  {"judged_misses", r.judged_misses},
+                  {"holes", r.holes},
+                  {"false_hits", r.false_hits},
+                  {"hole_rate", r.hole_rate},
+                  {"false_hit_rate", r.false_hit_rate},
+                  {"distance_median_h", num(r.distance_median_h)},
+                  {"distance_p95_h", num(r.distance_p95_h)},
+                  {"normal_median_deg", num(r.normal_median_deg)},
+                  {"normal_p95_deg", num(r.normal_p95_deg)},
+                  {"meets_bounds", ok},
+                  {"counters", counters_json(counters)},
+                  {"timings", timings}};
   if (a.has("json")) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    std::printf("%s on %s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", scene.method_info().id.c_str(),
-                scene.structure_id().c_str(), data.c_str(), h, r.judged_hits, r.judged_misses);
-    std::printf("  holes %.3f%%  false hits %.3f%%  distance median %.4f h, p95 %.4f h  normal median %.3f deg  -> %s\n",
-                100 * r.hole_rate, 100 * r.false_hit_rate, r.distance_median_h, r.distance_p95_h, r.normal_median_deg,
-                ok ? "meets the bounds" : "MISSES the bounds");
+    std::printf("%s on %s, %s (h = %.4g): %zu judged hits, %zu judged misses\n",
+                scene.method_info().id.c_str(), scene.structure_id().c_str(), data.c_str(), h,
+                r.judged_hits, r.judged_misses);
+    std::printf(
+        "  holes %.3f%%  false hits %.3f%%  distance median %.4f h, p95 %.4f h  normal median %.3f "
+        "deg  -> %s\n",
+        100 * r.hole_rate, 100 * r.false_hit_rate, r.distance_median_h, r.distance_p95_h,
+        r.normal_median_deg, ok ? "meets the bounds" : "MISSES the bounds");
   }
   return 0;
 }
@@ -333,21 +379,24 @@ struct Throughput {
   double mrays_per_s = 0;
   size_t hits = 0;
 };
-Throughput measure_throughput(const SceneIntersector& scene, const std::vector<Ray>& rays, int reps) {
+Throughput measure_throughput(const SceneIntersector& scene, const std::vector<Ray>& rays,
+                              int reps) {
   std::vector<double> rates;
   size_t hits = 0;
   for (int r = 0; r <= reps; ++r) {
     std::vector<char> found(rays.size());
     tbb::combinable<OpCounters> per_thread;
     const auto start = std::chrono::steady_clock::now();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& br) {
-      OpCounters& c = per_thread.local();
-      for (size_t i = br.begin(); i != br.end(); ++i) {
-        Hit h;
-        found[i] = scene.closest_hit(rays[i], h, c);
-      }
-    });
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024),
+                      [&](const tbb::blocked_range<size_t>& br) {
+                        OpCounters& c = per_thread.local();
+                        for (size_t i = br.begin(); i != br.end(); ++i) {
+                          Hit h;
+                          found[i] = scene.closest_hit(rays[i], h, c);
+                        }
+                      });
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (r > 0) rates.push_back(double(rays.size()) / s / 1e6);
     hits = size_t(std::count(found.begin(), found.end(), 1));
   }
@@ -358,7 +407,8 @@ Throughput measure_throughput(const SceneIntersector& scene, const std::vector<R
 }  // namespace
 
 int command_anchor(const Args& args) {
-  CliArgs a("anchor", "pcrt anchor --data DATA [--width W --height H --threads T --reps R] [--json]",
+  CliArgs a("anchor",
+            "pcrt anchor --data DATA [--width W --height H --threads T --reps R] [--json]",
             {{"data", "DATA", "point cloud file or generator spec"},
              {"width", "W", "image width (default 512)"},
              {"height", "H", "image height (default 512)"},
@@ -368,7 +418,8 @@ int command_anchor(const Args& args) {
             0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
-  const int w = int(a.integer("width", 512, 1, 16384)), hgt = int(a.integer("height", 512, 1, 16384));
+  const int w = int(a.integer("width", 512, 1, 16384)),
+            hgt = int(a.integer("height", 512, 1, 16384));
   const int reps = int(a.integer("reps", 5, 1, 1000));
   const std::string data = a.require("data");
   const Dataset d = load_dataset(data);
@@ -381,14 +432,19 @@ int command_anchor(const Args& args) {
   json ours = json::array();
   json best;
   for (const MethodInfo& m : MethodRegistry::instance().all()) {
-    if (!m.own_structure.empty() || std::find(m.needs.begin(), m.needs.end(), "point radii") == m.needs.end()) continue;
+    if (!m.own_structure.empty() ||
+        std::find(m.needs.begin(), m.needs.end(), "point radii") == m.needs.end())
+      continue;
     for (const StructureInfo& s : StructureRegistry::instance().all()) {
       if (s.id == "brute_force") continue;
       Timings t;
       OpCounters prep;
       const PointScene scene(d.cloud, SceneOptions{m.id, s.id, {}}, prep, t);
       const Throughput th = measure_throughput(scene, rays, reps);
-      json e = {{"method", m.id}, {"structure", s.id}, {"mrays_per_s", th.mrays_per_s}, {"hits", th.hits}};
+      json e = {{"method", m.id},
+                {"structure", s.id},
+                {"mrays_per_s", th.mrays_per_s},
+                {"hits", th.hits}};
       ours.push_back(e);
       if (best.is_null() || th.mrays_per_s > best["mrays_per_s"].get<double>()) best = e;
     }
@@ -397,28 +453,36 @@ int command_anchor(const Args& args) {
   auto run_embree = [&](double morton) {
     Timings t;
     OpCounters prep;
-    const PointScene embree(d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", morton}}}, prep, t);
+    const PointScene embree(
+        d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", morton}}}, prep, t);
     return measure_throughput(embree, rays, reps);
   };
   const Throughput e = run_embree(0), em = run_embree(1);
   const double mine = best["mrays_per_s"].get<double>();
   const double ratio = e.mrays_per_s > 0 ? mine / e.mrays_per_s : 0;
   const double ratio_m = em.mrays_per_s > 0 ? mine / em.mrays_per_s : 0;
-  const json j = {{"dataset", data}, {"N", d.cloud.size()}, {"rays", rays.size()}, {"ours", best},
-                  {"embree", {{"method", "embree_oriented_disc"}, {"mrays_per_s", e.mrays_per_s}, {"hits", e.hits}}},
-                  {"ratio", ratio},
-                  {"embree_morton_order", {{"mrays_per_s", em.mrays_per_s}, {"hits", em.hits}}},
-                  {"ratio_vs_embree_morton_order", ratio_m}, {"candidates", ours}};
+  const json j = {
+      {"dataset", data},
+      {"N", d.cloud.size()},
+      {"rays", rays.size()},
+      {"ours", best},
+      {"embree",
+       {{"method", "embree_oriented_disc"}, {"mrays_per_s", e.mrays_per_s}, {"hits", e.hits}}},
+      {"ratio", ratio},
+      {"embree_morton_order", {{"mrays_per_s", em.mrays_per_s}, {"hits", em.hits}}},
+      {"ratio_vs_embree_morton_order", ratio_m},
+      {"candidates", ours}};
   if (a.has("json")) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     for (const auto& c : ours)
       std::printf("  %-22s %-12s %8.2f Mrays/s\n", c["method"].get<std::string>().c_str(),
                   c["structure"].get<std::string>().c_str(), c["mrays_per_s"].get<double>());
-    std::printf("  %-22s %-12s %8.2f Mrays/s (cloud order)\n  %-22s %-12s %8.2f Mrays/s (Morton order)\n"
-                "ours / embree = %.3f (cloud order), %.3f (Morton order)\n",
-                "embree_oriented_disc", "embree_bvh", e.mrays_per_s, "embree_oriented_disc", "embree_bvh",
-                em.mrays_per_s, ratio, ratio_m);
+    std::printf(
+        "  %-22s %-12s %8.2f Mrays/s (cloud order)\n  %-22s %-12s %8.2f Mrays/s (Morton order)\n"
+        "ours / embree = %.3f (cloud order), %.3f (Morton order)\n",
+        "embree_oriented_disc", "embree_bvh", e.mrays_per_s, "embree_oriented_disc", "embree_bvh",
+        em.mrays_per_s, ratio, ratio_m);
   }
   return 0;
 }
@@ -426,50 +490,72 @@ int command_anchor(const Args& args) {
 int command_list(const Args& args) {
   CliArgs a("list", "pcrt list [--json]", {{"json", "", "print JSON"}}, 0, 0);
   if (!a.parse(args)) return 0;
-  json methods = json::array(), structures = json::array(), gens = json::array(), counters = json::array();
+  json methods = json::array(), structures = json::array(), gens = json::array(),
+       counters = json::array();
   for (const MethodInfo& m : MethodRegistry::instance().all()) {
     json claims = json::array();
     for (const auto& c : m.claims)
-      claims.push_back({{"quantity", c.quantity}, {"complexity", c.complexity}, {"variables", c.variables},
+      claims.push_back({{"quantity", c.quantity},
+                        {"complexity", c.complexity},
+                        {"variables", c.variables},
                         {"source", c.source}});
-    methods.push_back({{"id", m.id}, {"paper", m.paper}, {"thesis_ref", m.thesis_ref}, {"description", m.description},
+    methods.push_back({{"id", m.id},
+                       {"paper", m.paper},
+                       {"thesis_ref", m.thesis_ref},
+                       {"description", m.description},
                        {"structure", m.own_structure.empty() ? m.structure : m.own_structure},
-                       {"own_structure", !m.own_structure.empty()}, {"needs", m.needs},
-                       {"parameters", params_json(m.params)}, {"claims", claims}});
+                       {"own_structure", !m.own_structure.empty()},
+                       {"needs", m.needs},
+                       {"parameters", params_json(m.params)},
+                       {"claims", claims}});
   }
   for (const StructureInfo& s : StructureRegistry::instance().all())
-    structures.push_back({{"id", s.id}, {"description", s.description}, {"build_claim", s.build_claim},
-                          {"query_claim", s.query_claim}, {"parameters", params_json(s.params)}});
+    structures.push_back({{"id", s.id},
+                          {"description", s.description},
+                          {"build_claim", s.build_claim},
+                          {"query_claim", s.query_claim},
+                          {"parameters", params_json(s.params)}});
   for (const GeneratorInfo& g : generators())
-    gens.push_back({{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
+    gens.push_back(
+        {{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
   for (size_t i = 0; i < registered_counter_count(); ++i)
-    counters.push_back({{"name", registered_counters()[i].name}, {"description", registered_counters()[i].description}});
+    counters.push_back({{"name", registered_counters()[i].name},
+                        {"description", registered_counters()[i].description}});
   if (a.has("json")) {
-    const json j = {{"methods", methods}, {"structures", structures}, {"generators", gens}, {"counters", counters}};
+    const json j = {{"methods", methods},
+                    {"structures", structures},
+                    {"generators", gens},
+                    {"counters", counters}};
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
   std::printf("methods:\n");
   for (const auto& m : methods)
-    std::printf("  %-24s %-14s %s\n", m["id"].get<std::string>().c_str(), m["structure"].get<std::string>().c_str(),
+    std::printf("  %-24s %-14s %s\n", m["id"].get<std::string>().c_str(),
+                m["structure"].get<std::string>().c_str(),
                 m["description"].get<std::string>().c_str());
   std::printf("structures:\n");
   for (const auto& s : structures)
-    std::printf("  %-24s %s\n", s["id"].get<std::string>().c_str(), s["description"].get<std::string>().c_str());
+    std::printf("  %-24s %s\n", s["id"].get<std::string>().c_str(),
+                s["description"].get<std::string>().c_str());
   std::printf("generators:\n");
   for (const auto& g : gens)
-    std::printf("  %-24s %s\n", g["id"].get<std::string>().c_str(), g["description"].get<std::string>().c_str());
+    std::printf("  %-24s %s\n", g["id"].get<std::string>().c_str(),
+                g["description"].get<std::string>().c_str());
   return 0;
 }
 
 int command_convert(const Args& args) {
   CliArgs a("convert", "pcrt convert DATA --out FILE.ply [--ascii]",
-            {{"out", "FILE.ply", "PLY file to write"}, {"ascii", "", "ASCII PLY (default binary little endian)"}}, 1, 1);
+            {{"out", "FILE.ply", "PLY file to write"},
+             {"ascii", "", "ASCII PLY (default binary little endian)"}},
+            1, 1);
   if (!a.parse(args)) return 0;
   const std::string out = a.require("out");
   const Dataset d = load_dataset(a.positional()[0]);
   write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
-  std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(), fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());
+  std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(),
+              fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());
   return 0;
 }
 

@@ -15,12 +15,16 @@ constexpr const char* kUsage =
     "commands:\n"
     "  info DATA [--json]          points, bounds, attributes, mean spacing of a dataset\n"
     "  render --method ID --data DATA --out FILE.png ...   render an image (Algorithms 1-2)\n"
-    "  trace --method ID --data DATA --rays RAYS.csv --out HITS.csv ...   closest hits of given rays\n"
-    "  accuracy --method ID --data GENERATOR ...   holes, false hits, distance and normal error vs the exact surface\n"
-    "  anchor --data DATA [--json]   our fastest splat method against Embree's oriented discs, same rays\n"
+    "  trace --method ID --data DATA --rays RAYS.csv --out HITS.csv ...   closest hits of given "
+    "rays\n"
+    "  accuracy --method ID --data GENERATOR ...   holes, false hits, distance and normal error vs "
+    "the exact surface\n"
+    "  anchor --data DATA [--json]   our fastest splat method against Embree's oriented discs, "
+    "same rays\n"
     "  list [--json]               methods, structures, generators and counters\n"
     "  convert DATA --out FILE.ply [--ascii]   write a dataset (e.g. a generated cloud) as PLY\n\n"
-    "DATA is a file (.ply .xyz .pwn .off) or a generator spec such as sphere:n=100000,seed=1,noise=0.001\n";
+    "DATA is a file (.ply .xyz .pwn .off) or a generator spec such as "
+    "sphere:n=100000,seed=1,noise=0.001\n";
 
 }  // namespace
 

@@ -43,12 +43,13 @@ Vec3 cosine_direction(const Vec3& n, Rng& rng) {
   const float r = std::sqrt(u1);
   Vec3 u, v;
   orthonormal_basis(n, u, v);
-  return (r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0f, 1.0f - u1)) * n).normalized();
+  return (r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0f, 1.0f - u1)) * n)
+      .normalized();
 }
 
 // Algorithm 2, unrolled: radiance along `ray` whose closest hit is `hit`.
-Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, Hit hit, bool found, int bounces,
-              const Lighting& lighting, Rng& rng, OpCounters& counters) {
+Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, Hit hit, bool found,
+              int bounces, const Lighting& lighting, Rng& rng, OpCounters& counters) {
   Vec3 result = Vec3::Zero();
   Vec3 throughput = Vec3::Ones();
   for (int depth = 0;; ++depth) {
@@ -59,7 +60,7 @@ Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, H
       break;
     }
     const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;  // shade the side the ray came from
-    const Vec3 f = albedo(cloud, hit.prim) / kPi;               // Lambertian BRDF
+    const Vec3 f = albedo(cloud, hit.prim) / kPi;                // Lambertian BRDF
     const Vec3 x = hit.p + std::max(lighting.epsilon, 0.5f * hit.footprint) * n;
     if (lighting.point_light) {
       const Vec3 to_light = lighting.light_pos - x;
@@ -87,21 +88,25 @@ Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, H
 
 }  // namespace
 
-RenderResult render(const SceneIntersector& scene, const PointCloud& cloud, const RenderSettings& s) {
+RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
+                    const RenderSettings& s) {
   const Aabb bounds = cloud.bounds();
-  const Camera camera = s.camera ? *s.camera : Camera::framing(bounds, s.width, s.height, s.view, s.up);
+  const Camera camera =
+      s.camera ? *s.camera : Camera::framing(bounds, s.width, s.height, s.view, s.up);
   const float diag = std::max(bounds.diagonal(), 1e-6f);
   Lighting lighting;
   lighting.point_light = s.point_light;
   // Above and to the left of the camera, in the frame the camera's up vector defines.
   const Vec3 up = s.up.normalized();
   const Vec3 side = s.view.normalized().cross(up).normalized();
-  lighting.light_pos = bounds.center() + diag * (0.9f * s.view.normalized() + 1.2f * up - 0.6f * side);
+  lighting.light_pos =
+      bounds.center() + diag * (0.9f * s.view.normalized() + 1.2f * up - 0.6f * side);
   const float light_dist = (lighting.light_pos - bounds.center()).norm();
   lighting.light_intensity = 0.8f * kPi * light_dist * light_dist;
   lighting.epsilon = s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag;
 
-  RenderResult out{Image(s.width, s.height), Image(s.width, s.height), Image(s.width, s.height), {}, 0};
+  RenderResult out{
+      Image(s.width, s.height), Image(s.width, s.height), Image(s.width, s.height), {}, 0};
   std::vector<float> depth(size_t(s.width) * s.height, kInfinity);
   const int tiles_x = (s.width + kTile - 1) / kTile;
   const int tiles_y = (s.height + kTile - 1) / kTile;
@@ -109,35 +114,38 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud, cons
   const auto start = std::chrono::steady_clock::now();
   tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
-      OpCounters& counters = per_thread.local();
-      for (int tile = r.begin(); tile != r.end(); ++tile) {
-        const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-        for (int y = y0; y < std::min(y0 + kTile, s.height); ++y) {
-          for (int x = x0; x < std::min(x0 + kTile, s.width); ++x) {
-            const uint64_t pixel = uint64_t(y) * uint64_t(s.width) + uint64_t(x);
-            Vec3 sum = Vec3::Zero();
-            for (int i = 0; i < s.spp; ++i) {
-              Rng rng = Rng::for_sample(s.seed, pixel, uint64_t(i));
-              // The first sample goes through the pixel centre (it also feeds the depth and
-              // normal images); the others are jittered over the pixel.
-              const float jx = i == 0 ? 0.5f : rng.uniform(), jy = i == 0 ? 0.5f : rng.uniform();
-              const Ray ray = camera.ray(float(x) + jx, float(y) + jy);
-              Hit hit;
-              counters.add(kPrimaryRays);
-              const bool found = scene.closest_hit(ray, hit, counters);
-              if (i == 0 && found) {
-                depth[pixel] = hit.t;
-                const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
-                out.normals.at(x, y) = 0.5f * (n + Vec3::Ones());
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
+          OpCounters& counters = per_thread.local();
+          for (int tile = r.begin(); tile != r.end(); ++tile) {
+            const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
+            for (int y = y0; y < std::min(y0 + kTile, s.height); ++y) {
+              for (int x = x0; x < std::min(x0 + kTile, s.width); ++x) {
+                const uint64_t pixel = uint64_t(y) * uint64_t(s.width) + uint64_t(x);
+                Vec3 sum = Vec3::Zero();
+                for (int i = 0; i < s.spp; ++i) {
+                  Rng rng = Rng::for_sample(s.seed, pixel, uint64_t(i));
+                  // The first sample goes through the pixel centre (it also feeds the depth and
+                  // normal images); the others are jittered over the pixel.
+                  const float jx = i == 0 ? 0.5f : rng.uniform(),
+                              jy = i == 0 ? 0.5f : rng.uniform();
+                  const Ray ray = camera.ray(float(x) + jx, float(y) + jy);
+                  Hit hit;
+                  counters.add(kPrimaryRays);
+                  const bool found = scene.closest_hit(ray, hit, counters);
+                  if (i == 0 && found) {
+                    depth[pixel] = hit.t;
+                    const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
+                    out.normals.at(x, y) = 0.5f * (n + Vec3::Ones());
+                  }
+                  sum +=
+                      radiance(scene, cloud, ray, hit, found, s.bounces, lighting, rng, counters);
+                }
+                out.image.at(x, y) = sum / float(s.spp);
               }
-              sum += radiance(scene, cloud, ray, hit, found, s.bounces, lighting, rng, counters);
             }
-            out.image.at(x, y) = sum / float(s.spp);
           }
-        }
-      }
-    });
+        });
   });
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   per_thread.combine_each([&](const OpCounters& c) { out.counters.merge(c); });
@@ -149,7 +157,8 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud, cons
     for (int x = 0; x < s.width; ++x) {
       const float d = depth[size_t(y) * s.width + x];
       // Near is bright, far is dark, background black.
-      const float v = std::isfinite(d) ? 1.0f - 0.8f * (d - dmin) / std::max(dmax - dmin, 1e-30f) : 0.0f;
+      const float v =
+          std::isfinite(d) ? 1.0f - 0.8f * (d - dmin) / std::max(dmax - dmin, 1e-30f) : 0.0f;
       out.depth.at(x, y) = Vec3::Constant(v);
     }
   return out;

@@ -22,7 +22,8 @@ struct RenderSettings {
   int threads = 0;  // 0: all cores
   uint64_t seed = 1;
   bool point_light = true;
-  float ray_epsilon = 0;  // offset of secondary ray origins along the normal; 0: 1e-3 * scene diagonal
+  float ray_epsilon =
+      0;  // offset of secondary ray origins along the normal; 0: 1e-3 * scene diagonal
   Vec3 view = Vec3(0.55f, -0.75f, 0.4f);  // direction from the cloud's centre to the camera
   Vec3 up = Vec3::UnitZ();
   std::optional<Camera> camera;  // default: Camera::framing of the cloud's bounds along view/up
@@ -36,6 +37,7 @@ struct RenderResult {
   double seconds = 0;
 };
 
-RenderResult render(const SceneIntersector& scene, const PointCloud& cloud, const RenderSettings& settings);
+RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
+                    const RenderSettings& settings);
 
 }  // namespace pcrt

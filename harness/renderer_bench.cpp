@@ -22,7 +22,10 @@ void BM_RenderBruteForce(benchmark::State& state) {
   for (const auto& [name, value] : last.to_map()) state.counters[name] = double(value);
   state.SetComplexityN(state.range(0));
 }
-BENCHMARK(BM_RenderBruteForce)->RangeMultiplier(4)->Range(256, 16384)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderBruteForce)
+    ->RangeMultiplier(4)
+    ->Range(256, 16384)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pcrt

@@ -1,9 +1,10 @@
+#include "harness/renderer.hpp"
+
 #include <tbb/global_control.h>
 
 #include <catch2/catch.hpp>
 
 #include "core/dataset.hpp"
-#include "harness/renderer.hpp"
 #include "harness/scene.hpp"
 #include "preprocess/point_attributes.hpp"
 
@@ -16,12 +17,14 @@ struct Frame {
   OpCounters prepare;
 };
 
-Frame render_with_threads(const PointCloud& cloud, int threads, const std::string& structure = "brute_force") {
+Frame render_with_threads(const PointCloud& cloud, int threads,
+                          const std::string& structure = "brute_force") {
   // Preparation (normals, radii) runs on TBB too: limit it the same way the CLI does.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
   OpCounters prep;
   Timings t;
-  const PointScene scene(cloud, SceneOptions{"reference_splat", structure, {{"estimate_normals", 1}}}, prep, t);
+  const PointScene scene(
+      cloud, SceneOptions{"reference_splat", structure, {{"estimate_normals", 1}}}, prep, t);
   RenderSettings s;
   s.width = 40;
   s.height = 30;
@@ -48,7 +51,8 @@ TEST_CASE("images and counters do not depend on thread count", "[renderer]") {
   REQUIRE(c.at("ray_hits") > 0);
 }
 
-TEST_CASE("every structure renders the same image with the same counters at 1 and 2 threads", "[renderer]") {
+TEST_CASE("every structure renders the same image with the same counters at 1 and 2 threads",
+          "[renderer]") {
   const Dataset d = load_dataset("bumpy_sphere:n=20000,seed=5");
   const Frame reference = render_with_threads(d.cloud, 1);
   for (const char* id : {"kd_tree", "octree", "sphere_tree", "grid"}) {

@@ -10,8 +10,8 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   static const StructureInfo kOwn{"", "", "", "", {}, nullptr};
   if (!method_info_->own_structure.empty()) {
     if (!options.structure.empty() && options.structure != method_info_->own_structure)
-      input_error("method {} traces through its own {}; --structure {} does not apply", method_info_->id,
-                  method_info_->own_structure, options.structure);
+      input_error("method {} traces through its own {}; --structure {} does not apply",
+                  method_info_->id, method_info_->own_structure, options.structure);
     structure_id_ = method_info_->own_structure;
   } else {
     structure_info_ = &StructureRegistry::instance().get(
@@ -26,14 +26,16 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
         if (s.name == name) return true;
       return false;
     };
-    if (names(method_info_->params)) for_method[name] = value;
-    else if (names(sinfo.params)) for_structure[name] = value;
+    if (names(method_info_->params))
+      for_method[name] = value;
+    else if (names(sinfo.params))
+      for_structure[name] = value;
     else {
       std::string known;
       for (const auto& s : method_info_->params) known += (known.empty() ? "" : ", ") + s.name;
       for (const auto& s : sinfo.params) known += (known.empty() ? "" : ", ") + s.name;
-      input_error("--set {}: not a parameter of method '{}' or structure '{}' (known: {})", name, method_info_->id,
-                  structure_id_, known.empty() ? "none" : known);
+      input_error("--set {}: not a parameter of method '{}' or structure '{}' (known: {})", name,
+                  method_info_->id, structure_id_, known.empty() ? "none" : known);
     }
   }
   method_params_ = resolve_params(method_info_->params, for_method, "method " + method_info_->id);
@@ -53,8 +55,8 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
 
 bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const {
   counters.add(kRaysCast);
-  const bool found =
-      structure_ ? structure_->closest_hit(ray, *method_, hit, counters) : method_->own_closest_hit(ray, hit, counters);
+  const bool found = structure_ ? structure_->closest_hit(ray, *method_, hit, counters)
+                                : method_->own_closest_hit(ray, hit, counters);
   if (found) counters.add(kRayHits);
   return found;
 }

@@ -28,7 +28,8 @@ class PointScene final : public SceneIntersector {
  public:
   // Prepares the method and builds the structure, counting into `counters` and timing
   // "prepare/..." and "build" into `timings`. Throws InputError for unknown ids or parameters.
-  PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters, Timings& timings);
+  PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters,
+             Timings& timings);
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
 
@@ -37,7 +38,9 @@ class PointScene final : public SceneIntersector {
   [[nodiscard]] const std::string& structure_id() const { return structure_id_; }
   [[nodiscard]] const ParamValues& method_params() const { return method_params_; }
   [[nodiscard]] const ParamValues& structure_params() const { return structure_params_; }
-  [[nodiscard]] size_t structure_bytes() const { return structure_ ? structure_->memory_bytes() : 0; }
+  [[nodiscard]] size_t structure_bytes() const {
+    return structure_ ? structure_->memory_bytes() : 0;
+  }
 
  private:
   const MethodInfo* method_info_;

@@ -31,28 +31,31 @@ class Method : public LeafIntersector {
   [[nodiscard]] virtual ItemSet items() const = 0;
   // For methods that trace whole rays through an acceleration of their own (MethodInfo::
   // own_structure, e.g. Embree's BVH): the closest hit, in place of structure + leaf.
-  virtual bool own_closest_hit(const Ray& /*ray*/, Hit& /*hit*/, OpCounters& /*counters*/) const { return false; }
+  virtual bool own_closest_hit(const Ray& /*ray*/, Hit& /*hit*/, OpCounters& /*counters*/) const {
+    return false;
+  }
 };
 
 // A complexity claim of the thesis about one method.
 struct MethodClaim {
-  std::string quantity;    // "leaf intersection" or "frame"
-  std::string complexity;  // as printed, e.g. "O(IK)"
+  std::string quantity;                // "leaf intersection" or "frame"
+  std::string complexity;              // as printed, e.g. "O(IK)"
   std::vector<std::string> variables;  // the swept variables it is in, e.g. {"I", "K"}
-  std::string source;      // "Table 5.5", "Table 6.1", ...
+  std::string source;                  // "Table 5.5", "Table 6.1", ...
 };
 
 struct MethodInfo {
   std::string id;
-  std::string paper;      // citation
-  std::string thesis_ref; // the thesis's reference number, e.g. "[55]"
+  std::string paper;       // citation
+  std::string thesis_ref;  // the thesis's reference number, e.g. "[55]"
   std::string description;
-  std::string structure;  // the paper's structure (Table 5.4): the default
+  std::string structure;           // the paper's structure (Table 5.4): the default
   std::vector<std::string> needs;  // Table 5.3 preconditions
   std::vector<ParamSpec> params;
   std::vector<MethodClaim> claims;
   std::function<std::unique_ptr<Method>(const ParamValues&)> create;
-  std::string own_structure = {};  // non-empty: traces whole rays itself (own_closest_hit); --structure does not apply
+  std::string own_structure =
+      {};  // non-empty: traces whole rays itself (own_closest_hit); --structure does not apply
 };
 
 using MethodRegistry = Registry<MethodInfo>;

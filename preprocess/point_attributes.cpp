@@ -15,19 +15,21 @@ namespace {
 // A k-NN query per point in parallel. The counter totals are added once, afterwards: they are
 // exactly N queries whatever the split, so thread count cannot change them.
 template <typename Body>
-void for_each_point_knn(std::span<const Vec3> positions, const KnnIndex& knn, size_t k, OpCounters& counters,
-                        Body body) {
+void for_each_point_knn(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
+                        OpCounters& counters, Body body) {
   const size_t n = positions.size();
   k = std::min(k, n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<uint32_t> idx(k);
-    std::vector<float> d2(k);
-    OpCounters local;
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const size_t found = knn.knn(positions[i], k, idx.data(), d2.data(), local);
-      body(i, std::span<const uint32_t>(idx.data(), found), std::span<const float>(d2.data(), found));
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      std::vector<uint32_t> idx(k);
+                      std::vector<float> d2(k);
+                      OpCounters local;
+                      for (size_t i = r.begin(); i != r.end(); ++i) {
+                        const size_t found = knn.knn(positions[i], k, idx.data(), d2.data(), local);
+                        body(i, std::span<const uint32_t>(idx.data(), found),
+                             std::span<const float>(d2.data(), found));
+                      }
+                    });
   counters.add(kKnnQueries, n);
   counters.add(kKnnResults, n * k);
 }
@@ -99,8 +101,8 @@ std::vector<Vec3> estimate_normals(std::span<const Vec3> positions, const KnnInd
   return normals;
 }
 
-std::vector<float> estimate_radii(std::span<const Vec3> positions, const KnnIndex& knn, size_t k, float scale,
-                                  OpCounters& counters) {
+std::vector<float> estimate_radii(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
+                                  float scale, OpCounters& counters) {
   std::vector<float> radii(positions.size(), 0.0f);
   // Ask for k+1: the point itself comes back first at distance 0.
   for_each_point_knn(positions, knn, k + 1, counters, [&](size_t i, auto, auto d2) {
@@ -112,7 +114,8 @@ std::vector<float> estimate_radii(std::span<const Vec3> positions, const KnnInde
 double mean_spacing(std::span<const Vec3> positions, const KnnIndex& knn, OpCounters& counters) {
   if (positions.size() < 2) return 0.0;
   std::vector<float> nearest(positions.size());
-  for_each_point_knn(positions, knn, 2, counters, [&](size_t i, auto, auto d2) { nearest[i] = std::sqrt(d2.back()); });
+  for_each_point_knn(positions, knn, 2, counters,
+                     [&](size_t i, auto, auto d2) { nearest[i] = std::sqrt(d2.back()); });
   double sum = 0;  // summed in index order: the same value for any thread count
   for (float d : nearest) sum += d;
   return sum / double(positions.size());

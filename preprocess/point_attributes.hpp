@@ -12,7 +12,8 @@
 namespace pcrt {
 
 inline const Counter kNormalsEstimated{"normals_estimated", "PCA normal fits"};
-inline const Counter kOrientationFlips{"normal_orientation_flips", "normals flipped to agree with the MST"};
+inline const Counter kOrientationFlips{"normal_orientation_flips",
+                                       "normals flipped to agree with the MST"};
 
 // Normal of each point: the eigenvector of the smallest eigenvalue of the covariance of its k
 // nearest neighbours (itself included). Orientation: Hoppe et al. 1992, a minimum spanning tree
@@ -24,8 +25,8 @@ std::vector<Vec3> estimate_normals(std::span<const Vec3> positions, const KnnInd
 
 // Splat radius of each point: scale * distance to its k-th nearest other point, so that discs
 // overlap their neighbours (holes appear below about the 4th neighbour on random samplings).
-std::vector<float> estimate_radii(std::span<const Vec3> positions, const KnnIndex& knn, size_t k, float scale,
-                                  OpCounters& counters);
+std::vector<float> estimate_radii(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
+                                  float scale, OpCounters& counters);
 
 // Mean over points of the distance to the nearest other point (h in the accuracy bounds).
 double mean_spacing(std::span<const Vec3> positions, const KnnIndex& knn, OpCounters& counters);

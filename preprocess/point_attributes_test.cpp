@@ -1,9 +1,10 @@
-#include <catch2/catch.hpp>
+#include "preprocess/point_attributes.hpp"
+
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "core/dataset.hpp"
-#include "preprocess/point_attributes.hpp"
 
 using namespace pcrt;
 
@@ -13,7 +14,8 @@ double degrees(const Vec3& a, const Vec3& b) {
 }
 }  // namespace
 
-TEST_CASE("PCA normals on a noise-free sphere of 1e5 points: median error under 2 degrees, outward", "[normals]") {
+TEST_CASE("PCA normals on a noise-free sphere of 1e5 points: median error under 2 degrees, outward",
+          "[normals]") {
   const Dataset d = load_dataset("sphere:n=100000,seed=1");
   const KnnIndex knn(d.cloud.positions);
   OpCounters c;
@@ -22,7 +24,8 @@ TEST_CASE("PCA normals on a noise-free sphere of 1e5 points: median error under 
   size_t outward = 0;
   for (size_t i = 0; i < normals.size(); ++i) {
     const Vec3 truth = d.cloud.positions[i].normalized();
-    err.push_back(degrees(normals[i], truth) > 90 ? 180 - degrees(normals[i], truth) : degrees(normals[i], truth));
+    err.push_back(degrees(normals[i], truth) > 90 ? 180 - degrees(normals[i], truth)
+                                                  : degrees(normals[i], truth));
     outward += normals[i].dot(truth) > 0;
   }
   std::nth_element(err.begin(), err.begin() + long(err.size() / 2), err.end());

@@ -17,7 +17,8 @@ class BruteForce final : public Structure {
                    OpCounters& counters) const override {
     counters.add(kLeavesVisited);
     counters.add(kItemsVisited, items_.size());
-    return leaf_intersector.intersect_leaf(ray, LeafVisit{items_, ray.tmin, ray.tmax}, hit, counters);
+    return leaf_intersector.intersect_leaf(ray, LeafVisit{items_, ray.tmin, ray.tmax}, hit,
+                                           counters);
   }
   [[nodiscard]] size_t memory_bytes() const override { return items_.size() * sizeof(uint32_t); }
 
@@ -26,8 +27,12 @@ class BruteForce final : public Structure {
 };
 
 const RegisterStructure kRegister{StructureInfo{
-    "brute_force", "every point in one leaf; O(N) per ray; the oracle other structures are checked against",
-    "O(N)", "O(N)", {}, [](const ParamValues&) { return std::make_unique<BruteForce>(); }}};
+    "brute_force",
+    "every point in one leaf; O(N) per ray; the oracle other structures are checked against",
+    "O(N)",
+    "O(N)",
+    {},
+    [](const ParamValues&) { return std::make_unique<BruteForce>(); }}};
 
 }  // namespace
 }  // namespace pcrt

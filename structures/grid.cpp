@@ -18,7 +18,9 @@ namespace {
 class Grid final : public Structure {
  public:
   explicit Grid(const ParamValues& p)
-      : per_cell_(p.at("points_per_cell")), max_cells_(p.at("max_cells")), max_refs_(p.at("max_refs_per_point")) {}
+      : per_cell_(p.at("points_per_cell")),
+        max_cells_(p.at("max_cells")),
+        max_refs_(p.at("max_refs_per_point")) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
@@ -43,7 +45,8 @@ class Grid final : public Structure {
     counters.add(kBuildItemRefs, refs_.size());
   }
 
-  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const override {
+  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+                   OpCounters& counters) const override {
     if ((items_.size() == 0)) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     float t0 = 0, t1 = 0;
@@ -80,7 +83,8 @@ class Grid final : public Structure {
       if (count > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, count);
-        found |= leaf.intersect_leaf(ray, LeafVisit{{refs_.data() + start_[c], count}, t_enter, t_exit}, hit, counters);
+        found |= leaf.intersect_leaf(
+            ray, LeafVisit{{refs_.data() + start_[c], count}, t_enter, t_exit}, hit, counters);
       }
       if (!may_improve(t_exit, hit.t) || t_next[ax] >= t1) break;
       cell[ax] += step[ax];
@@ -158,7 +162,8 @@ class Grid final : public Structure {
     cell_range(i, lo, hi);
     for (int z = lo[2]; z <= hi[2]; ++z)
       for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x) f((size_t(z) * res_[1] + size_t(y)) * res_[0] + size_t(x));
+        for (int x = lo[0]; x <= hi[0]; ++x)
+          f((size_t(z) * res_[1] + size_t(y)) * res_[0] + size_t(x));
   }
 
   double per_cell_, max_cells_, max_refs_;
@@ -175,10 +180,12 @@ const RegisterStructure kRegister{StructureInfo{
     "uniform grid of about N/c cubic cells, 3D-DDA traversal",
     "O(N)",
     "O(1)",
-    {{"points_per_cell", 2, 0.01, 1e6, "c in G = N/c: average points per cell if they filled the volume"},
+    {{"points_per_cell", 2, 0.01, 1e6,
+      "c in G = N/c: average points per cell if they filled the volume"},
      {"max_cells", 1 << 26, 1, 1 << 30, "upper bound on G (memory: 4 bytes per cell)"},
      {"max_refs_per_point", 32, 1, 1e4,
-      "coarsen the grid (halving each axis) while footprints would need more cell references than this per point"}},
+      "coarsen the grid (halving each axis) while footprints would need more cell references than "
+      "this per point"}},
     [](const ParamValues& p) { return std::make_unique<Grid>(p); }}};
 
 }  // namespace

@@ -5,9 +5,9 @@
 // Empty space is cut off first: a side of the cell over 30% empty becomes an empty leaf. An item is
 // referenced by every leaf its footprint box overlaps (inclusive), so no hit is lost at a plane.
 // Traversal: front to back with a stack of (node, t_enter, t_exit), as in pbrt's KdTreeAggregate.
-#include <algorithm>
 #include <tbb/parallel_invoke.h>
 
+#include <algorithm>
 #include <array>
 
 #include "structures/structure.hpp"
@@ -18,8 +18,9 @@ namespace {
 struct KdNode {
   float split = 0;
   uint32_t axis = 3;  // 0..2 inner, 3 leaf
-  uint32_t a = 0;     // inner: index of the right child (the left one follows the node); leaf: first ref
-  uint32_t b = 0;     // leaf: number of refs
+  uint32_t a =
+      0;  // inner: index of the right child (the left one follows the node); leaf: first ref
+  uint32_t b = 0;  // leaf: number of refs
 };
 
 // Nodes and references of a subtree, indices relative to its own arrays. Large subtrees are built
@@ -61,7 +62,8 @@ class KdTree final : public Structure {
     counters.add(kBuildItemRefs, refs_.size());
   }
 
-  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const override {
+  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+                   OpCounters& counters) const override {
     if (nodes_.empty()) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     float tmin = 0, tmax = 0;
@@ -102,7 +104,8 @@ class KdTree final : public Structure {
       if (n.b > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, n.b);
-        found |= leaf.intersect_leaf(ray, LeafVisit{{refs_.data() + n.a, n.b}, tmin, tmax}, hit, counters);
+        found |= leaf.intersect_leaf(ray, LeafVisit{{refs_.data() + n.a, n.b}, tmin, tmax}, hit,
+                                     counters);
       }
       if (top == 0) break;
       const Todo& t = stack[size_t(--top)];
@@ -138,9 +141,12 @@ class KdTree final : public Structure {
     if (ext.y() > ext[ax]) ax = 1;
     if (ext.z() > ext[ax]) ax = 2;
     if (!(ext[ax] > 0)) return make_leaf(out, items);
-    auto key = [&](uint32_t i) { return std::clamp(items_.positions[i][ax], cell.lo[ax], cell.hi[ax]); };
+    auto key = [&](uint32_t i) {
+      return std::clamp(items_.positions[i][ax], cell.lo[ax], cell.hi[ax]);
+    };
     auto mid = items.begin() + long(items.size() / 2);
-    std::nth_element(items.begin(), mid, items.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+    std::nth_element(items.begin(), mid, items.end(),
+                     [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
     float split = key(*mid);
     // A median on the cell's wall would give an empty side; take the cell's middle instead.
     if (split <= cell.lo[ax] || split >= cell.hi[ax]) split = cell.center()[ax];
@@ -152,10 +158,11 @@ class KdTree final : public Structure {
       if (b.lo[ax] <= split) left.push_back(i);
       if (b.hi[ax] >= split) right.push_back(i);
     }
-    // A split must pay: if over 40% of the items straddle the plane (footprints wider than the cell, or
-    // identical points) the children would only duplicate references; stop here (such leaves
-    // exceed leaf_size) rather than recurse to max_depth.
-    if (left.size() + right.size() >= items.size() + items.size() * 2 / 5 + 1) return make_leaf(out, items);
+    // A split must pay: if over 40% of the items straddle the plane (footprints wider than the
+    // cell, or identical points) the children would only duplicate references; stop here (such
+    // leaves exceed leaf_size) rather than recurse to max_depth.
+    if (left.size() + right.size() >= items.size() + items.size() * 2 / 5 + 1)
+      return make_leaf(out, items);
     items.clear();
     items.shrink_to_fit();
     Aabb lcell = cell, rcell = cell;
@@ -180,7 +187,8 @@ class KdTree final : public Structure {
   // Where the items' footprints leave over 30% of the cell empty along an axis, split there first
   // (the empty side becomes an empty leaf). Without this, cells on a surface become needles along
   // the normal, and an oblique ray crosses ever more of them as N grows.
-  bool cut_empty_space(Subtree& out, std::vector<uint32_t>& items, const Aabb& cell, int depth) const {
+  bool cut_empty_space(Subtree& out, std::vector<uint32_t>& items, const Aabb& cell,
+                       int depth) const {
     Aabb reach;
     for (uint32_t i : items) reach.extend(items_.box(i));
     reach.lo = reach.lo.cwiseMax(cell.lo);
@@ -191,7 +199,8 @@ class KdTree final : public Structure {
     float best = 0.3f;
     for (int a = 0; a < 3; ++a) {
       if (!(ext[a] > 0)) continue;
-      const float lo_gap = (reach.lo[a] - cell.lo[a]) / ext[a], hi_gap = (cell.hi[a] - reach.hi[a]) / ext[a];
+      const float lo_gap = (reach.lo[a] - cell.lo[a]) / ext[a],
+                  hi_gap = (cell.hi[a] - reach.hi[a]) / ext[a];
       if (lo_gap > best) best = lo_gap, best_axis = a, low_side = true;
       if (hi_gap > best) best = hi_gap, best_axis = a, low_side = false;
     }
@@ -223,14 +232,16 @@ class KdTree final : public Structure {
   std::vector<uint32_t> refs_;
 };
 
-const RegisterStructure kRegister{StructureInfo{
-    "kd_tree",
-    "spatial kd-tree, median split of the longest axis, items referenced in every leaf they overlap",
-    "O(N log N)",
-    "O(log N)",
-    {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)", true},
-     {"max_depth", 40, 0, 100, "maximum depth", true}},
-    [](const ParamValues& p) { return std::make_unique<KdTree>(p); }}};
+const RegisterStructure kRegister{
+    StructureInfo{"kd_tree",
+                  "spatial kd-tree, median split of the longest axis, items referenced in every "
+                  "leaf they overlap",
+                  "O(N log N)",
+                  "O(log N)",
+                  {{"leaf_size", 8, 1, 1e6,
+                    "stop splitting at this many items (K of the leaf-based methods)", true},
+                   {"max_depth", 40, 0, 100, "maximum depth", true}},
+                  [](const ParamValues& p) { return std::make_unique<KdTree>(p); }}};
 
 }  // namespace
 }  // namespace pcrt

@@ -9,15 +9,18 @@ namespace {
 struct PositionsAdaptor {
   std::span<const Vec3> pts;
   [[nodiscard]] size_t kdtree_get_point_count() const { return pts.size(); }
-  [[nodiscard]] float kdtree_get_pt(size_t i, size_t dim) const { return pts[i][static_cast<Eigen::Index>(dim)]; }
+  [[nodiscard]] float kdtree_get_pt(size_t i, size_t dim) const {
+    return pts[i][static_cast<Eigen::Index>(dim)];
+  }
   template <class Bbox>
   bool kdtree_get_bbox(Bbox&) const {
     return false;
   }
 };
 
-using TreeType = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PositionsAdaptor>,
-                                                     PositionsAdaptor, 3, uint32_t>;
+using TreeType =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PositionsAdaptor>,
+                                        PositionsAdaptor, 3, uint32_t>;
 
 }  // namespace
 
@@ -33,7 +36,8 @@ KnnIndex::KnnIndex(std::span<const Vec3> positions, size_t leaf_size)
 
 KnnIndex::~KnnIndex() = default;
 
-size_t KnnIndex::knn(const Vec3& q, size_t k, uint32_t* indices, float* dist2, OpCounters& counters) const {
+size_t KnnIndex::knn(const Vec3& q, size_t k, uint32_t* indices, float* dist2,
+                     OpCounters& counters) const {
   const size_t found = tree_->tree.knnSearch(q.data(), k, indices, dist2);
   counters.add(kKnnQueries);
   counters.add(kKnnResults, found);
@@ -43,7 +47,8 @@ size_t KnnIndex::knn(const Vec3& q, size_t k, uint32_t* indices, float* dist2, O
 size_t KnnIndex::radius(const Vec3& q, float r, std::vector<std::pair<uint32_t, float>>& out,
                         OpCounters& counters) const {
   // nanoflann's L2 adaptors take the squared radius.
-  const size_t found = tree_->tree.radiusSearch(q.data(), r * r, out, nanoflann::SearchParams(32, 0.0f, true));
+  const size_t found =
+      tree_->tree.radiusSearch(q.data(), r * r, out, nanoflann::SearchParams(32, 0.0f, true));
   counters.add(kKnnQueries);
   counters.add(kKnnResults, found);
   return found;

@@ -1,8 +1,9 @@
-#include <catch2/catch.hpp>
+#include "structures/knn_index.hpp"
+
 #include <algorithm>
+#include <catch2/catch.hpp>
 
 #include "core/dataset.hpp"
-#include "structures/knn_index.hpp"
 
 using namespace pcrt;
 
@@ -24,7 +25,8 @@ TEST_CASE("k-NN matches brute force", "[knn]") {
     std::vector<std::pair<uint32_t, float>> within;
     const float r = std::sqrt(all[20].first) * 1.0001f;
     index.radius(x, r, within, c);
-    REQUIRE(within.size() == size_t(std::count_if(all.begin(), all.end(), [&](auto& e) { return e.first <= r * r; })));
+    REQUIRE(within.size() == size_t(std::count_if(all.begin(), all.end(),
+                                                  [&](auto& e) { return e.first <= r * r; })));
   }
   REQUIRE(c.get(kKnnQueries) == 400);
 }

@@ -1,9 +1,10 @@
 // Octree (thesis section 5.4, figure 1.3; Schaufler and Jensen 2000 and most splat methods):
 // the bounding cube of all footprints split regularly into eight equal children until a node
 // holds at most leaf_size items, reaches max_depth, or splitting stops paying (footprints wider
-// than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size). An item is referenced by every child its
-// footprint box overlaps. Traversal: depth first, the children a ray crosses sorted by entry
-// distance, so leaves come front to back (cells are disjoint).
+// than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size). An
+// item is referenced by every child its footprint box overlaps. Traversal: depth first, the
+// children a ray crosses sorted by entry distance, so leaves come front to back (cells are
+// disjoint).
 #include <algorithm>
 #include <array>
 
@@ -21,7 +22,8 @@ struct OctNode {
 
 class Octree final : public Structure {
  public:
-  explicit Octree(const ParamValues& p) : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
+  explicit Octree(const ParamValues& p)
+      : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
@@ -42,7 +44,8 @@ class Octree final : public Structure {
     counters.add(kBuildItemRefs, refs_.size());
   }
 
-  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const override {
+  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+                   OpCounters& counters) const override {
     if ((items_.size() == 0)) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     struct Todo {
@@ -53,19 +56,22 @@ class Octree final : public Structure {
     std::array<Todo, 8 * 32> stack;  // at most 7 siblings waiting per level, max_depth <= 30
     int top = 0;
     float t0 = 0, t1 = 0;
-    if (!Aabb{root_lo_, root_lo_ + Vec3::Constant(root_side_)}.intersect(ray, inv, t0, t1)) return false;
+    if (!Aabb{root_lo_, root_lo_ + Vec3::Constant(root_side_)}.intersect(ray, inv, t0, t1))
+      return false;
     stack[size_t(top++)] = Todo{0, root_lo_, root_side_, t0, t1};
     bool found = false;
     while (top > 0) {
       const Todo cur = stack[size_t(--top)];
-      if (!may_improve(cur.t0, hit.t)) break;  // disjoint cells in depth-first order: the rest is further
+      if (!may_improve(cur.t0, hit.t))
+        break;  // disjoint cells in depth-first order: the rest is further
       counters.add(kNodesVisited);
       const OctNode& n = nodes_[cur.node];
       if (n.leaf()) {
         if (n.count > 0) {
           counters.add(kLeavesVisited);
           counters.add(kItemsVisited, n.count);
-          found |= leaf.intersect_leaf(ray, LeafVisit{{refs_.data() + n.first, n.count}, cur.t0, cur.t1}, hit, counters);
+          found |= leaf.intersect_leaf(
+              ray, LeafVisit{{refs_.data() + n.first, n.count}, cur.t0, cur.t1}, hit, counters);
         }
         continue;
       }
@@ -76,15 +82,19 @@ class Octree final : public Structure {
       for (uint32_t c = 0; c < 8; ++c) {
         const OctNode& child = nodes_[n.first + c];
         if (child.count == 0) continue;
-        const Vec3 lo = cur.lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+        const Vec3 lo =
+            cur.lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
         float a = 0, b = 0;
-        if (Aabb{lo, lo + Vec3::Constant(half)}.intersect(ray, inv, a, b)) kids[size_t(nk++)] = Todo{n.first + c, lo, half, a, b};
+        if (Aabb{lo, lo + Vec3::Constant(half)}.intersect(ray, inv, a, b))
+          kids[size_t(nk++)] = Todo{n.first + c, lo, half, a, b};
       }
       // Insertion sort, far first: at most 8 entries (a ray crosses at most 4 children).
       for (int k = 1; k < nk; ++k) {
         const Todo x = kids[size_t(k)];
         int j = k - 1;
-        for (; j >= 0 && (kids[size_t(j)].t0 < x.t0 || (kids[size_t(j)].t0 == x.t0 && kids[size_t(j)].node < x.node)); --j)
+        for (; j >= 0 && (kids[size_t(j)].t0 < x.t0 ||
+                          (kids[size_t(j)].t0 == x.t0 && kids[size_t(j)].node < x.node));
+             --j)
           kids[size_t(j + 1)] = kids[size_t(j)];
         kids[size_t(j + 1)] = x;
       }
@@ -98,8 +108,10 @@ class Octree final : public Structure {
   }
 
  private:
-  void build_node(uint32_t node, std::vector<uint32_t> items, const Vec3& lo, float side, int depth) {
-    if (items.size() <= leaf_size_ || depth >= max_depth_ || !(side > 0)) return make_leaf(node, items);
+  void build_node(uint32_t node, std::vector<uint32_t> items, const Vec3& lo, float side,
+                  int depth) {
+    if (items.size() <= leaf_size_ || depth >= max_depth_ || !(side > 0))
+      return make_leaf(node, items);
     const float half = 0.5f * side;
     std::array<std::vector<uint32_t>, 8> kids;
     for (uint32_t i : items) {
@@ -107,7 +119,8 @@ class Octree final : public Structure {
       const Vec3 mid = lo + Vec3::Constant(half);
       for (uint32_t c = 0; c < 8; ++c) {
         bool in = true;
-        for (int a = 0; a < 3 && in; ++a) in = ((c >> a) & 1) ? b.hi[a] >= mid[a] : b.lo[a] <= mid[a];
+        for (int a = 0; a < 3 && in; ++a)
+          in = ((c >> a) & 1) ? b.hi[a] >= mid[a] : b.lo[a] <= mid[a];
         if (in) kids[c].push_back(i);
       }
     }
@@ -149,7 +162,8 @@ const RegisterStructure kRegister{StructureInfo{
     "regular octree over the bounding cube, items referenced in every child they overlap",
     "O(N log N)",
     "O(log N)",
-    {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)", true},
+    {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)",
+      true},
      {"max_depth", 21, 0, 30, "maximum depth", true}},
     [](const ParamValues& p) { return std::make_unique<Octree>(p); }}};
 

@@ -52,7 +52,8 @@ class SphereTree final : public Structure {
     counters.add(kBuildItemRefs, order_.size());
   }
 
-  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const override {
+  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+                   OpCounters& counters) const override {
     if (nodes_.empty()) return false;
     struct Todo {
       uint32_t node;
@@ -72,14 +73,16 @@ class SphereTree final : public Structure {
       if (n.count > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, n.count);
-        found |= leaf.intersect_leaf(ray, LeafVisit{{order_.data() + n.first, n.count}, cur.t0, cur.t1}, hit, counters);
+        found |= leaf.intersect_leaf(
+            ray, LeafVisit{{order_.data() + n.first, n.count}, cur.t0, cur.t1}, hit, counters);
         continue;
       }
       Todo kids[2];
       int nk = 0;
       for (uint32_t c : {cur.node + 1, n.first}) {
         float a = 0, b = 0;
-        if (ray_sphere(ray, nodes_[c].centre, nodes_[c].radius, std::min(ray.tmax, hit.t * (1.0f + 1e-5f)), a, b))
+        if (ray_sphere(ray, nodes_[c].centre, nodes_[c].radius,
+                       std::min(ray.tmax, hit.t * (1.0f + 1e-5f)), a, b))
           kids[nk++] = Todo{c, a, b};
       }
       if (nk == 2 && kids[0].t0 < kids[1].t0) std::swap(kids[0], kids[1]);
@@ -93,7 +96,6 @@ class SphereTree final : public Structure {
   }
 
  private:
-
   void build_node(uint32_t begin, uint32_t end, int depth) {
     const auto me = uint32_t(nodes_.size());
     nodes_.emplace_back();
@@ -120,10 +122,11 @@ class SphereTree final : public Structure {
     if (ext.y() > ext[ax]) ax = 1;
     if (ext.z() > ext[ax]) ax = 2;
     const uint32_t mid = begin + n / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, [&](uint32_t a, uint32_t b) {
-      const float pa = items_.positions[a][ax], pb = items_.positions[b][ax];
-      return pa < pb || (pa == pb && a < b);
-    });
+    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                     [&](uint32_t a, uint32_t b) {
+                       const float pa = items_.positions[a][ax], pb = items_.positions[b][ax];
+                       return pa < pb || (pa == pb && a < b);
+                     });
     build_node(begin, mid, depth + 1);
     nodes_[me].first = uint32_t(nodes_.size());
     build_node(mid, end, depth + 1);
@@ -136,14 +139,14 @@ class SphereTree final : public Structure {
   std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
 };
 
-const RegisterStructure kRegister{StructureInfo{
-    "sphere_tree",
-    "bounding sphere hierarchy, median object split, one leaf per item",
-    "O(N log N)",
-    "O(log N)",
-    {{"leaf_size", 8, 1, 1e6, "largest leaf (K of the leaf-based methods)", true},
-     {"max_depth", 64, 0, 64, "maximum depth", true}},
-    [](const ParamValues& p) { return std::make_unique<SphereTree>(p); }}};
+const RegisterStructure kRegister{
+    StructureInfo{"sphere_tree",
+                  "bounding sphere hierarchy, median object split, one leaf per item",
+                  "O(N log N)",
+                  "O(log N)",
+                  {{"leaf_size", 8, 1, 1e6, "largest leaf (K of the leaf-based methods)", true},
+                   {"max_depth", 64, 0, 64, "maximum depth", true}},
+                  [](const ParamValues& p) { return std::make_unique<SphereTree>(p); }}};
 
 }  // namespace
 }  // namespace pcrt

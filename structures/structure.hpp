@@ -23,8 +23,8 @@ namespace pcrt {
 // along the normal, so far fewer cells reference it). The spans stay the method's.
 struct ItemSet {
   std::span<const Vec3> positions;
-  std::span<const float> radii;         // empty: points
-  std::span<const Vec3> half_extents;   // empty: the cube of the radius
+  std::span<const float> radii;        // empty: points
+  std::span<const Vec3> half_extents;  // empty: the cube of the radius
 
   [[nodiscard]] size_t size() const { return positions.size(); }
   [[nodiscard]] float radius(uint32_t i) const { return radii.empty() ? 0.0f : radii[i]; }
@@ -52,7 +52,8 @@ class LeafIntersector {
   virtual ~LeafIntersector() = default;
   // Intersects the ray with the leaf's items. May report any hit in [ray.tmin, hit.t) (also past
   // t_exit: a splat reaches into several leaves); on success it narrows hit and returns true.
-  virtual bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const = 0;
+  virtual bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                              OpCounters& counters) const = 0;
 };
 
 class Structure {
@@ -78,23 +79,31 @@ struct StructureInfo {
 using StructureRegistry = Registry<StructureInfo>;
 
 struct RegisterStructure {
-  explicit RegisterStructure(StructureInfo info) { StructureRegistry::instance().add(std::move(info)); }
+  explicit RegisterStructure(StructureInfo info) {
+    StructureRegistry::instance().add(std::move(info));
+  }
 };
 
 // Counters every structure reports into.
-inline const Counter kNodesVisited{"nodes_visited", "structure nodes (grid: cells) entered by a traversal"};
+inline const Counter kNodesVisited{"nodes_visited",
+                                   "structure nodes (grid: cells) entered by a traversal"};
 inline const Counter kLeavesVisited{"leaves_visited", "leaves handed to the leaf intersector"};
 inline const Counter kItemsVisited{"items_visited", "items (points) in the leaves handed over"};
 inline const Counter kBuildNodes{"build_nodes", "nodes (grid: cells) created by structure builds"};
-inline const Counter kBuildItemRefs{"build_item_refs", "item references stored in leaves (duplicates included)"};
+inline const Counter kBuildItemRefs{"build_item_refs",
+                                    "item references stored in leaves (duplicates included)"};
 
 // Whether a leaf entered at t_enter may still hold a hit nearer than hit_t. The slack absorbs
 // rounding between a hit point and the cell planes, so that a hit exactly on a cell boundary is
 // never skipped: structures must return exactly brute force's closest hit.
-inline bool may_improve(float t_enter, float hit_t) { return t_enter <= hit_t * (1.0f + 1e-5f) + 1e-30f; }
+inline bool may_improve(float t_enter, float hit_t) {
+  return t_enter <= hit_t * (1.0f + 1e-5f) + 1e-30f;
+}
 
 // Leaf-ordering tie-break shared by all leaf intersectors: the nearer t wins, and on equal t the
 // lower point index, so the result does not depend on the order in which leaves are visited.
-inline bool closer(float t, uint32_t prim, const Hit& hit) { return t < hit.t || (t == hit.t && prim < hit.prim); }
+inline bool closer(float t, uint32_t prim, const Hit& hit) {
+  return t < hit.t || (t == hit.t && prim < hit.prim);
+}
 
 }  // namespace pcrt

@@ -91,7 +91,8 @@ const bool kRegistered = [] {
     const bool brute = info.id == "brute_force";
     auto* b = benchmark::RegisterBenchmark(("BM_Build/" + info.id).c_str(), build_bench, &info);
     b->RangeMultiplier(10)->Range(1000, brute ? 100000 : 10000000)->Unit(benchmark::kMillisecond);
-    auto* q = benchmark::RegisterBenchmark(("BM_ClosestHit/" + info.id).c_str(), query_bench, &info);
+    auto* q =
+        benchmark::RegisterBenchmark(("BM_ClosestHit/" + info.id).c_str(), query_bench, &info);
     q->RangeMultiplier(10)->Range(1000, brute ? 100000 : 10000000);
   }
   return true;

@@ -24,7 +24,8 @@ std::vector<Ray> random_rays(const PointCloud& cloud, size_t count, uint64_t see
   const float diag = std::max(b.diagonal(), 1e-3f);
   auto in_box = [&](float grow) {
     const Vec3 u(rng.uniform(), rng.uniform(), rng.uniform());
-    return Vec3(b.lo - grow * Vec3::Constant(diag) + u.cwiseProduct(b.extent() + 2 * grow * Vec3::Constant(diag)));
+    return Vec3(b.lo - grow * Vec3::Constant(diag) +
+                u.cwiseProduct(b.extent() + 2 * grow * Vec3::Constant(diag)));
   };
   auto direction = [&] {
     Vec3 d;
@@ -39,7 +40,8 @@ std::vector<Ray> random_rays(const PointCloud& cloud, size_t count, uint64_t see
     switch (i % 3) {
       case 0: {
         r.o = eye;
-        const Vec3 target = cloud.positions[rng.below(uint32_t(cloud.size()))] + 0.01f * diag * direction();
+        const Vec3 target =
+            cloud.positions[rng.below(uint32_t(cloud.size()))] + 0.01f * diag * direction();
         r.d = (target - eye).normalized();
         break;
       }
@@ -76,8 +78,11 @@ Traced trace_all(const Structure& s, const Method& m, const std::vector<Ray>& ra
 
 void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const std::string& label,
                                bool expect_pruning = true) {
-  auto method = MethodRegistry::instance().get("reference_splat", "method").create(
-      resolve_params(MethodRegistry::instance().get("reference_splat", "method").params, {}, "test"));
+  auto method =
+      MethodRegistry::instance()
+          .get("reference_splat", "method")
+          .create(resolve_params(MethodRegistry::instance().get("reference_splat", "method").params,
+                                 {}, "test"));
   OpCounters prep;
   Timings t;
   PrepareContext ctx{prep, t};
@@ -99,11 +104,13 @@ void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const 
     size_t mismatches = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
       const bool same = got.found[i] == oracle.found[i] &&
-                        (!got.found[i] || (got.hits[i].prim == oracle.hits[i].prim && got.hits[i].t == oracle.hits[i].t));
+                        (!got.found[i] || (got.hits[i].prim == oracle.hits[i].prim &&
+                                           got.hits[i].t == oracle.hits[i].t));
       if (!same && mismatches++ < 3)
-        UNSCOPED_INFO("ray " << i << ": found " << int(got.found[i]) << " t " << got.hits[i].t << " prim "
-                             << got.hits[i].prim << ", brute force " << int(oracle.found[i]) << " t "
-                             << oracle.hits[i].t << " prim " << oracle.hits[i].prim);
+        UNSCOPED_INFO("ray " << i << ": found " << int(got.found[i]) << " t " << got.hits[i].t
+                             << " prim " << got.hits[i].prim << ", brute force "
+                             << int(oracle.found[i]) << " t " << oracle.hits[i].t << " prim "
+                             << oracle.hits[i].prim);
     }
     REQUIRE(mismatches == 0);
     if (expect_pruning) REQUIRE(got.items * 4 < oracle.items);  // the structure prunes
@@ -115,15 +122,19 @@ void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const 
 
 TEST_CASE("structures return brute force's closest hits on synthetic clouds", "[structures]") {
   check_against_brute_force(load_dataset("sphere:n=1000,seed=3").cloud, 100000, "sphere 1e3");
-  check_against_brute_force(load_dataset("torus:n=10000,seed=4,noise=0.002").cloud, 100000, "noisy torus 1e4");
-  check_against_brute_force(load_dataset("plane:n=10000,seed=5,density=0.9").cloud, 100000, "non-uniform plane 1e4");
-  check_against_brute_force(load_dataset("bumpy_sphere:n=100000,seed=6").cloud, 100000, "bumpy sphere 1e5");
+  check_against_brute_force(load_dataset("torus:n=10000,seed=4,noise=0.002").cloud, 100000,
+                            "noisy torus 1e4");
+  check_against_brute_force(load_dataset("plane:n=10000,seed=5,density=0.9").cloud, 100000,
+                            "non-uniform plane 1e4");
+  check_against_brute_force(load_dataset("bumpy_sphere:n=100000,seed=6").cloud, 100000,
+                            "bumpy sphere 1e5");
 }
 
 TEST_CASE("structures return brute force's closest hits on real scans", "[structures][data]") {
   const std::filesystem::path dir = PCRT_DATA_DIR;
   size_t used = 0;
-  for (const char* f : {"cgal/points_3/kitten.xyz", "cgal/points_3/building.ply", "bunny/bunny.ply"}) {
+  for (const char* f :
+       {"cgal/points_3/kitten.xyz", "cgal/points_3/building.ply", "bunny/bunny.ply"}) {
     if (!std::filesystem::exists(dir / f)) continue;
     check_against_brute_force(load_dataset((dir / f).string()).cloud, 30000, f);
     ++used;
@@ -131,7 +142,8 @@ TEST_CASE("structures return brute force's closest hits on real scans", "[struct
   if (used == 0) WARN("data/ not fetched (scripts/fetch_data.sh); real scans skipped");
 }
 
-TEST_CASE("degenerate clouds build bounded structures that still agree with brute force", "[structures]") {
+TEST_CASE("degenerate clouds build bounded structures that still agree with brute force",
+          "[structures]") {
   auto cloud_of = [](std::vector<Vec3> pts, float radius) {
     PointCloud c;
     c.name = "degenerate";
@@ -149,7 +161,8 @@ TEST_CASE("degenerate clouds build bounded structures that still agree with brut
   for (int i = 0; i < 20000; ++i) plane.emplace_back(rng.uniform(), rng.uniform(), 0);
   check_against_brute_force(cloud_of(plane, 0.01f), 20000, "points on a plane");
   check_against_brute_force(cloud_of({Vec3(1, 2, 3)}, 0.1f), 3000, "a single point", false);
-  check_against_brute_force(cloud_of({Vec3(1, 2, 3)}, 0.0f), 300, "a single point of radius 0", false);
+  check_against_brute_force(cloud_of({Vec3(1, 2, 3)}, 0.0f), 300, "a single point of radius 0",
+                            false);
   std::vector<Vec3> huge, tiny;
   for (int i = 0; i < 5000; ++i) {
     const Vec3 u(rng.uniform(), rng.uniform(), rng.uniform());

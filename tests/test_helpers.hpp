@@ -1,10 +1,11 @@
 // Small helpers shared by the Catch2 tests.
 #pragma once
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace pcrt::test {
 

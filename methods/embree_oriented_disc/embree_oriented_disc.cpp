@@ -24,14 +24,16 @@ class EmbreeOrientedDisc final : public Method {
     splats_ = prepare_splats(cloud, params_, ctx);
     ScopedTimer t(ctx.timings, "prepare/embree_build");
     device_ = rtcNewDevice(nullptr);
-    if (!device_) input_error("embree_oriented_disc: Embree could not start (error {})", int(rtcGetDeviceError(nullptr)));
+    if (!device_)
+      input_error("embree_oriented_disc: Embree could not start (error {})",
+                  int(rtcGetDeviceError(nullptr)));
     scene_ = rtcNewScene(device_);
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
     // Embree wants x, y, z, radius per point and its own copy of the normals.
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                          4 * sizeof(float), cloud.size()));
-    auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), cloud.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), cloud.size()));
+    auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), cloud.size()));
     // Embree gets the points in the cloud's own order unless morton_order=1 asks for ours.
     morton_ = params_.at("morton_order") != 0;
     for (size_t k = 0; k < splats_.size(); ++k) {
@@ -80,7 +82,8 @@ class EmbreeOrientedDisc final : public Method {
   }
 
  private:
-  static inline const Counter kEmbreeRays{"embree_rays", "rays traced by Embree (its internal work is not counted)"};
+  static inline const Counter kEmbreeRays{
+      "embree_rays", "rays traced by Embree (its internal work is not counted)"};
   ParamValues params_;
   SplatSet splats_;
   bool morton_ = false;
@@ -98,7 +101,9 @@ const RegisterMethod kRegister{MethodInfo{
     {"point normals", "point radii"},
     [] {
       auto p = splat_params();
-      p.push_back({"morton_order", 0, 0, 1, "1: hand Embree the points in Morton order (as our splat methods store them)", true});
+      p.push_back({"morton_order", 0, 0, 1,
+                   "1: hand Embree the points in Morton order (as our splat methods store them)",
+                   true});
       return p;
     }(),
     {},

@@ -11,7 +11,8 @@ inline const Counter kSplatTests{"splat_tests", "ray-disc intersection tests"};
 
 // Returns the ray parameter of the hit with the disc (centre c, unit normal n, radius r) if it is
 // in [tmin, tmax) and within the radius, else +inf. Rays parallel to the disc miss it.
-inline float intersect_splat(const Ray& ray, const Vec3& c, const Vec3& n, float r, float tmin, float tmax) {
+inline float intersect_splat(const Ray& ray, const Vec3& c, const Vec3& n, float r, float tmin,
+                             float tmax) {
   const float denom = n.dot(ray.d);
   if (denom == 0.0f) return kInfinity;
   const float t = n.dot(c - ray.o) / denom;

@@ -1,6 +1,6 @@
-#include <catch2/catch.hpp>
-
 #include "methods/kernels/splat_kernel.hpp"
+
+#include <catch2/catch.hpp>
 
 using namespace pcrt;
 

@@ -15,7 +15,8 @@ std::vector<ParamSpec> normal_params() {
 
 std::vector<ParamSpec> splat_params() {
   return {{"normal_k", 16, 3, 256, "neighbours in the PCA normal fit", true},
-          {"radius_k", 8, 1, 256, "splat radius = radius_scale * distance to the radius_k-th neighbour", true},
+          {"radius_k", 8, 1, 256,
+           "splat radius = radius_scale * distance to the radius_k-th neighbour", true},
           {"radius_scale", 1.0, 0.01, 100, "factor on the neighbour distance for the splat radius"},
           {"estimate_normals", 0, 0, 1, "1: estimate normals even if the cloud has them", true},
           {"estimate_radii", 0, 0, 1, "1: estimate radii even if the cloud has them", true}};
@@ -37,11 +38,14 @@ uint64_t spread_bits(uint64_t x) {
 std::vector<uint32_t> morton_order(std::span<const Vec3> positions) {
   Aabb b;
   for (const Vec3& p : positions) b.extend(p);
-  const Vec3 scale = (b.extent().array() > 0).select(Vec3::Constant(2097151.0f).cwiseQuotient(b.extent()), 0.0f);
+  const Vec3 scale =
+      (b.extent().array() > 0).select(Vec3::Constant(2097151.0f).cwiseQuotient(b.extent()), 0.0f);
   std::vector<std::pair<uint64_t, uint32_t>> keyed(positions.size());
   for (uint32_t i = 0; i < positions.size(); ++i) {
     const Vec3 q = (positions[i] - b.lo).cwiseProduct(scale);
-    keyed[i] = {spread_bits(uint64_t(q.x())) | spread_bits(uint64_t(q.y())) << 1 | spread_bits(uint64_t(q.z())) << 2, i};
+    keyed[i] = {spread_bits(uint64_t(q.x())) | spread_bits(uint64_t(q.y())) << 1 |
+                    spread_bits(uint64_t(q.z())) << 2,
+                i};
   }
   std::sort(keyed.begin(), keyed.end());
   std::vector<uint32_t> order(positions.size());
@@ -51,9 +55,11 @@ std::vector<uint32_t> morton_order(std::span<const Vec3> positions) {
 
 }  // namespace
 
-SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx, float fixed_radius) {
+SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx,
+                        float fixed_radius) {
   const bool need_normals = !cloud.has_normals() || params.at("estimate_normals") != 0;
-  const bool need_radii = fixed_radius <= 0 && (!cloud.has_radii() || params.at("estimate_radii") != 0);
+  const bool need_radii =
+      fixed_radius <= 0 && (!cloud.has_radii() || params.at("estimate_radii") != 0);
   std::optional<KnnIndex> knn;
   if (need_normals || need_radii) {
     ScopedTimer t(ctx.timings, "prepare/knn_build");
@@ -63,7 +69,8 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
   std::vector<float> radii;
   if (need_normals) {
     ScopedTimer t(ctx.timings, "prepare/normals");
-    normals = estimate_normals(cloud.positions, *knn, static_cast<size_t>(params.at("normal_k")), ctx.counters);
+    normals = estimate_normals(cloud.positions, *knn, static_cast<size_t>(params.at("normal_k")),
+                               ctx.counters);
   }
   if (need_radii) {
     ScopedTimer t(ctx.timings, "prepare/radii");
@@ -91,7 +98,8 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
     s.radii[k] = r_src[i];
     // Padded by 1e-4 r so rounding of the hit point never leaves the box.
     s.half_extents[k] =
-        r_src[i] * ((Vec3::Ones() - nn.cwiseProduct(nn)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
+        r_src[i] *
+        ((Vec3::Ones() - nn.cwiseProduct(nn)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
     s.packed[k] = PackedSplat{s.centres[k], s.radii[k], nn, i};
   }
   return s;

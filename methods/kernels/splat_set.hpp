@@ -18,12 +18,12 @@ namespace pcrt {
 // a hit reports point[k] as its prim, and ties in t are broken on it, so results are those of the
 // cloud's own order.
 struct SplatSet {
-  std::vector<uint32_t> point;     // cloud index of each item
-  std::vector<Vec3> centres;       // item order
+  std::vector<uint32_t> point;  // cloud index of each item
+  std::vector<Vec3> centres;    // item order
   std::vector<Vec3> normals;
   std::vector<float> radii;
-  std::vector<Vec3> half_extents;  // of each disc's bounding box: r * sqrt(1 - n_a^2), padded
-  std::vector<PackedSplat> packed; // centre, radius, normal, cloud index in one record
+  std::vector<Vec3> half_extents;   // of each disc's bounding box: r * sqrt(1 - n_a^2), padded
+  std::vector<PackedSplat> packed;  // centre, radius, normal, cloud index in one record
 
   [[nodiscard]] size_t size() const { return point.size(); }
   [[nodiscard]] ItemSet items() const { return {centres, radii, half_extents}; }

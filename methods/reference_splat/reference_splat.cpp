@@ -19,7 +19,8 @@ class ReferenceSplat final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
-  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const override {
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
     int best = -1;
     float t_limit = std::nextafter(hit.t, kInfinity);  // ties are resolved by closer()
     for (uint32_t k : leaf.items) {
@@ -45,16 +46,16 @@ class ReferenceSplat final : public Method {
   SplatSet splats_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "reference_splat",
-    "none (oracle): flat oriented discs, as in Zwicker et al. 2001 surface splatting",
-    "-",
-    "each point is a disc of its radius facing its normal; the nearest disc hit wins",
-    "brute_force",
-    {"point normals", "point radii"},
-    splat_params(),
-    {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
-    [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); }}};
+const RegisterMethod kRegister{
+    MethodInfo{"reference_splat",
+               "none (oracle): flat oriented discs, as in Zwicker et al. 2001 surface splatting",
+               "-",
+               "each point is a disc of its radius facing its normal; the nearest disc hit wins",
+               "brute_force",
+               {"point normals", "point radii"},
+               splat_params(),
+               {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
+               [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); }}};
 
 }  // namespace
 }  // namespace pcrt

@@ -12,8 +12,10 @@
 namespace pcrt {
 namespace {
 
-inline const Counter kCylinderCandidates{"cylinder_candidates", "points within the ray cylinder (S&J 2000)"};
-inline const Counter kProjectionTests{"projection_tests", "points tested against the ray cylinder (S&J 2000)"};
+inline const Counter kCylinderCandidates{"cylinder_candidates",
+                                         "points within the ray cylinder (S&J 2000)"};
+inline const Counter kProjectionTests{"projection_tests",
+                                      "points tested against the ray cylinder (S&J 2000)"};
 
 class SchauflerJensen final : public Method {
  public:
@@ -32,7 +34,8 @@ class SchauflerJensen final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
-  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const override {
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
     counters.add(kProjectionTests, leaf.items.size());
     // Pass 1: candidates within the cylinder; the front-most tangent-plane crossing.
     float front = kInfinity;
@@ -62,7 +65,8 @@ class SchauflerJensen final : public Method {
     const float t_hit = tsum / wsum;
     // The cell rule of the paper: a hit belongs to the leaf whose span holds it (later leaves
     // blend their own group); a blend may land up to d before the leaf (rounding at its wall).
-    if (t_hit > leaf.t_exit || t_hit < leaf.t_enter - d_ || t_hit < ray.tmin || !closer(t_hit, splats_.packed[best].index, hit))
+    if (t_hit > leaf.t_exit || t_hit < leaf.t_enter - d_ || t_hit < ray.tmin ||
+        !closer(t_hit, splats_.packed[best].index, hit))
       return false;
     hit.t = t_hit;
     hit.prim = splats_.packed[best].index;
@@ -98,17 +102,20 @@ const RegisterMethod kRegister{MethodInfo{
     "schaufler_jensen_2000",
     "G. Schaufler and H. W. Jensen, Ray tracing point sampled geometry, EGWR 2000",
     "[55]",
-    "ray cylinder of radius d; points within it projected onto the ray through their tangent planes; "
+    "ray cylinder of radius d; points within it projected onto the ray through their tangent "
+    "planes; "
     "front group blended (Algorithm 7)",
     "octree",
     {"point normals"},
     [] {
       auto p = normal_params();
       p.push_back({"cylinder_radius", 3.0, 0.25, 50, "ray cylinder radius d in mean spacings h"});
-      p.push_back({"front_depth", 1.0, 0.0, 20, "blend the points within this many d behind the front-most"});
+      p.push_back({"front_depth", 1.0, 0.0, 20,
+                   "blend the points within this many d behind the front-most"});
       return p;
     }(),
-    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"}, {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
     [](const ParamValues& p) { return std::make_unique<SchauflerJensen>(p); }}};
 
 }  // namespace
