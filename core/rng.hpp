@@ -42,7 +42,10 @@ class Rng {
     return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1p-53;
   }
   // Uniform integer in [0, n).
-  uint32_t below(uint32_t n) { return static_cast<uint32_t>((uint64_t{next_u32()} * n) >> 32); }
+  uint32_t below(uint32_t n) {
+    const uint64_t wide = static_cast<uint64_t>(next_u32()) * static_cast<uint64_t>(n);
+    return static_cast<uint32_t>(wide >> 32u);
+  }
 
  private:
   uint64_t state_;

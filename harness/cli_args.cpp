@@ -34,7 +34,7 @@ bool CliArgs::parse(const std::vector<std::string>& args) {
     std::optional<std::string> inline_value;
     if (const size_t eq = name.find('='); eq != std::string::npos) {
       inline_value = name.substr(eq + 1);
-      name = name.substr(0, eq);
+      name.resize(eq);
     }
     const OptionSpec* spec = nullptr;
     for (const auto& o : options_)

@@ -401,7 +401,7 @@ Throughput measure_throughput(const SceneIntersector& scene, const std::vector<R
     hits = size_t(std::count(found.begin(), found.end(), 1));
   }
   std::sort(rates.begin(), rates.end());
-  return {rates[rates.size() / 2], hits};
+  return {rates.empty() ? 0.0 : rates[rates.size() / 2], hits};
 }
 
 }  // namespace
