@@ -5,6 +5,7 @@
 // where this departs from the printed pseudocode.
 #include <cmath>
 
+#include "methods/kernels/ray_projection.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
 #include "preprocess/point_attributes.hpp"
@@ -34,65 +35,21 @@ class SchauflerJensen final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
-  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
-                      OpCounters& counters) const override {
-    counters.add(kProjectionTests, leaf.items.size());
-    // Pass 1: candidates within the cylinder; the front-most tangent-plane crossing.
-    float front = kInfinity;
-    uint64_t candidates = 0;
-    for (uint32_t k : leaf.items) {
-      float t = 0, w = 0;
-      if (!project(ray, splats_.packed[k], t, w)) continue;
-      ++candidates;
-      front = std::min(front, t);
-    }
-    counters.add(kCylinderCandidates, candidates);
-    if (front == kInfinity) return false;
-    // Pass 2: blend the group within depth_ behind the front, weights 1 - distance/d.
-    float wsum = 0, tsum = 0, best_w = -1;
-    Vec3 nsum = Vec3::Zero();
-    uint32_t best = 0;
-    for (uint32_t k : leaf.items) {
-      float t = 0, w = 0;
-      const PackedSplat& s = splats_.packed[k];
-      if (!project(ray, s, t, w) || t > front + depth_) continue;
-      wsum += w;
-      tsum += w * t;
-      nsum += w * s.n;
-      if (w > best_w || (w == best_w && s.index < splats_.packed[best].index)) best_w = w, best = k;
-    }
-    if (!(wsum > 0)) return false;
-    const float t_hit = tsum / wsum;
-    // The cell rule of the paper: a hit belongs to the leaf whose span holds it (later leaves
-    // blend their own group); a blend may land up to d before the leaf (rounding at its wall).
-    if (t_hit > leaf.t_exit || t_hit < leaf.t_enter - d_ || t_hit < ray.tmin ||
-        !closer(t_hit, splats_.packed[best].index, hit))
-      return false;
-    hit.t = t_hit;
-    hit.prim = splats_.packed[best].index;
-    hit.p = ray.at(t_hit);
-    hit.n = nsum.norm() > 0 ? Vec3(nsum.normalized()) : splats_.packed[best].n;
-    hit.footprint = d_;
-    return true;
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const override {
+    // Candidates: within d of the ray axis, and the ray crosses the tangent plane within d of the
+    // point (without the second test a ray grazing past a silhouette within d meets tangent planes
+    // far from their points and reports a hit off the surface). Weight 1 - distance/d.
+    const float d2 = d_ * d_;
+    auto weight = [&](const Ray& r, const PackedSplat& p, float t, const Vec3& lateral) {
+      const float dist2 = lateral.squaredNorm();
+      if (dist2 >= d2 || (r.at(t) - p.c).squaredNorm() >= d2) return 0.0f;
+      return 1.0f - std::sqrt(dist2) / d_;
+    };
+    const ProjectionSettings settings{depth_, 0.0f, d_, d_};
+    return blend_projected_points(ray, leaf, splats_.packed, settings, weight, hit, counters);
   }
 
  private:
-  // Whether the point lies within the cylinder and the ray crosses its tangent plane within d of
-  // it; the crossing t and the weight w. (Without the second test a ray grazing past a silhouette
-  // within d would meet tangent planes far from their points and report a hit off the surface.)
-  bool project(const Ray& ray, const PackedSplat& s, float& t, float& w) const {
-    const Vec3 v = s.c - ray.o;
-    const float along = v.dot(ray.d);
-    const float dist2 = (v - along * ray.d).squaredNorm();
-    if (dist2 >= d_ * d_) return false;
-    const float denom = s.n.dot(ray.d);
-    if (denom == 0) return false;
-    t = s.n.dot(v) / denom;
-    if (t < ray.tmin || (ray.at(t) - s.c).squaredNorm() >= d_ * d_) return false;
-    w = 1.0f - std::sqrt(dist2) / d_;
-    return true;
-  }
-
   ParamValues params_;
   SplatSet splats_;
   float h_ = 0, d_ = 0, depth_ = 0;
