@@ -13,8 +13,10 @@
 
 namespace pcrt {
 
-inline const Counter kProjectionTests{"projection_tests", "points projected onto a ray (2 per leaf item)"};
-inline const Counter kProjectionCandidates{"projection_candidates", "points inside the ray's cylinder or cone"};
+inline const Counter kProjectionTests{"projection_tests",
+                                      "points projected onto a ray (2 per leaf item)"};
+inline const Counter kProjectionCandidates{"projection_candidates",
+                                           "points inside the ray's cylinder or cone"};
 
 struct ProjectionSettings {
   float depth = 0;         // blend the candidates within this distance behind the front-most
@@ -27,8 +29,9 @@ struct ProjectionSettings {
 // at t, with `lateral` its offset from the ray axis, and 0 if it is no candidate. Allocation-free,
 // two passes over the leaf: O(K).
 template <typename Weight>
-bool blend_projected_points(const Ray& ray, const LeafVisit& leaf, std::span<const PackedSplat> splats,
-                            const ProjectionSettings& s, Weight&& weight, Hit& hit, OpCounters& counters) {
+bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
+                            std::span<const PackedSplat> splats, const ProjectionSettings& s,
+                            Weight&& weight, Hit& hit, OpCounters& counters) {
   auto project = [&](const PackedSplat& p, float& t, float& w) {
     const Vec3 v = p.c - ray.o;
     const Vec3 lateral = v - v.dot(ray.d) * ray.d;

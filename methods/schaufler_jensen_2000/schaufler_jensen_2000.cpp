@@ -35,7 +35,8 @@ class SchauflerJensen final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
-  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const override {
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
     // Candidates: within d of the ray axis, and the ray crosses the tangent plane within d of the
     // point (without the second test a ray grazing past a silhouette within d meets tangent planes
     // far from their points and reports a hit off the surface). Weight 1 - distance/d.

@@ -34,7 +34,8 @@ class WandStrasser final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
-  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const override {
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
     Vec3 u, v;
     orthonormal_basis(ray.d, u, v);
     const float c2 = cutoff_ * cutoff_;
@@ -50,8 +51,8 @@ class WandStrasser final : public Method {
       if ((r.at(t) - p.c).squaredNorm() >= reach * reach) return 0.0f;
       return std::exp(-0.5f * q);
     };
-    const ProjectionSettings settings{float(params_.at("front_depth")) * reach_, float(params_.at("min_weight")),
-                                      reach_, reach_};
+    const ProjectionSettings settings{float(params_.at("front_depth")) * reach_,
+                                      float(params_.at("min_weight")), reach_, reach_};
     return blend_projected_points(ray, leaf, splats_.packed, settings, weight, hit, counters);
   }
 
@@ -65,22 +66,31 @@ const RegisterMethod kRegister{MethodInfo{
     "wand_strasser_2003",
     "M. Wand and W. Strasser, Multi-resolution point-sample raytracing, Graphics Interface 2003",
     "[64]",
-    "ray cone with two radii growing with t; Gaussian weights of the points' offsets in ray coordinates; "
+    "ray cone with two radii growing with t; Gaussian weights of the points' offsets in ray "
+    "coordinates; "
     "tangent-plane projection and blending",
     "octree",
     {"point normals"},
     [] {
       auto p = normal_params();
-      p.push_back({"cone_radius", 1.0, 0.1, 50, "cone radius (Gaussian sigma along u) at the ray origin, in mean spacings h"});
-      p.push_back({"cone_spread", 0.0012, 0, 1, "growth of the radius per unit t (about one 512-pixel pixel's angle at 35 deg)"});
-      p.push_back({"max_cone_radius", 2.0, 0.1, 100, "cap on the radius, in h (bounds each point's reach for the structure)"});
-      p.push_back({"aspect", 1.0, 0.1, 10, "radius along v over radius along u (1: a circular cone)"});
+      p.push_back({"cone_radius", 1.0, 0.1, 50,
+                   "cone radius (Gaussian sigma along u) at the ray origin, in mean spacings h"});
+      p.push_back(
+          {"cone_spread", 0.0012, 0, 1,
+           "growth of the radius per unit t (about one 512-pixel pixel's angle at 35 deg)"});
+      p.push_back({"max_cone_radius", 2.0, 0.1, 100,
+                   "cap on the radius, in h (bounds each point's reach for the structure)"});
+      p.push_back(
+          {"aspect", 1.0, 0.1, 10, "radius along v over radius along u (1: a circular cone)"});
       p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
-      p.push_back({"min_weight", 0.5, 0, 100, "blended weight a hit needs (coverage): 1 = one point on the axis"});
-      p.push_back({"front_depth", 0.5, 0, 20, "blend the points within this many reaches behind the front-most"});
+      p.push_back({"min_weight", 0.5, 0, 100,
+                   "blended weight a hit needs (coverage): 1 = one point on the axis"});
+      p.push_back({"front_depth", 0.5, 0, 20,
+                   "blend the points within this many reaches behind the front-most"});
       return p;
     }(),
-    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"}, {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
     [](const ParamValues& p) { return std::make_unique<WandStrasser>(p); }}};
 
 }  // namespace
