@@ -116,8 +116,7 @@ int command_info(const Args& args) {
   const Dataset d = load_dataset(a.positional()[0]);
   const PointCloud& c = d.cloud;
   OpCounters counters;
-  const KnnIndex knn(c.positions);
-  const double h = mean_spacing(c.positions, knn, counters);
+  const double h = mean_spacing(c.positions, counters);
   const Aabb b = c.bounds();
   json j = {{"name", c.name},
             {"points", c.size()},
@@ -328,8 +327,7 @@ int command_accuracy(const Args& args) {
   Timings timings;
   OpCounters prep, counters;
   const PointScene scene(d.cloud, so, prep, timings);
-  const KnnIndex knn(d.cloud.positions);
-  const double h = mean_spacing(d.cloud.positions, knn, prep);
+  const double h = mean_spacing(d.cloud.positions, prep);
   const auto rays = accuracy_rays(*d.truth, h, n_rays, seed);
   AccuracyReport r;
   {

@@ -67,6 +67,33 @@ TEST_CASE("every structure renders the same image with the same counters at 1 an
   }
 }
 
+TEST_CASE("every method renders the same image with the same counters at 1 and 2 threads",
+          "[renderer]") {
+  const Dataset d = load_dataset("torus:n=20000,seed=9");
+  for (const MethodInfo& m : MethodRegistry::instance().all()) {
+    INFO(m.id);
+    auto frame = [&](int threads) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+      OpCounters prep;
+      Timings t;
+      const std::string structure = m.structure == "brute_force" ? "kd_tree" : "";
+      const PointScene scene(d.cloud, SceneOptions{m.id, structure, {}}, prep, t);
+      RenderSettings s;
+      s.width = 48;
+      s.height = 32;
+      s.spp = 2;
+      s.bounces = 2;
+      s.threads = threads;
+      return std::make_pair(render(scene, d.cloud, s), prep);
+    };
+    const auto one = frame(1);
+    const auto two = frame(2);
+    REQUIRE(one.first.image.pixels() == two.first.image.pixels());
+    REQUIRE(one.first.counters.to_map() == two.first.counters.to_map());
+    REQUIRE(one.second.to_map() == two.second.to_map());
+  }
+}
+
 TEST_CASE("a sphere renders where it should", "[renderer]") {
   const Dataset d = load_dataset("fibonacci_sphere:n=4000");
   OpCounters prep;

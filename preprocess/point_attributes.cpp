@@ -121,4 +121,9 @@ double mean_spacing(std::span<const Vec3> positions, const KnnIndex& knn, OpCoun
   return sum / double(positions.size());
 }
 
+double mean_spacing(std::span<const Vec3> positions, OpCounters& counters) {
+  const KnnIndex knn(positions);
+  return mean_spacing(positions, knn, counters);
+}
+
 }  // namespace pcrt

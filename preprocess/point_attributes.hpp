@@ -30,5 +30,7 @@ std::vector<float> estimate_radii(std::span<const Vec3> positions, const KnnInde
 
 // Mean over points of the distance to the nearest other point (h in the accuracy bounds).
 double mean_spacing(std::span<const Vec3> positions, const KnnIndex& knn, OpCounters& counters);
+// The same with an index built for the purpose (counted like any other k-NN work).
+double mean_spacing(std::span<const Vec3> positions, OpCounters& counters);
 
 }  // namespace pcrt

@@ -25,8 +25,7 @@ class SchauflerJensen final : public Method {
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     {
       ScopedTimer t(ctx.timings, "prepare/spacing");
-      const KnnIndex knn(cloud.positions);
-      h_ = float(mean_spacing(cloud.positions, knn, ctx.counters));
+      h_ = float(mean_spacing(cloud.positions, ctx.counters));
     }
     d_ = float(params_.at("cylinder_radius")) * std::max(h_, 1e-30f);
     depth_ = float(params_.at("front_depth")) * d_;

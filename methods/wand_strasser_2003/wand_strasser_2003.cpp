@@ -20,8 +20,7 @@ class WandStrasser final : public Method {
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     {
       ScopedTimer t(ctx.timings, "prepare/spacing");
-      const KnnIndex knn(cloud.positions);
-      h_ = std::max(float(mean_spacing(cloud.positions, knn, ctx.counters)), 1e-30f);
+      h_ = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
     }
     sigma0_ = float(params_.at("cone_radius")) * h_;
     spread_ = float(params_.at("cone_spread"));
