@@ -84,8 +84,10 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
       }
       o.verdict = Verdict::kGoodHit;
       o.distance_h = std::abs(truth.signed_distance(hit.p)) / hf;
-      const float c = std::clamp(std::abs(hit.n.normalized().dot(truth.normal(hit.p))), 0.0f, 1.0f);
-      o.normal_deg = std::acos(c) * 180.0f / 3.14159265f;
+      // Unsigned angle by atan2(|a x b|, |a . b|): acos of a float dot product cannot resolve
+      // angles below about 0.02 degrees.
+      const Vec3d a = hit.n.normalized().cast<double>(), b = truth.normal(hit.p).cast<double>();
+      o.normal_deg = float(std::atan2(a.cross(b).norm(), std::abs(a.dot(b))) * 180.0 / M_PI);
       return;
     }
     if (closest_approach(truth, ray, scale) <= 2.0f * hf) return;  // near miss: not judged

@@ -10,29 +10,6 @@
 #include <queue>
 
 namespace pcrt {
-namespace {
-
-// A k-NN query per point in parallel. The counter totals are added once, afterwards: they are
-// exactly N queries whatever the split, so thread count cannot change them.
-template <typename Body>
-void for_each_point_knn(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
-                        OpCounters& counters, Body body) {
-  const size_t n = positions.size();
-  k = std::min(k, n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      std::vector<uint32_t> idx(k);
-                      std::vector<float> d2(k);
-                      OpCounters local;
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        const size_t found = knn.knn(positions[i], k, idx.data(), d2.data(), local);
-                        body(i, std::span<const uint32_t>(idx.data(), found),
-                             std::span<const float>(d2.data(), found));
-                      }
-                    });
-  counters.add(kKnnQueries, n);
-  counters.add(kKnnResults, n * k);
-}
 
 Vec3 pca_normal(std::span<const Vec3> positions, std::span<const uint32_t> nbrs) {
   Vec3d mean = Vec3d::Zero();
@@ -49,7 +26,7 @@ Vec3 pca_normal(std::span<const Vec3> positions, std::span<const uint32_t> nbrs)
   return n.normalized();
 }
 
-}  // namespace
+
 
 std::vector<Vec3> estimate_normals(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
                                    OpCounters& counters) {

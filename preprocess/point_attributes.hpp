@@ -3,6 +3,9 @@
 // Each counts its k-NN queries; callers time them.
 #pragma once
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <vector>
 
 #include "core/counters.hpp"
@@ -14,6 +17,32 @@ namespace pcrt {
 inline const Counter kNormalsEstimated{"normals_estimated", "PCA normal fits"};
 inline const Counter kOrientationFlips{"normal_orientation_flips",
                                        "normals flipped to agree with the MST"};
+
+// A k-NN query per point in parallel. The counter totals are added once, afterwards: they are
+// exactly N queries whatever the split, so thread count cannot change them.
+template <typename Body>
+void for_each_point_knn(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
+                        OpCounters& counters, Body body) {
+  const size_t n = positions.size();
+  k = std::min(k, n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      std::vector<uint32_t> idx(k);
+                      std::vector<float> d2(k);
+                      OpCounters local;
+                      for (size_t i = r.begin(); i != r.end(); ++i) {
+                        const size_t found = knn.knn(positions[i], k, idx.data(), d2.data(), local);
+                        body(i, std::span<const uint32_t>(idx.data(), found),
+                             std::span<const float>(d2.data(), found));
+                      }
+                    });
+  counters.add(kKnnQueries, n);
+  counters.add(kKnnResults, n * k);
+}
+
+// Unit normal of the least-squares plane through the given points (smallest eigenvector of their
+// covariance); +z when it is undefined. Unoriented.
+Vec3 pca_normal(std::span<const Vec3> positions, std::span<const uint32_t> nbrs);
 
 // Normal of each point: the eigenvector of the smallest eigenvalue of the covariance of its k
 // nearest neighbours (itself included). Orientation: Hoppe et al. 1992, a minimum spanning tree

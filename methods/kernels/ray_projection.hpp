@@ -26,12 +26,14 @@ struct ProjectionSettings {
 };
 
 // Weight(ray, splat, t, lateral) returns the weight of a point whose tangent plane the ray crosses
-// at t, with `lateral` its offset from the ray axis, and 0 if it is no candidate. Allocation-free,
-// two passes over the leaf: O(K).
-template <typename Weight>
+// at t, with `lateral` its offset from the ray axis, and 0 if it is no candidate. NormalAt(k, x)
+// is item k's normal at the crossing x (its own normal, or a normal field's value there).
+// Allocation-free, two passes over the leaf: O(K).
+template <typename Weight, typename NormalAt>
 bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
                             std::span<const PackedSplat> splats, const ProjectionSettings& s,
-                            Weight&& weight, Hit& hit, OpCounters& counters) {
+                            Weight&& weight, NormalAt&& normal_at, Hit& hit,
+                            OpCounters& counters) {
   auto project = [&](const PackedSplat& p, float& t, float& w) {
     const Vec3 v = p.c - ray.o;
     const Vec3 lateral = v - v.dot(ray.d) * ray.d;
@@ -60,7 +62,7 @@ bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
     if (!project(p, t, w) || t > front + s.depth) continue;
     wsum += w;
     tsum += w * t;
-    nsum += w * p.n;
+    nsum += w * normal_at(k, ray.at(t));
     if (w > best_w || (w == best_w && p.index < best->index)) best_w = w, best = &p;
   }
   if (!(wsum > 0) || wsum < s.min_weight) return false;
@@ -75,6 +77,15 @@ bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
   hit.n = nsum.norm() > 0 ? Vec3(nsum.normalized()) : best->n;
   hit.footprint = s.footprint;
   return true;
+}
+
+// The same with each point's own normal.
+template <typename Weight>
+bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
+                            std::span<const PackedSplat> splats, const ProjectionSettings& s,
+                            Weight&& weight, Hit& hit, OpCounters& counters) {
+  auto own_normal = [&](uint32_t k, const Vec3&) { return splats[k].n; };
+  return blend_projected_points(ray, leaf, splats, s, weight, own_normal, hit, counters);
 }
 
 }  // namespace pcrt

@@ -82,8 +82,15 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
   const std::vector<float>& r_src = need_radii || fixed_radius > 0 ? radii : cloud.radii;
 
   ScopedTimer t(ctx.timings, "prepare/splat_layout");
+  std::vector<uint32_t> identity(cloud.size());
+  for (uint32_t i = 0; i < identity.size(); ++i) identity[i] = i;
+  return make_splat_set(cloud.positions, n_src, r_src, identity);
+}
+
+SplatSet make_splat_set(std::span<const Vec3> centres, std::span<const Vec3> normals,
+                        std::span<const float> radii, std::span<const uint32_t> prim) {
   SplatSet s;
-  s.point = morton_order(cloud.positions);
+  s.point = morton_order(centres);
   const size_t n = s.point.size();
   s.centres.resize(n);
   s.normals.resize(n);
@@ -92,15 +99,15 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
   s.packed.resize(n);
   for (size_t k = 0; k < n; ++k) {
     const uint32_t i = s.point[k];
-    const Vec3& nn = n_src[i];
-    s.centres[k] = cloud.positions[i];
+    const Vec3& nn = normals[i];
+    s.centres[k] = centres[i];
     s.normals[k] = nn;
-    s.radii[k] = r_src[i];
+    s.radii[k] = radii[i];
     // Padded by 1e-4 r so rounding of the hit point never leaves the box.
     s.half_extents[k] =
-        r_src[i] *
+        radii[i] *
         ((Vec3::Ones() - nn.cwiseProduct(nn)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
-    s.packed[k] = PackedSplat{s.centres[k], s.radii[k], nn, i};
+    s.packed[k] = PackedSplat{s.centres[k], s.radii[k], nn, prim[i]};
   }
   return s;
 }

@@ -13,11 +13,6 @@
 namespace pcrt {
 namespace {
 
-inline const Counter kCylinderCandidates{"cylinder_candidates",
-                                         "points within the ray cylinder (S&J 2000)"};
-inline const Counter kProjectionTests{"projection_tests",
-                                      "points tested against the ray cylinder (S&J 2000)"};
-
 class SchauflerJensen final : public Method {
  public:
   explicit SchauflerJensen(ParamValues params) : params_(std::move(params)) {}

@@ -1,0 +1,174 @@
+// kashyap_2010_splat: Kashyap, Goradia, Chaudhuri and Chandran, "Real time ray tracing of
+// point-based models" (I3D 2010), thesis [34]: a splat octree. The octree is refined until the
+// points of each leaf lie within a tolerance of one plane; each leaf's points are then replaced by
+// one splat fitted to them (centroid, PCA normal, radius covering them), so the splats are a
+// level of detail coarser than the points. Rays blend the splats they hit in a leaf (thesis 5.5.2,
+// "Splat intersection"). See README.md.
+#include <algorithm>
+#include <cmath>
+
+#include "methods/kernels/splat_blend.hpp"
+#include "methods/kernels/splat_set.hpp"
+#include "methods/method.hpp"
+#include "preprocess/point_attributes.hpp"
+
+namespace pcrt {
+namespace {
+
+inline const Counter kRefineCells{"splat_octree_cells", "cells examined by splat-octree refinement"};
+
+struct LeafSplats {
+  std::vector<Vec3> centres, normals;
+  std::vector<float> radii;
+  std::vector<uint32_t> prim;
+};
+
+class SplatOctreeBuilder {
+ public:
+  SplatOctreeBuilder(std::span<const Vec3> p, std::span<const Vec3> n, std::span<const float> cover,
+                     float tolerance, size_t max_points, float min_cos)
+      : p_(p), n_(n), cover_(cover), tolerance_(tolerance), max_points_(max_points),
+        min_cos_(min_cos) {}
+
+  LeafSplats build(OpCounters& counters) {
+    std::vector<uint32_t> idx(p_.size());
+    for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    Aabb b;
+    for (const Vec3& q : p_) b.extend(q);
+    const float side = std::max(b.extent().maxCoeff(), 1e-30f) * 1.0001f;
+    refine(idx.data(), idx.data() + idx.size(), b.lo, side, 0, counters);
+    return std::move(out_);
+  }
+
+ private:
+  // Fits one splat to the points [begin, end); false if they are not flat enough for one.
+  bool fit(const uint32_t* begin, const uint32_t* end, bool force) {
+    const std::span<const uint32_t> pts(begin, end);
+    Vec3 c = Vec3::Zero(), mean_n = Vec3::Zero();
+    float mean_cover = 0;
+    for (uint32_t i : pts) c += p_[i], mean_n += n_[i], mean_cover += cover_[i];
+    c /= float(pts.size());
+    mean_cover /= float(pts.size());
+    Vec3 n = pts.size() >= 3 ? pca_normal(p_, pts) : mean_n.normalized();
+    if (!n.allFinite()) n = n_[pts[0]];
+    if (n.dot(mean_n) < 0) n = -n;
+    float height = 0, spread = 0, min_cos = 1;
+    for (uint32_t i : pts) {
+      const Vec3 d = p_[i] - c;
+      const float along = n.dot(d);
+      height = std::max(height, std::abs(along));
+      spread = std::max(spread, (d - along * n).norm());
+      min_cos = std::min(min_cos, n.dot(n_[i]));
+    }
+    if (!force && (pts.size() > max_points_ || height > tolerance_ || min_cos < min_cos_))
+      return false;
+    uint32_t nearest = pts[0];
+    for (uint32_t i : pts)
+      if ((p_[i] - c).squaredNorm() < (p_[nearest] - c).squaredNorm()) nearest = i;
+    out_.centres.push_back(c);
+    out_.normals.push_back(n);
+    // Covers the farthest point's own disc, so neighbouring leaves' splats overlap.
+    out_.radii.push_back(spread + mean_cover);
+    out_.prim.push_back(nearest);
+    return true;
+  }
+
+  void refine(uint32_t* begin, uint32_t* end, const Vec3& lo, float side, int depth,
+              OpCounters& counters) {
+    if (begin == end) return;
+    counters.add(kRefineCells);
+    if (fit(begin, end, end - begin <= 2 || depth >= 20)) return;
+    const Vec3 mid = lo + Vec3::Constant(side / 2);
+    uint32_t* cut[9];
+    cut[0] = begin;
+    cut[8] = end;
+    cut[4] = std::partition(begin, end, [&](uint32_t i) { return p_[i].z() < mid.z(); });
+    for (int z = 0; z < 2; ++z) {
+      cut[4 * z + 2] = std::partition(cut[4 * z], cut[4 * z + 4],
+                                      [&](uint32_t i) { return p_[i].y() < mid.y(); });
+      for (int y = 0; y < 2; ++y) {
+        const int a = 4 * z + 2 * y;
+        cut[a + 1] =
+            std::partition(cut[a], cut[a + 2], [&](uint32_t i) { return p_[i].x() < mid.x(); });
+      }
+    }
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 child_lo = lo + Vec3(float(c & 1), float((c >> 1) & 1), float(c >> 2)) * (side / 2);
+      refine(cut[c], cut[c + 1], child_lo, side / 2, depth + 1, counters);
+    }
+  }
+
+  std::span<const Vec3> p_, n_;
+  std::span<const float> cover_;
+  float tolerance_;
+  size_t max_points_;
+  float min_cos_;
+  LeafSplats out_;
+};
+
+class Kashyap2010Splat final : public Method {
+ public:
+  explicit Kashyap2010Splat(ParamValues params) : params_(std::move(params)) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    const size_t n = cloud.size();
+    const SplatSet base = prepare_splats(cloud, params_, ctx);
+    std::vector<Vec3> normals(n);
+    std::vector<float> cover(n);
+    for (size_t k = 0; k < n; ++k)
+      normals[base.point[k]] = base.normals[k], cover[base.point[k]] = base.radii[k];
+    float h = 0;
+    {
+      ScopedTimer t(ctx.timings, "prepare/spacing");
+      h = float(mean_spacing(cloud.positions, ctx.counters));
+    }
+    ScopedTimer t(ctx.timings, "prepare/splat_octree");
+    SplatOctreeBuilder builder(cloud.positions, normals, cover,
+                               float(params_.at("error_tolerance")) * h,
+                               size_t(params_.at("max_leaf_points")),
+                               float(std::cos(params_.at("max_normal_angle") * M_PI / 180)));
+    const LeafSplats leaves = builder.build(ctx.counters);
+    ctx.counters.add(kSplatsGenerated, leaves.prim.size());
+    splats_ = make_splat_set(leaves.centres, leaves.normals, leaves.radii, leaves.prim);
+    settings_ = splat_blend_settings(splats_.radii, float(params_.at("front_depth")));
+  }
+  [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    return blend_splat_hits(ray, leaf, splats_.packed, settings_, hit, counters);
+  }
+
+ private:
+  ParamValues params_;
+  SplatSet splats_;
+  SplatBlendSettings settings_;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "kashyap_2010_splat",
+    "S. Kashyap, R. Goradia, P. Chaudhuri and S. Chandran, Real time ray tracing of point-based "
+    "models, I3D 2010",
+    "[34]",
+    "splat octree: cells refined until their points fit one plane, one fitted splat per leaf; "
+    "the splats hit in a leaf are blended by distance from their centres",
+    "octree",
+    {"point normals", "splat radii", "splat octree"},
+    [] {
+      auto p = splat_params();
+      p.push_back({"error_tolerance", 0.05, 0.001, 10,
+                   "largest distance of a leaf's points from its splat plane, in mean spacings h"});
+      p.push_back({"max_leaf_points", 64, 1, 100000, "most points one splat may replace", true});
+      p.push_back({"max_normal_angle", 25, 1, 180,
+                   "largest angle between a leaf's splat normal and its points' normals (deg)"});
+      p.push_back({"front_depth", 0.5, 0, 20,
+                   "blend the splat hits within this many median splat radii behind the "
+                   "front-most"});
+      return p;
+    }(),
+    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<Kashyap2010Splat>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

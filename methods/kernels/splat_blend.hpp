@@ -1,0 +1,57 @@
+// Weighted splat intersection (thesis section 5.5.2, "Splat intersection"): every splat of the
+// leaf that the ray hits within its radius is a candidate; the hits within a depth window behind
+// the front-most are averaged, weighted by their distance from the splat centres, into one hit
+// point and normal. Shared by Linsen et al. 2007, Kashyap et al. 2010 and Goradia et al. 2010,
+// which differ in how the splats are made. Built on the projection kernel: a splat hit is the
+// crossing of the splat's plane, kept when it lies within the radius. O(K).
+#pragma once
+
+#include <algorithm>
+#include <span>
+#include <vector>
+
+#include "methods/kernels/ray_projection.hpp"
+#include "methods/kernels/splat_kernel.hpp"
+
+namespace pcrt {
+
+struct SplatBlendSettings {
+  float depth = 0;         // blend the hits within this distance behind the front-most
+  float early_margin = 0;  // the largest splat radius: a blend may land that far before the leaf
+  float footprint = 0;
+};
+
+// The window is `front_depth` median splat radii deep; the margin is the largest radius.
+inline SplatBlendSettings splat_blend_settings(std::span<const float> radii, float front_depth) {
+  if (radii.empty()) return {};
+  std::vector<float> r(radii.begin(), radii.end());
+  const float max_r = *std::max_element(r.begin(), r.end());
+  std::nth_element(r.begin(), r.begin() + std::ptrdiff_t(r.size() / 2), r.end());
+  const float median_r = r[r.size() / 2];
+  return {front_depth * median_r, max_r, median_r};
+}
+
+// Weight of a splat hit at squared distance q * r^2 from the centre: 1 - q, falling to 0 at the
+// rim, so that overlapping splats hand over smoothly.
+inline float splat_hit_weight(float q) { return q < 1.0f ? 1.0f - q : 0.0f; }
+
+template <typename NormalAt>
+bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, std::span<const PackedSplat> splats,
+                      const SplatBlendSettings& s, NormalAt&& normal_at, Hit& hit,
+                      OpCounters& counters) {
+  auto weight = [](const Ray& r, const PackedSplat& p, float t, const Vec3& /*lateral*/) {
+    return splat_hit_weight((r.at(t) - p.c).squaredNorm() / (p.r * p.r));
+  };
+  counters.add(kSplatTests, leaf.items.size());
+  const ProjectionSettings projection{s.depth, 0.0f, s.early_margin, s.footprint};
+  return blend_projected_points(ray, leaf, splats, projection, weight, normal_at, hit, counters);
+}
+
+inline bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf,
+                             std::span<const PackedSplat> splats, const SplatBlendSettings& s,
+                             Hit& hit, OpCounters& counters) {
+  auto own_normal = [&](uint32_t k, const Vec3&) { return splats[k].n; };
+  return blend_splat_hits(ray, leaf, splats, s, own_normal, hit, counters);
+}
+
+}  // namespace pcrt

@@ -1,0 +1,178 @@
+// linsen_2007: Linsen, Mueller and Rosenthal, "Splat-based ray tracing of point clouds" (Journal
+// of WSCG 2007), thesis [41]: splats sized by the local curvature (large where the surface is
+// flat, small where it bends), fewer splats than points, and a linear normal field on each splat
+// for smooth shading; weighted splat intersection in an octree. See README.md.
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <optional>
+
+#include "methods/kernels/splat_blend.hpp"
+#include "methods/kernels/splat_set.hpp"
+#include "methods/method.hpp"
+#include "preprocess/point_attributes.hpp"
+
+namespace pcrt {
+namespace {
+
+// A linear normal field n(x) = n_i + M (x - c_i) fitted to the neighbours' normals, and the
+// curvature it implies (the largest principal curvature of its shape operator).
+struct NormalField {
+  Eigen::Matrix3f m = Eigen::Matrix3f::Zero();
+  float curvature = 0;
+};
+
+NormalField fit_normal_field(std::span<const Vec3> positions, std::span<const Vec3> normals,
+                             uint32_t i, std::span<const uint32_t> nbrs) {
+  Vec3 u, v;
+  orthonormal_basis(normals[i], u, v);
+  Eigen::Matrix2f a = Eigen::Matrix2f::Zero();
+  Eigen::Matrix<float, 3, 2> b = Eigen::Matrix<float, 3, 2>::Zero();
+  for (uint32_t j : nbrs) {
+    const Vec3 d = positions[j] - positions[i];
+    const Eigen::Vector2f q(d.dot(u), d.dot(v));
+    const Vec3 nj = normals[j].dot(normals[i]) < 0 ? Vec3(-normals[j]) : normals[j];
+    a += q * q.transpose();
+    b += (nj - normals[i]) * q.transpose();
+  }
+  NormalField f;
+  if (std::abs(a.determinant()) <= 1e-12f * a.squaredNorm()) return f;  // collinear neighbours
+  const Eigen::Matrix<float, 3, 2> g = b * a.inverse();  // dn per unit (u, v)
+  Eigen::Matrix<float, 3, 2> uv;
+  uv << u, v;
+  f.m = g * uv.transpose();
+  const Eigen::Matrix2f shape = uv.transpose() * g;
+  const Eigen::Matrix2f sym = 0.5f * (shape + shape.transpose());
+  const Eigen::Vector2f k = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2f>(sym).eigenvalues();
+  f.curvature = std::max(std::abs(k[0]), std::abs(k[1]));
+  if (!f.m.allFinite() || !std::isfinite(f.curvature)) f = NormalField{};
+  return f;
+}
+
+class Linsen2007 final : public Method {
+ public:
+  explicit Linsen2007(ParamValues params) : params_(std::move(params)) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    const size_t n = cloud.size();
+    const SplatSet base = prepare_splats(cloud, params_, ctx);
+    std::vector<Vec3> normals(n);
+    std::vector<float> cover(n);
+    for (size_t k = 0; k < n; ++k) normals[base.point[k]] = base.normals[k], cover[base.point[k]] = base.radii[k];
+    std::optional<KnnIndex> knn;
+    {
+      ScopedTimer t(ctx.timings, "prepare/knn_build");
+      knn.emplace(cloud.positions);
+    }
+    const float h = float(mean_spacing(cloud.positions, *knn, ctx.counters));
+    std::vector<NormalField> fields(n);
+    std::vector<float> radii(n);
+    {
+      ScopedTimer t(ctx.timings, "prepare/normal_field");
+      const float eps = float(params_.at("error_tolerance")) * h;
+      const float max_scale = float(params_.at("max_radius_scale"));
+      for_each_point_knn(cloud.positions, *knn, size_t(params_.at("field_k")), ctx.counters,
+                         [&](size_t i, auto nbrs, auto) {
+                           fields[i] = fit_normal_field(cloud.positions, normals, uint32_t(i), nbrs);
+                           // A flat disc of radius r departs from a surface of curvature kappa by
+                           // kappa r^2 / 2 at its rim: r = sqrt(2 eps / kappa) keeps that <= eps.
+                           const float kappa = fields[i].curvature;
+                           const float r = kappa > 0 ? std::sqrt(2 * eps / kappa) : kInfinity;
+                           radii[i] = std::clamp(r, cover[i], max_scale * cover[i]);
+                         });
+    }
+    std::vector<uint32_t> kept;
+    {
+      ScopedTimer t(ctx.timings, "prepare/splat_reduction");
+      kept = params_.at("reduce") != 0 ? reduce(cloud.positions, normals, radii, cover, *knn, ctx)
+                                       : all_points(n);
+    }
+    ctx.counters.add(kSplatsGenerated, kept.size());
+    ScopedTimer t(ctx.timings, "prepare/splat_layout");
+    std::vector<Vec3> c(kept.size()), nn(kept.size());
+    std::vector<float> r(kept.size());
+    for (size_t s = 0; s < kept.size(); ++s)
+      c[s] = cloud.positions[kept[s]], nn[s] = normals[kept[s]], r[s] = radii[kept[s]];
+    splats_ = make_splat_set(c, nn, r, kept);
+    fields_.resize(kept.size());
+    for (size_t k = 0; k < kept.size(); ++k) fields_[k] = fields[kept[splats_.point[k]]].m;
+    settings_ = splat_blend_settings(splats_.radii, float(params_.at("front_depth")));
+  }
+  [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    auto field = [&](uint32_t k, const Vec3& x) {
+      const PackedSplat& s = splats_.packed[k];
+      const Vec3 nx = s.n + fields_[k] * (x - s.c);
+      return nx.squaredNorm() > 0 ? Vec3(nx.normalized()) : s.n;
+    };
+    return blend_splat_hits(ray, leaf, splats_.packed, settings_, field, hit, counters);
+  }
+
+ private:
+  static std::vector<uint32_t> all_points(size_t n) {
+    std::vector<uint32_t> all(n);
+    std::iota(all.begin(), all.end(), 0u);
+    return all;
+  }
+
+  // Greedy cover, largest splats first: a point whose own (cover-radius) disc lies inside a kept
+  // splat on the same sheet needs no splat of its own.
+  std::vector<uint32_t> reduce(std::span<const Vec3> positions, std::span<const Vec3> normals,
+                               std::span<const float> radii, std::span<const float> cover,
+                               const KnnIndex& knn, PrepareContext& ctx) const {
+    std::vector<uint32_t> order = all_points(positions.size());
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return radii[a] > radii[b]; });
+    std::vector<uint8_t> covered(positions.size(), 0);
+    std::vector<uint32_t> kept;
+    std::vector<std::pair<uint32_t, float>> found;
+    for (uint32_t i : order) {
+      if (covered[i]) continue;
+      kept.push_back(i);
+      knn.radius(positions[i], radii[i], found, ctx.counters);
+      for (const auto& [j, d2] : found)
+        if (std::sqrt(d2) + cover[j] <= radii[i] && normals[i].dot(normals[j]) > 0.9f)
+          covered[j] = 1;
+    }
+    std::sort(kept.begin(), kept.end());
+    return kept;
+  }
+
+  ParamValues params_;
+  SplatSet splats_;
+  std::vector<Eigen::Matrix3f> fields_;  // item order
+  SplatBlendSettings settings_;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "linsen_2007",
+    "L. Linsen, K. Mueller and P. Rosenthal, Splat-based ray tracing of point clouds, Journal of "
+    "WSCG 15 (2007)",
+    "[41]",
+    "splats sized by local curvature and reduced by a greedy cover; a linear normal field per "
+    "splat; the splats hit in a leaf are blended by distance from their centres",
+    "octree",
+    {"point normals", "splat radii", "normal field"},
+    [] {
+      auto p = splat_params();
+      p.push_back({"field_k", 16, 4, 256, "neighbours in each splat's normal-field fit", true});
+      p.push_back({"error_tolerance", 0.1, 0.001, 10,
+                   "largest departure of a flat splat from the curved surface, in mean spacings "
+                   "h: sets the radius sqrt(2 eps / curvature)"});
+      p.push_back({"max_radius_scale", 4, 1, 100,
+                   "cap on a splat's radius, in multiples of its neighbour-distance radius"});
+      p.push_back({"reduce", 1, 0, 1, "1: drop the points a larger splat already covers", true});
+      p.push_back({"front_depth", 0.5, 0, 20,
+                   "blend the splat hits within this many median splat radii behind the "
+                   "front-most"});
+      return p;
+    }(),
+    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<Linsen2007>(p); }}};
+
+}  // namespace
+}  // namespace pcrt
