@@ -41,6 +41,21 @@ class Camera {
     r.d = (forward_ + sx * right_ + sy * up_).normalized();
     return r;
   }
+  // The inverse of ray(): film position and distance along the view axis of the point x; false
+  // if x is not in front of the camera.
+  bool project(const Vec3& x, float& px, float& py, float& depth) const {
+    const Vec3 d = x - eye_;
+    depth = d.dot(forward_);
+    if (!(depth > 0)) return false;
+    const float sx = d.dot(right_) / depth, sy = d.dot(up_) / depth;
+    px = (sx / (tan_half_ * aspect_) + 1.0f) * 0.5f * static_cast<float>(width_);
+    py = (1.0f - sy / tan_half_) * 0.5f * static_cast<float>(height_);
+    return true;
+  }
+  // Pixels per unit length at distance 1 along the view axis.
+  [[nodiscard]] float pixels_per_unit() const {
+    return 0.5f * static_cast<float>(height_) / tan_half_;
+  }
   [[nodiscard]] int width() const { return width_; }
   [[nodiscard]] int height() const { return height_; }
   [[nodiscard]] const Vec3& eye() const { return eye_; }

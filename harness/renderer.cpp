@@ -112,6 +112,8 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
   const int tiles_y = (s.height + kTile - 1) / kTile;
   tbb::combinable<OpCounters> per_thread;
   const auto start = std::chrono::steady_clock::now();
+  OpCounters frame_counters;
+  const std::unique_ptr<PrimaryPass> primary = scene.primary_pass(camera, frame_counters);
   tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(
@@ -132,7 +134,14 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                   const Ray ray = camera.ray(float(x) + jx, float(y) + jy);
                   Hit hit;
                   counters.add(kPrimaryRays);
-                  const bool found = scene.closest_hit(ray, hit, counters);
+                  bool found = false;
+                  if (primary) {  // counted like a traced ray, so rays_cast stays comparable
+                    counters.add(kRaysCast);
+                    found = primary->closest_hit(ray, float(x) + jx, float(y) + jy, hit, counters);
+                    if (found) counters.add(kRayHits);
+                  } else {
+                    found = scene.closest_hit(ray, hit, counters);
+                  }
                   if (i == 0 && found) {
                     depth[pixel] = hit.t;
                     const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
@@ -149,6 +158,7 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
   });
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   per_thread.combine_each([&](const OpCounters& c) { out.counters.merge(c); });
+  out.counters.merge(frame_counters);
 
   float dmin = kInfinity, dmax = 0;
   for (float d : depth)

@@ -110,3 +110,17 @@ TEST_CASE("a sphere renders where it should", "[renderer]") {
   REQUIRE(r.counters.get(kBounceRays) == 0);
   REQUIRE(r.counters.get(kShadowRays) <= r.counters.get(kRayHits));
 }
+
+TEST_CASE("camera projection inverts camera rays", "[renderer]") {
+  const Camera cam = Camera::framing(Aabb{Vec3(-1, -2, -1), Vec3(1, 2, 3)}, 320, 200);
+  for (const auto& [px, py] : {std::pair{0.5f, 0.5f}, {319.0f, 10.0f}, {160.0f, 100.0f}}) {
+    const Ray r = cam.ray(px, py);
+    float qx = 0, qy = 0, depth = 0;
+    REQUIRE(cam.project(r.at(7.0f), qx, qy, depth));
+    REQUIRE(qx == Approx(px).margin(1e-3));
+    REQUIRE(qy == Approx(py).margin(1e-3));
+    REQUIRE(depth > 0);
+  }
+  float qx = 0, qy = 0, depth = 0;
+  REQUIRE_FALSE(cam.project(cam.eye() - cam.ray(10, 10).d, qx, qy, depth));  // behind
+}

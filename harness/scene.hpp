@@ -16,6 +16,11 @@ class SceneIntersector {
  public:
   virtual ~SceneIntersector() = default;
   virtual bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const = 0;
+  // A primary pass replacing camera-ray tracing for this frame, or nullptr (Method::primary_pass).
+  [[nodiscard]] virtual std::unique_ptr<PrimaryPass> primary_pass(const Camera& /*camera*/,
+                                                                  OpCounters& /*counters*/) const {
+    return nullptr;
+  }
 };
 
 struct SceneOptions {
@@ -32,6 +37,10 @@ class PointScene final : public SceneIntersector {
              Timings& timings);
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
+  [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
+                                                          OpCounters& counters) const override {
+    return method_->primary_pass(camera, counters);
+  }
 
   [[nodiscard]] const MethodInfo& method_info() const { return *method_info_; }
   // The structure's id, or the method's own acceleration (e.g. "embree_bvh").

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/camera.hpp"
 #include "core/counters.hpp"
 #include "core/params.hpp"
 #include "core/point_cloud.hpp"
@@ -22,6 +23,17 @@ struct PrepareContext {
   Timings& timings;  // phases under "prepare/..."
 };
 
+// A method's own way of finding primary hits in place of tracing camera rays (Tejada et al.
+// rasterize the points into a z-buffer): made once per frame from the camera, then asked once
+// per camera ray. Its work counts into the frame's counters like any other.
+class PrimaryPass {
+ public:
+  virtual ~PrimaryPass() = default;
+  // The closest hit of the camera ray through film position (px, py), in pixels.
+  virtual bool closest_hit(const Ray& ray, float px, float py, Hit& hit,
+                           OpCounters& counters) const = 0;
+};
+
 class Method : public LeafIntersector {
  public:
   // Computes the method's preconditions (normals, radii, splats, ...) from the cloud, which must
@@ -33,6 +45,11 @@ class Method : public LeafIntersector {
   // own_structure, e.g. Embree's BVH): the closest hit, in place of structure + leaf.
   virtual bool own_closest_hit(const Ray& /*ray*/, Hit& /*hit*/, OpCounters& /*counters*/) const {
     return false;
+  }
+  // Methods with a primary pass of their own return it; nullptr: camera rays are traced.
+  [[nodiscard]] virtual std::unique_ptr<PrimaryPass> primary_pass(const Camera& /*camera*/,
+                                                                  OpCounters& /*counters*/) const {
+    return nullptr;
   }
 };
 

@@ -1,0 +1,66 @@
+// adamson_alexa_2003: Adamson and Alexa, "Ray tracing point set surfaces" (Shape Modeling
+// International 2003), thesis [2], section 5.1.2 and Algorithm 3: balls around the points, kept
+// in a bounding sphere hierarchy, start an iterated MLS intersection (reference plane, bivariate
+// quadratic, ray-polynomial root) that is repeated until the hit point stops moving. Positions
+// only: no normals. See README.md.
+#include <memory>
+#include <optional>
+
+#include "methods/kernels/mls_method_params.hpp"
+#include "methods/kernels/mls_surface.hpp"
+#include "methods/method.hpp"
+#include "preprocess/point_attributes.hpp"
+
+namespace pcrt {
+namespace {
+
+class AdamsonAlexa final : public Method {
+ public:
+  explicit AdamsonAlexa(ParamValues params) : params_(std::move(params)) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    {
+      ScopedTimer t(ctx.timings, "prepare/knn_build");
+      knn_.emplace(cloud.positions);
+    }
+    float h = 0;
+    {
+      ScopedTimer t(ctx.timings, "prepare/spacing");
+      h = std::max(float(mean_spacing(cloud.positions, *knn_, ctx.counters)), 1e-30f);
+    }
+    positions_ = cloud.positions;
+    ball_ = float(params_.at("ball_radius")) * h;
+    radii_.assign(cloud.size(), ball_);
+    surface_.emplace(positions_, *knn_, mls_settings(params_, h));
+  }
+  [[nodiscard]] ItemSet items() const override { return {positions_, radii_, {}}; }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    return mls_intersect_leaf(ray, leaf, positions_, ball_, *surface_, hit, counters);
+  }
+
+ private:
+  ParamValues params_;
+  std::span<const Vec3> positions_;
+  std::vector<float> radii_;
+  float ball_ = 0;
+  std::optional<KnnIndex> knn_;
+  std::optional<MlsSurface> surface_;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "adamson_alexa_2003",
+    "A. Adamson and M. Alexa, Ray tracing point set surfaces, Shape Modeling International 2003",
+    "[2]",
+    "balls around the points in a sphere hierarchy; iterated MLS (weighted plane, bivariate "
+    "quadratic, ray-polynomial root) until the hit stops moving (Algorithm 3)",
+    "sphere_tree",
+    {"positions only"},
+    mls_params(10, 0.01),
+    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<AdamsonAlexa>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

@@ -1,0 +1,81 @@
+// The MLS surface of Adamson and Alexa 2003 and Tejada et al. 2006/2007 (thesis section 5.1.2,
+// Algorithm 3), as a leaf kernel: around a point, a weighted least-squares reference plane and a
+// bivariate quadratic height field over it are fitted to the K nearest points; the ray meets that
+// height field where a quadratic in t vanishes; the step is repeated from the new point until it
+// moves less than a tolerance or a cap on iterations is reached.
+#pragma once
+
+#include <span>
+
+#include "core/counters.hpp"
+#include "core/geometry.hpp"
+#include "structures/knn_index.hpp"
+#include "structures/structure.hpp"
+
+namespace pcrt {
+
+inline const Counter kMlsFits{"mls_fits", "MLS plane + polynomial fits (one k-NN query each)"};
+inline const Counter kMlsNeighbours{"mls_neighbours", "points used by MLS fits (K per fit)"};
+inline const Counter kMlsRuns{"mls_runs", "MLS iterations started (one per ball a ray enters)"};
+inline const Counter kMlsConverged{"mls_converged", "MLS runs that met the tolerance"};
+inline const Counter kMlsConvergedIterations{
+    "mls_converged_iterations", "iterations of the runs that met the tolerance (mean I = this / mls_converged)"};
+inline const Counter kMlsCapped{"mls_capped", "MLS runs stopped by the iteration cap"};
+inline const Counter kMlsNoRoot{"mls_no_root", "MLS runs whose polynomial the ray missed"};
+
+inline constexpr size_t kMaxMlsNeighbours = 128;
+
+struct MlsSettings {
+  size_t k = 20;               // K neighbours per fit
+  float weight_radius = 1;     // H in theta(d) = exp(-d^2 / H^2), absolute
+  float tolerance = 0;         // stop when the hit point moves less than this (absolute)
+  int max_iterations = 3;      // cap on I
+  bool polynomial = true;      // false: the reference plane alone (a degree-1 MLS)
+};
+
+// The local frame (origin on the reference plane, axes u, v, normal n) and the height field
+// z = c0 + c1 x + c2 y + c3 x^2 + c4 xy + c5 y^2 over it, with x, y in units of H.
+struct LocalPolynomial {
+  Vec3d origin, u, v, n;
+  double c[6] = {0, 0, 0, 0, 0, 0};
+  double scale = 1;  // H
+};
+
+class MlsSurface {
+ public:
+  // The positions and the index stay the caller's.
+  MlsSurface(std::span<const Vec3> positions, const KnnIndex& knn, const MlsSettings& settings)
+      : positions_(positions), knn_(knn), s_(settings) {}
+
+  // Algorithm 3, lines 2-3: plane and height field fitted to the K neighbours of q.
+  LocalPolynomial fit(const Vec3& q, OpCounters& counters) const;
+  // Line 4: the smallest t in [t0, t1] where the ray meets the height field, else +inf.
+  static float intersect(const LocalPolynomial& f, const Ray& ray, float t0, float t1);
+  // Unit normal of the height field at the point x (its gradient, not the reference plane's).
+  static Vec3 normal(const LocalPolynomial& f, const Vec3& x);
+
+  // Algorithm 3 from `start`, for hits with t in [t0, t1] (the chord of the ball that started
+  // it). Returns t (and the normal) or +inf; with tolerance 0 it runs exactly max_iterations.
+  float intersect_ray(const Ray& ray, const Vec3& start, float t0, float t1, Vec3& normal,
+                      OpCounters& counters) const;
+
+  [[nodiscard]] const MlsSettings& settings() const { return s_; }
+
+ private:
+  std::span<const Vec3> positions_;
+  const KnnIndex& knn_;
+  MlsSettings s_;
+};
+
+// The chord [t0, t1] of the ray through the ball (c, r) clipped to [ray.tmin, tmax]; false if
+// the ray misses it.
+bool ball_chord(const Ray& ray, const Vec3& c, float r, float tmax, float& t0, float& t1);
+
+// The MLS leaf intersection shared by the MLS methods: every ball (item centre, radius) of the
+// leaf the ray enters before the current hit starts Algorithm 3 at its centre; the nearest
+// result wins. `items` are indices into `centres`; prim is the item index.
+bool mls_intersect_leaf(const Ray& ray, const LeafVisit& leaf, std::span<const Vec3> centres,
+                        float ball_radius, const MlsSurface& surface, Hit& hit,
+                        OpCounters& counters);
+
+}  // namespace pcrt

@@ -1,0 +1,47 @@
+// Tejada et al. 2006 and 2007: primary hits from rasterizing the points into a z-buffer (no
+// acceleration structure for camera rays), refined by MLS from the rasterized point; secondary
+// rays through a structure (brute force in 2006, a grid in 2007) with the MLS leaf kernel. The
+// two papers differ in the iteration (2006 iterates, 2007 takes one step) and the secondary
+// structure, which are parameters and defaults of their modules.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "methods/kernels/mls_surface.hpp"
+#include "methods/method.hpp"
+
+namespace pcrt {
+
+inline const Counter kRasterPoints{"raster_points", "points projected by a z-buffer pass"};
+inline const Counter kRasterPixels{"raster_pixels", "pixels a z-buffer pass depth-tested"};
+inline const Counter kRasterMisses{"raster_mls_misses",
+                                   "camera rays whose rasterized point gave no MLS hit"};
+
+class RasterMlsMethod final : public Method {
+ public:
+  explicit RasterMlsMethod(ParamValues params) : params_(std::move(params)) {}
+  static std::vector<ParamSpec> params(double max_iterations, double tolerance);
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override;
+  [[nodiscard]] ItemSet items() const override { return {positions_, radii_, {}}; }
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    return mls_intersect_leaf(ray, leaf, positions_, ball_, *surface_, hit, counters);
+  }
+  [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
+                                                          OpCounters& counters) const override;
+
+  // An MLS run from point i for the ray: the primary pass's refinement.
+  bool refine(const Ray& ray, uint32_t i, Hit& hit, OpCounters& counters) const;
+
+ private:
+  ParamValues params_;
+  std::span<const Vec3> positions_;
+  std::vector<float> radii_;
+  float ball_ = 0, footprint_ = 0;
+  std::optional<KnnIndex> knn_;
+  std::optional<MlsSurface> surface_;
+};
+
+}  // namespace pcrt

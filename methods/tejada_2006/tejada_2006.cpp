@@ -1,0 +1,26 @@
+// tejada_2006: Tejada, Gois, Nonato, Castelo and Oliveira, "Hardware-accelerated extraction and
+// rendering of point set surfaces" (EuroVis 2006), thesis [58]: primary hits by rasterizing the
+// points into a z-buffer, refined by iterated MLS from the rasterized point; secondary rays by
+// brute force (the paper had no structure for them). The shared code is
+// methods/kernels/raster_mls.{hpp,cpp}. See README.md.
+#include "methods/kernels/raster_mls.hpp"
+
+namespace pcrt {
+namespace {
+
+const RegisterMethod kRegister{MethodInfo{
+    "tejada_2006",
+    "E. Tejada, J. Gois, L. Nonato, A. Castelo and T. Ertl, Hardware-accelerated "
+    "extraction and rendering of point set surfaces, EuroVis 2006",
+    "[58]",
+    "primary hits from a z-buffer of the points, refined by iterated MLS (Algorithm 3); "
+    "secondary rays by brute force",
+    "brute_force",
+    {"positions only"},
+    RasterMlsMethod::params(10, 0.01),
+    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+     {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

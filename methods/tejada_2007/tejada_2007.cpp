@@ -1,0 +1,25 @@
+// tejada_2007: Tejada, Schafhitzel and Ertl, "Hardware-accelerated point-based rendering of
+// surfaces and volumes" (2007), thesis [59]: primary hits from a z-buffer of the
+// points and a single MLS step from the rasterized point (no iteration), secondary rays through
+// a uniform grid. The shared code is methods/kernels/raster_mls.{hpp,cpp}. See README.md.
+#include "methods/kernels/raster_mls.hpp"
+
+namespace pcrt {
+namespace {
+
+const RegisterMethod kRegister{MethodInfo{
+    "tejada_2007",
+    "E. Tejada, T. Schafhitzel and T. Ertl, Hardware-accelerated point-based rendering of "
+    "surfaces and volumes, 2007",
+    "[59]",
+    "primary hits from a z-buffer of the points and one MLS step (no iteration); secondary rays "
+    "through a uniform grid",
+    "grid",
+    {"positions only"},
+    RasterMlsMethod::params(1, 0),
+    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+     {"frame", "O(MNK + SBNK)", {"M", "N", "K", "S", "B"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); }}};
+
+}  // namespace
+}  // namespace pcrt
