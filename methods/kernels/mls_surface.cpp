@@ -118,7 +118,7 @@ float MlsSurface::intersect_ray(const Ray& ray, const Vec3& start, float t0, flo
     }
     const Vec3 next = ray.at(t);
     normal_out = normal(f, next);
-    if ((next - p).norm() <= s_.tolerance) {
+    if (s_.tolerance > 0 && (next - p).norm() <= s_.tolerance) {
       counters.add(kMlsConverged);
       counters.add(kMlsConvergedIterations, uint64_t(i + 1));
       return t;
@@ -147,7 +147,7 @@ bool mls_intersect_leaf(const Ray& ray, const LeafVisit& leaf, std::span<const V
   for (uint32_t i : leaf.items) {
     float t0 = 0, t1 = 0;
     if (!ball_chord(ray, centres[i], ball_radius, hit.t, t0, t1)) continue;
-    Vec3 n;
+    Vec3 n = Vec3::Zero();
     const float t = surface.intersect_ray(ray, centres[i], t0, t1, n, counters);
     if (t == kInfinity || !closer(t, i, hit)) continue;
     hit.t = t;

@@ -95,7 +95,7 @@ bool RasterMlsMethod::refine(const Ray& ray, uint32_t i, Hit& hit, OpCounters& c
   // guess: the root is searched along the whole ray, and kept only if it lies within a ball
   // radius of a sample (an MLS root far from every sample is extrapolation, not surface).
   const float guess = std::max((positions_[i] - ray.o).dot(ray.d), ray.tmin);
-  Vec3 n;
+  Vec3 n = Vec3::Zero();
   const float t = surface_->intersect_ray(ray, ray.at(guess), ray.tmin, hit.t, n, counters);
   if (t == kInfinity) return false;
   uint32_t nearest = 0;

@@ -1,0 +1,108 @@
+// cai_2011: Cai, Kong, Wang and Yin, "A height-difference-based ray tracing of point models"
+// (VRCAI 2011), thesis [14] (section 5.5.2, "height-difference based intersection"):
+// every splat of a kd-tree leaf whose bounding sphere the ray crosses starts an iteration at the
+// midpoint of that crossing; each step averages, over the leaf's splats, their normals and their
+// height differences to the current point, and moves along the ray by the Newton step
+// -height / (n . d) until the height is under the tolerance. I steps each scanning the K splats,
+// from up to K starts: O(IK^2). See README.md.
+#include <cmath>
+
+#include "methods/kernels/mls_surface.hpp"
+#include "methods/kernels/splat_set.hpp"
+#include "methods/kernels/weighted_plane.hpp"
+#include "methods/method.hpp"
+
+namespace pcrt {
+namespace {
+
+inline const Counter kHeightStarts{"height_starts", "height-difference iterations started"};
+inline const Counter kHeightSteps{"height_steps", "height-difference steps (each scans the leaf)"};
+inline const Counter kHeightConverged{"height_converged", "height-difference runs converged"};
+
+class Cai2011 final : public Method {
+ public:
+  explicit Cai2011(ParamValues params)
+      : params_(std::move(params)),
+        tolerance_(float(params_.at("tolerance"))),
+        max_iterations_(int(params_.at("max_iterations"))) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    splats_ = prepare_splats(cloud, params_, ctx);
+  }
+  [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    bool found = false;
+    for (uint32_t k : leaf.items) {
+      const PackedSplat& s = splats_.packed[k];
+      float t0 = 0, t1 = 0;
+      if (!ball_chord(ray, s.c, s.r, hit.t, t0, t1)) continue;
+      Vec3 n = Vec3::Zero();
+      const float t = iterate(ray, leaf, s, t0, t1, n, counters);
+      if (t == kInfinity || !closer(t, s.index, hit)) continue;
+      hit.t = t;
+      hit.prim = s.index;
+      hit.p = ray.at(t);
+      hit.n = n;
+      hit.footprint = s.r;
+      found = true;
+    }
+    return found;
+  }
+
+ private:
+  // From the midpoint of the start splat's chord; the result must stay inside that chord.
+  float iterate(const Ray& ray, const LeafVisit& leaf, const PackedSplat& start, float t0,
+                float t1, Vec3& normal, OpCounters& counters) const {
+    counters.add(kHeightStarts);
+    auto theta = [](float d2, const PackedSplat& p) {
+      const float q = d2 / (p.r * p.r);
+      return q < 1.0f ? 1.0f - q : 0.0f;
+    };
+    float t = 0.5f * (t0 + t1);
+    for (int i = 0; i < max_iterations_; ++i) {
+      counters.add(kHeightSteps);
+      const WeightedPlane w = weighted_plane(ray.at(t), leaf.items, splats_.packed, theta, counters);
+      const float slope = w.n.dot(ray.d);
+      if (!(w.weight > 0) || std::abs(slope) < 1e-6f * w.n.norm()) return kInfinity;
+      normal = w.n.normalized();
+      if (tolerance_ > 0 && std::abs(w.height) <= tolerance_ * start.r) {
+        counters.add(kHeightConverged);
+        return t;
+      }
+      t -= w.height / slope;
+      if (!(t >= t0 && t <= t1)) return kInfinity;
+    }
+    return tolerance_ > 0 ? kInfinity : t;  // tolerance 0: exactly I steps, then the last point
+  }
+
+  ParamValues params_;
+  SplatSet splats_;
+  float tolerance_;
+  int max_iterations_;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "cai_2011",
+    "P. Cai, D. Kong, S. Wang and B. Yin, A height-difference-based ray tracing of point models, "
+    "VRCAI 2011",
+    "[14]",
+    "bounding spheres of splats; from each crossed sphere's midpoint, Newton steps on the "
+    "leaf's weighted average height difference along the averaged normal",
+    "kd_tree",
+    {"point normals", "splat radii"},
+    [] {
+      auto p = splat_params();
+      p.push_back({"tolerance", 1e-3, 0, 1,
+                   "stop when |height| is under this many start-splat radii (0: always run "
+                   "max_iterations)"});
+      p.push_back({"max_iterations", 8, 1, 100, "cap on the steps I per start", true});
+      return p;
+    }(),
+    {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<Cai2011>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

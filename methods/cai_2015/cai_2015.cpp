@@ -1,0 +1,156 @@
+// cai_2015: Cai, Kong, Wang, Yin and Huo, "A K-neighbor-based ray tracing of point clouds"
+// (JICS 2015), thesis [15] (section 5.5.2, "k-NN intersection"): inside a grid cell the ray is
+// marched by sphere-tracing steps towards the nearest point; near a point, the fan of triangles
+// it forms with its K nearest neighbours gives a normal, and the ray's crossing of that plane is
+// the hit if it projects within reach of the point. Positions only. See README.md.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include "methods/method.hpp"
+#include "preprocess/point_attributes.hpp"
+
+namespace pcrt {
+namespace {
+
+inline const Counter kMarchSteps{"knn_march_steps", "k-NN march steps along rays (I)"};
+inline const Counter kNeighbourTests{"knn_point_tests",
+                                     "point distance evaluations by the k-NN method"};
+inline const Counter kFanTriangles{"fan_triangles", "triangles of k-NN fans"};
+
+constexpr size_t kMaxFan = 32;
+
+class Cai2015 final : public Method {
+ public:
+  explicit Cai2015(ParamValues params) : params_(std::move(params)) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    float h = 0;
+    {
+      ScopedTimer t(ctx.timings, "prepare/spacing");
+      h = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
+    }
+    positions_ = cloud.positions;
+    reach_ = float(params_.at("reach")) * h;
+    min_step_ = float(params_.at("min_step")) * h;
+    k_ = size_t(params_.at("K"));
+    max_steps_ = int(params_.at("max_steps"));
+    radii_.assign(cloud.size(), reach_);
+  }
+  [[nodiscard]] ItemSet items() const override { return {positions_, radii_, {}}; }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    if (leaf.items.empty()) return false;
+    float t = std::max(leaf.t_enter, ray.tmin);
+    const float t_end = std::min(leaf.t_exit, hit.t);
+    for (int step = 0; step < max_steps_ && t <= t_end; ++step) {
+      counters.add(kMarchSteps);
+      const Vec3 x = ray.at(t);
+      const uint32_t p = nearest(x, leaf.items, counters);
+      const float dist = (positions_[p] - x).norm();
+      if (dist <= reach_) {
+        const Vec3 n = fan_normal(p, leaf.items, counters);
+        const float denom = n.dot(ray.d);
+        if (denom != 0) {
+          const float tp = t + n.dot(positions_[p] - x) / denom;
+          // The projected-distance test: the plane crossing must lie within reach of the point.
+          if (tp >= ray.tmin && tp >= leaf.t_enter - reach_ && tp <= t_end + reach_ &&
+              (ray.at(tp) - positions_[p]).norm() <= reach_ && closer(tp, p, hit)) {
+            hit.t = tp;
+            hit.prim = p;
+            hit.p = ray.at(tp);
+            hit.n = n;
+            hit.footprint = reach_;
+            return true;
+          }
+        }
+      }
+      // Sphere tracing: no sample surface is nearer than dist - reach.
+      t += std::max(dist - reach_, min_step_);
+    }
+    return false;
+  }
+
+ private:
+  uint32_t nearest(const Vec3& x, std::span<const uint32_t> items, OpCounters& counters) const {
+    uint32_t best = items[0];
+    float best_d2 = kInfinity;
+    for (uint32_t i : items) {
+      const float d2 = (positions_[i] - x).squaredNorm();
+      if (d2 < best_d2 || (d2 == best_d2 && i < best)) best_d2 = d2, best = i;
+    }
+    counters.add(kNeighbourTests, items.size());
+    return best;
+  }
+
+  // The K nearest leaf points of p, sorted by angle around p in their least-squares plane; the
+  // normals of the fan triangles (p, q_a, q_a+1), oriented alike and summed (area-weighted).
+  Vec3 fan_normal(uint32_t p, std::span<const uint32_t> items, OpCounters& counters) const {
+    std::array<std::pair<float, uint32_t>, kMaxFan + 1> knn;
+    size_t found = 0;
+    const size_t k = std::min(k_, kMaxFan);
+    for (uint32_t i : items) {  // insertion into a sorted array of the K+1 nearest (p itself too)
+      const float d2 = (positions_[i] - positions_[p]).squaredNorm();
+      if (found == k + 1 && d2 >= knn[k].first) continue;
+      size_t j = std::min(found, k);
+      while (j > 0 && knn[j - 1].first > d2) knn[j] = knn[j - 1], --j;
+      knn[j] = {d2, i};
+      found = std::min(found + 1, k + 1);
+    }
+    counters.add(kNeighbourTests, items.size());
+    std::array<uint32_t, kMaxFan + 1> ids;
+    for (size_t j = 0; j < found; ++j) ids[j] = knn[j].second;
+    const Vec3 plane_n = pca_normal(positions_, std::span<const uint32_t>(ids.data(), found));
+    if (found < 3) return plane_n;
+    Vec3 u, v;
+    orthonormal_basis(plane_n, u, v);
+    std::array<std::pair<float, uint32_t>, kMaxFan> fan;
+    size_t m = 0;
+    for (size_t j = 0; j < found; ++j) {
+      if (ids[j] == p) continue;
+      const Vec3 d = positions_[ids[j]] - positions_[p];
+      fan[m++] = {std::atan2(d.dot(v), d.dot(u)), ids[j]};
+    }
+    std::sort(fan.begin(), fan.begin() + long(m));
+    Vec3 sum = Vec3::Zero();
+    for (size_t a = 0; a < m; ++a) {
+      const Vec3 e0 = positions_[fan[a].second] - positions_[p];
+      const Vec3 e1 = positions_[fan[(a + 1) % m].second] - positions_[p];
+      const Vec3 c = e0.cross(e1);
+      sum += c.dot(plane_n) >= 0 ? c : Vec3(-c);
+    }
+    counters.add(kFanTriangles, m);
+    return sum.norm() > 0 ? Vec3(sum.normalized()) : plane_n;
+  }
+
+  ParamValues params_;
+  std::span<const Vec3> positions_;
+  std::vector<float> radii_;
+  float reach_ = 0, min_step_ = 0;
+  size_t k_ = 8;
+  int max_steps_ = 256;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "cai_2015",
+    "P. Cai, D. Kong, S. Wang, B. Yin and Y. Huo, A K-neighbor-based ray tracing of point "
+    "clouds, Journal of Information & Computational Science 12.13 (2015)",
+    "[15]",
+    "sphere-tracing march to the nearest point in a grid cell; fan of triangles among its K "
+    "nearest neighbours for the normal; projected-distance test on that plane",
+    "grid",
+    {"positions only"},
+    {{"K", 8, 3, double(kMaxFan), "neighbours in the triangle fan", true},
+     {"reach", 3.5, 0.5, 50,
+      "a sample surface lies within this distance of its nearest point, in h (sphere-tracing "
+      "bound and projected-distance test)"},
+     {"min_step", 0.5, 0.01, 50, "smallest march step, in h"},
+     {"max_steps", 256, 1, 100000, "cap on the march steps I per leaf", true}},
+    {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<Cai2015>(p); }}};
+
+}  // namespace
+}  // namespace pcrt
