@@ -1,0 +1,105 @@
+// adams_2005: Adams, Keiser, Pauly, Guibas, Gross and Dutre, "Efficient raytracing of deforming
+// point-sampled surfaces" (Computer Graphics Forum 24(3), 2005), thesis [1], Algorithm 6: surfels in a bounding
+// sphere hierarchy; from where the ray enters a surfel's sphere, Newton steps on the implicit
+// function of the distance-weighted average plane of the K nearest surfels (Eq. 3.22, 3.24). See
+// README.md.
+#include <array>
+#include <optional>
+
+#include "methods/kernels/implicit_newton.hpp"
+#include "methods/kernels/mls_surface.hpp"
+#include "methods/kernels/splat_set.hpp"
+#include "methods/method.hpp"
+
+namespace pcrt {
+namespace {
+
+constexpr size_t kMaxK = 64;
+
+class Adams2005 final : public Method {
+ public:
+  explicit Adams2005(ParamValues params) : params_(std::move(params)) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    splats_ = prepare_splats(cloud, params_, ctx);
+    {
+      ScopedTimer t(ctx.timings, "prepare/knn_build");
+      knn_.emplace(splats_.centres);  // surfel order: k-NN results index splats_.packed
+    }
+    k_ = size_t(params_.at("K"));
+    support_ = float(params_.at("support"));
+    newton_ = {float(params_.at("tolerance")), int(params_.at("max_iterations"))};
+  }
+  [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    bool found = false;
+    for (uint32_t k : leaf.items) {
+      const PackedSplat& s = splats_.packed[k];
+      float t0 = 0, t1 = 0;
+      if (!ball_chord(ray, s.c, s.r, hit.t, t0, t1)) continue;
+      Vec3 n = Vec3::Zero();
+      const float tol = newton_.tolerance * s.r;
+      const float t = newton_on_weighted_plane(
+          ray, t0, t0, t1, [&](const Vec3& x) { return evaluate(x, counters); },
+          {tol, newton_.max_iterations}, n, counters);
+      if (t == kInfinity || !closer(t, s.index, hit)) continue;
+      hit.t = t;
+      hit.prim = s.index;
+      hit.p = ray.at(t);
+      hit.n = n;
+      hit.footprint = s.r;
+      found = true;
+    }
+    return found;
+  }
+
+ private:
+  // The weighted plane of the K surfels nearest x, weights (1 - d^2 / (support r_j)^2)^2.
+  WeightedPlane evaluate(const Vec3& x, OpCounters& counters) const {
+    std::array<uint32_t, kMaxK> idx;
+    std::array<float, kMaxK> d2;
+    const size_t found = knn_->knn(x, std::min(k_, kMaxK), idx.data(), d2.data(), counters);
+    const float s2 = support_ * support_;
+    auto theta = [s2](float dist2, const PackedSplat& p) {
+      const float q = 1.0f - dist2 / (s2 * p.r * p.r);
+      return q > 0 ? q * q : 0.0f;
+    };
+    return weighted_plane(x, std::span<const uint32_t>(idx.data(), found), splats_.packed, theta,
+                          counters);
+  }
+
+  ParamValues params_;
+  SplatSet splats_;
+  std::optional<KnnIndex> knn_;
+  size_t k_ = 16;
+  float support_ = 2;
+  NewtonSettings newton_;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "adams_2005",
+    "B. Adams, R. Keiser, M. Pauly, L. Guibas, M. Gross and P. Dutre, Efficient raytracing of "
+    "deforming point-sampled surfaces, Computer Graphics Forum 24(3) (Eurographics 2005)",
+    "[1]",
+    "surfels in a sphere hierarchy; Newton steps (Algorithm 6) on the weighted-average plane of "
+    "the K nearest surfels, from the ray's entry into each surfel sphere",
+    "sphere_tree",
+    {"point normals", "surfel radii"},
+    [] {
+      auto p = splat_params();
+      p.push_back({"K", 16, 1, double(kMaxK), "surfels in each weighted average", true});
+      p.push_back({"support", 2.0, 0.5, 10,
+                   "weight support of a surfel, in multiples of its radius"});
+      p.push_back({"tolerance", 1e-3, 0, 1,
+                   "|f| at convergence, in surfel radii (0: always run max_iterations)"});
+      p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
+      return p;
+    }(),
+    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<Adams2005>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

@@ -1,0 +1,99 @@
+// hubo_2006: Hubo, Mertens, Haber and Bekaert, "The quantized kd-tree: efficient ray tracing of
+// compressed point clouds" (IEEE Symposium on Interactive Ray Tracing 2006), thesis [28]:
+// Algorithm 6 (Newton on the weighted-average plane) with Gaussian weights over the points of a
+// kd-tree leaf. The quantized (compressed) kd-tree is not implemented: see README.md.
+#include <algorithm>
+
+#include "methods/kernels/implicit_newton.hpp"
+#include "methods/kernels/leaf_implicit.hpp"
+#include "methods/kernels/splat_set.hpp"
+#include "methods/method.hpp"
+#include "preprocess/point_attributes.hpp"
+
+namespace pcrt {
+namespace {
+
+class Hubo2006 final : public Method {
+ public:
+  explicit Hubo2006(ParamValues params) : params_(std::move(params)) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    float h = 0;
+    {
+      ScopedTimer t(ctx.timings, "prepare/spacing");
+      h = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
+    }
+    sigma_ = float(params_.at("sigma")) * h;
+    cutoff_ = float(params_.at("cutoff"));
+    reach_ = sigma_ * cutoff_;
+    newton_ = {float(params_.at("tolerance")) * h, int(params_.at("max_iterations"))};
+    splats_ = prepare_splats(cloud, params_, ctx, reach_);  // item radius: the weight's reach
+  }
+  [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    const float t_lo = std::max(leaf.t_enter - reach_, ray.tmin);
+    const float t_hi = std::min(leaf.t_exit, hit.t);
+    float t = 0;
+    if (!(t_lo <= t_hi) ||
+        !nearest_tangent_crossing(ray, leaf.items, splats_.packed, reach_, t_lo, t_hi, t))
+      return false;
+    const GaussianWeight theta(sigma_, cutoff_);
+    auto eval = [&](const Vec3& x) {
+      return weighted_plane(x, leaf.items, splats_.packed, theta, counters);
+    };
+    Vec3 n = Vec3::Zero();
+    t = newton_on_weighted_plane(ray, t, t_lo, t_hi, eval, newton_, n, counters);
+    if (t == kInfinity) return false;
+    const uint32_t prim = nearest_point(ray.at(t), leaf.items);
+    if (!closer(t, prim, hit)) return false;
+    hit.t = t;
+    hit.p = ray.at(t);
+    hit.n = n;
+    hit.prim = prim;
+    hit.footprint = sigma_;
+    return true;
+  }
+
+ private:
+  uint32_t nearest_point(const Vec3& x, std::span<const uint32_t> items) const {
+    uint32_t best = splats_.packed[items[0]].index;
+    float best_d2 = kInfinity;
+    for (uint32_t k : items) {
+      const float d2 = (splats_.packed[k].c - x).squaredNorm();
+      if (d2 < best_d2) best_d2 = d2, best = splats_.packed[k].index;
+    }
+    return best;
+  }
+
+  ParamValues params_;
+  SplatSet splats_;
+  float sigma_ = 0, cutoff_ = 3, reach_ = 0;
+  NewtonSettings newton_;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "hubo_2006",
+    "E. Hubo, T. Mertens, T. Haber and P. Bekaert, The quantized kd-tree: efficient ray tracing "
+    "of compressed point clouds, IEEE Symposium on Interactive Ray Tracing 2006",
+    "[28]",
+    "Newton steps (Algorithm 6) on the Gaussian-weighted average plane of a kd-tree leaf's points "
+    "(the quantized kd-tree's compression is not implemented)",
+    "kd_tree",
+    {"point normals"},
+    [] {
+      auto p = normal_params();
+      p.push_back({"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h (smoothness)"});
+      p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
+      p.push_back({"tolerance", 0.001, 0, 10,
+                   "|f| at convergence, in h (0: always run max_iterations)"});
+      p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
+      return p;
+    }(),
+    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<Hubo2006>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

@@ -1,0 +1,55 @@
+// What the kd-tree implicit-surface methods (Wald and Seidel 2005, Hubo et al. 2006) share: the
+// points of a leaf with a reach (their weight's support), a weighting function, and the start of a
+// search inside the leaf.
+#pragma once
+
+#include <cmath>
+#include <span>
+
+#include "methods/kernels/splat_kernel.hpp"
+#include "structures/structure.hpp"
+
+namespace pcrt {
+
+// Gaussian weight exp(-d^2 / (2 sigma^2)), cut off at `cutoff` sigma (Hubo et al. 2006, 2007).
+struct GaussianWeight {
+  float inv_two_sigma2 = 1, cut2 = 9;
+  GaussianWeight(float sigma, float cutoff)
+      : inv_two_sigma2(0.5f / (sigma * sigma)), cut2(cutoff * cutoff * sigma * sigma) {}
+  float operator()(float d2, const PackedSplat& /*p*/) const {
+    return d2 < cut2 ? std::exp(-d2 * inv_two_sigma2) : 0.0f;
+  }
+};
+
+// theta(a) = max(1 - a, 0) with a = d / R (Wald and Seidel 2005).
+struct TentWeight {
+  float inv_r = 1;
+  explicit TentWeight(float r) : inv_r(1.0f / r) {}
+  float operator()(float d2, const PackedSplat& /*p*/) const {
+    return std::max(1.0f - std::sqrt(d2) * inv_r, 0.0f);
+  }
+};
+
+// A start inside the leaf: the crossing of the tangent plane of the leaf point nearest the ray
+// axis (within `reach`), clamped to [t_lo, t_hi]; false if no point is that near. O(K).
+inline bool nearest_tangent_crossing(const Ray& ray, std::span<const uint32_t> items,
+                                     std::span<const PackedSplat> points, float reach, float t_lo,
+                                     float t_hi, float& t_start) {
+  float best = reach * reach;
+  bool found = false;
+  for (uint32_t k : items) {
+    const PackedSplat& p = points[k];
+    const Vec3 v = p.c - ray.o;
+    const float along = v.dot(ray.d);
+    const float lateral2 = (v - along * ray.d).squaredNorm();
+    if (lateral2 >= best) continue;
+    const float denom = p.n.dot(ray.d);
+    const float t = std::abs(denom) > 1e-6f ? p.n.dot(v) / denom : along;
+    best = lateral2;
+    t_start = std::clamp(t, t_lo, t_hi);
+    found = true;
+  }
+  return found;
+}
+
+}  // namespace pcrt
