@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "methods/kernels/octree_partition.hpp"
 #include "methods/kernels/splat_blend.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
@@ -14,8 +15,6 @@
 
 namespace pcrt {
 namespace {
-
-inline const Counter kRefineCells{"splat_octree_cells", "cells examined by splat-octree refinement"};
 
 struct LeafSplats {
   std::vector<Vec3> centres, normals;
@@ -33,10 +32,13 @@ class SplatOctreeBuilder {
   LeafSplats build(OpCounters& counters) {
     std::vector<uint32_t> idx(p_.size());
     for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
-    Aabb b;
-    for (const Vec3& q : p_) b.extend(q);
-    const float side = std::max(b.extent().maxCoeff(), 1e-30f) * 1.0001f;
-    refine(idx.data(), idx.data() + idx.size(), b.lo, side, 0, counters);
+    // Depth 20 and cells of 1-2 points always stop; fit() records the splat when it accepts.
+    octree_partition(
+        p_, std::span<uint32_t>(idx),
+        [&](const uint32_t* b, const uint32_t* e, int depth) {
+          return fit(b, e, e - b <= 2 || depth >= 20);
+        },
+        [](const uint32_t*, const uint32_t*) {}, counters);
     return std::move(out_);
   }
 
@@ -71,31 +73,6 @@ class SplatOctreeBuilder {
     out_.radii.push_back(spread + mean_cover);
     out_.prim.push_back(nearest);
     return true;
-  }
-
-  void refine(uint32_t* begin, uint32_t* end, const Vec3& lo, float side, int depth,
-              OpCounters& counters) {
-    if (begin == end) return;
-    counters.add(kRefineCells);
-    if (fit(begin, end, end - begin <= 2 || depth >= 20)) return;
-    const Vec3 mid = lo + Vec3::Constant(side / 2);
-    uint32_t* cut[9];
-    cut[0] = begin;
-    cut[8] = end;
-    cut[4] = std::partition(begin, end, [&](uint32_t i) { return p_[i].z() < mid.z(); });
-    for (int z = 0; z < 2; ++z) {
-      cut[4 * z + 2] = std::partition(cut[4 * z], cut[4 * z + 4],
-                                      [&](uint32_t i) { return p_[i].y() < mid.y(); });
-      for (int y = 0; y < 2; ++y) {
-        const int a = 4 * z + 2 * y;
-        cut[a + 1] =
-            std::partition(cut[a], cut[a + 2], [&](uint32_t i) { return p_[i].x() < mid.x(); });
-      }
-    }
-    for (int c = 0; c < 8; ++c) {
-      const Vec3 child_lo = lo + Vec3(float(c & 1), float((c >> 1) & 1), float(c >> 2)) * (side / 2);
-      refine(cut[c], cut[c + 1], child_lo, side / 2, depth + 1, counters);
-    }
   }
 
   std::span<const Vec3> p_, n_;

@@ -1,0 +1,25 @@
+// goradia_2011: Goradia, Kashyap, Chaudhuri and Chandran, "Tracing specular light paths in
+// point-based scenes" (The Visual Computer 2011), thesis [25]: the implicit-surface octree
+// intersection of [33] (shared kernel
+// methods/kernels/implicit_cells.{hpp,cpp}). See README.md.
+#include "methods/kernels/implicit_cells.hpp"
+
+namespace pcrt {
+namespace {
+
+const RegisterMethod kRegister{MethodInfo{
+    "goradia_2011",
+    "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, Tracing specular light paths in "
+    "point-based scenes, The Visual Computer 27.12 (2011)",
+    "[25]",
+    "the implicit-surface octree intersection of Kashyap et al. 2010 (Algorithm 4); the "
+    "caustic sample map prepass is not implemented",
+    "octree",
+    {"point normals", "implicit octree"},
+    ImplicitCells::params(),
+    {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<ImplicitCellsMethod>(p); }}};
+
+}  // namespace
+}  // namespace pcrt

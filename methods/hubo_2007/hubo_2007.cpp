@@ -1,0 +1,177 @@
+// hubo_2007: Hubo, Mertens, Haber and Bekaert, "Self-similarity-based compression of point
+// clouds, with application to ray tracing" (Symposium on Point-Based Graphics 2007), thesis [29]:
+// the cloud is cut into small patches (octree cells of at most a few points); each patch is a
+// Gaussian-weighted implicit surface over its own points, intersected with Algorithm 6 (Newton);
+// the hits of the patches a ray meets in a leaf are blended by distance to the patch centres.
+// The compression by self-similarity is not implemented: see README.md.
+#include <algorithm>
+#include <vector>
+
+#include "methods/kernels/implicit_newton.hpp"
+#include "methods/kernels/leaf_implicit.hpp"
+#include "methods/kernels/mls_surface.hpp"
+#include "methods/kernels/octree_partition.hpp"
+#include "methods/kernels/splat_set.hpp"
+#include "methods/method.hpp"
+#include "preprocess/point_attributes.hpp"
+
+namespace pcrt {
+namespace {
+
+inline const Counter kPatches{"implicit_patches", "implicit patches precomputed"};
+inline const Counter kPatchRuns{"patch_runs", "patches a ray was intersected with"};
+
+struct Patch {
+  uint32_t begin, end;  // its points in points_
+  Vec3 centre, normal;
+  float spread;  // largest distance of a point from the centre
+};
+
+class Hubo2007 final : public Method {
+ public:
+  explicit Hubo2007(ParamValues params) : params_(std::move(params)) {}
+
+  void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
+    float h = 0;
+    {
+      ScopedTimer t(ctx.timings, "prepare/spacing");
+      h = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
+    }
+    sigma_ = float(params_.at("sigma")) * h;
+    reach_ = sigma_ * float(params_.at("cutoff"));
+    newton_ = {float(params_.at("tolerance")) * h, int(params_.at("max_iterations"))};
+    depth_ = float(params_.at("front_depth")) * h;
+    const SplatSet pts = prepare_splats(cloud, params_, ctx, reach_);
+    ScopedTimer t(ctx.timings, "prepare/patches");
+    std::vector<uint32_t> order(pts.size());
+    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    const size_t max_points = size_t(params_.at("patch_points"));
+    octree_partition(
+        pts.centres, std::span<uint32_t>(order),
+        [&](const uint32_t* b, const uint32_t* e, int depth) {
+          return size_t(e - b) <= max_points || depth >= 20;
+        },
+        [&](const uint32_t* b, const uint32_t* e) { add_patch(pts, b, e); }, ctx.counters);
+    ctx.counters.add(kPatches, patches_.size());
+    for (const Patch& p : patches_) {
+      centres_.push_back(p.centre);
+      radii_.push_back(p.spread + reach_);  // a patch's implicit surface reaches this far
+    }
+  }
+  [[nodiscard]] ItemSet items() const override { return {centres_, radii_, {}}; }
+
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
+                      OpCounters& counters) const override {
+    const GaussianWeight theta(sigma_, float(params_.at("cutoff")));
+    // Pass 1: each patch's own hit; pass 2 blends those within depth_ of the front-most.
+    float front = kInfinity;
+    // (t, normal, weight) per patch hit; per-thread storage, so no allocation once warm.
+    thread_local std::vector<std::pair<float, Vec3>> hits;
+    thread_local std::vector<float> weights;
+    hits.clear();
+    weights.clear();
+    for (uint32_t k : leaf.items) {
+      const Patch& p = patches_[k];
+      float t0 = 0, t1 = 0;
+      if (!ball_chord(ray, p.centre, radii_[k], hit.t, t0, t1)) continue;
+      counters.add(kPatchRuns);
+      const std::span<const uint32_t> own(patch_items_.data() + p.begin, p.end - p.begin);
+      const float denom = p.normal.dot(ray.d);
+      const float start =
+          std::abs(denom) > 1e-6f ? std::clamp(p.normal.dot(p.centre - ray.o) / denom, t0, t1)
+                                  : 0.5f * (t0 + t1);
+      Vec3 n = Vec3::Zero();
+      const float t = newton_on_weighted_plane(
+          ray, start, t0, t1,
+          [&](const Vec3& x) { return weighted_plane(x, own, points_, theta, counters); }, newton_,
+          n, counters);
+      if (t == kInfinity) continue;
+      const float d2 = (ray.at(t) - p.centre).squaredNorm();
+      const float spread = std::max(p.spread, sigma_);
+      hits.emplace_back(t, n);
+      weights.push_back(std::exp(-d2 / (2 * spread * spread)));  // nearer the centre: trusted
+      front = std::min(front, t);
+    }
+    const size_t m = hits.size();
+    if (m == 0) return false;
+    float wsum = 0, tsum = 0;
+    Vec3 nsum = Vec3::Zero();
+    for (size_t i = 0; i < m; ++i) {
+      if (hits[i].first > front + depth_) continue;
+      const Vec3 n = hits[i].second.dot(hits[0].second) < 0 ? Vec3(-hits[i].second) : hits[i].second;
+      wsum += weights[i], tsum += weights[i] * hits[i].first, nsum += weights[i] * n;
+    }
+    const float t = wsum > 0 ? tsum / wsum : front;
+    const uint32_t prim = nearest_point(ray.at(t), leaf.items);
+    if (t > leaf.t_exit || !closer(t, prim, hit)) return false;
+    hit.t = t;
+    hit.p = ray.at(t);
+    hit.n = nsum.norm() > 0 ? Vec3(nsum.normalized()) : hits[0].second;
+    hit.prim = prim;
+    hit.footprint = sigma_;
+    return true;
+  }
+
+ private:
+  void add_patch(const SplatSet& pts, const uint32_t* b, const uint32_t* e) {
+    Patch p{uint32_t(points_.size()), 0, Vec3::Zero(), Vec3::Zero(), 0};
+    for (const uint32_t* i = b; i != e; ++i) p.centre += pts.centres[*i], p.normal += pts.normals[*i];
+    p.centre /= float(e - b);
+    p.normal = p.normal.norm() > 0 ? Vec3(p.normal.normalized()) : pts.normals[*b];
+    for (const uint32_t* i = b; i != e; ++i) {
+      p.spread = std::max(p.spread, (pts.centres[*i] - p.centre).norm());
+      patch_items_.push_back(uint32_t(points_.size()));
+      points_.push_back(pts.packed[*i]);
+    }
+    p.end = uint32_t(points_.size());
+    patches_.push_back(p);
+  }
+
+  uint32_t nearest_point(const Vec3& x, std::span<const uint32_t> items) const {
+    uint32_t best = 0;
+    float best_d2 = kInfinity;
+    for (uint32_t k : items)
+      for (uint32_t i = patches_[k].begin; i < patches_[k].end; ++i) {
+        const float d2 = (points_[i].c - x).squaredNorm();
+        if (d2 < best_d2) best_d2 = d2, best = points_[i].index;
+      }
+    return best;
+  }
+
+  ParamValues params_;
+  std::vector<PackedSplat> points_;    // grouped by patch
+  std::vector<uint32_t> patch_items_;  // 0..n-1: the index span a patch hands the average
+  std::vector<Patch> patches_;
+  std::vector<Vec3> centres_;
+  std::vector<float> radii_;
+  float sigma_ = 0, reach_ = 0, depth_ = 0;
+  NewtonSettings newton_;
+};
+
+const RegisterMethod kRegister{MethodInfo{
+    "hubo_2007",
+    "E. Hubo, T. Mertens, T. Haber and P. Bekaert, Self-similarity-based compression of point "
+    "clouds, with application to ray tracing, Symposium on Point-Based Graphics 2007",
+    "[29]",
+    "small patches (octree cells of a few points), each a Gaussian-weighted implicit surface "
+    "intersected by Newton steps (Algorithm 6); patch hits blended by distance to the centres",
+    "octree",
+    {"point normals", "implicit patches"},
+    [] {
+      auto p = normal_params();
+      p.push_back({"patch_points", 32, 1, 4096, "most points in one patch", true});
+      p.push_back({"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h"});
+      p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
+      p.push_back({"tolerance", 0.001, 0, 10,
+                   "|f| at convergence, in h (0: always run max_iterations)"});
+      p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
+      p.push_back({"front_depth", 1.0, 0, 100, "blend the patch hits within this many h of the "
+                                               "front-most"});
+      return p;
+    }(),
+    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+    [](const ParamValues& p) { return std::make_unique<Hubo2007>(p); }}};
+
+}  // namespace
+}  // namespace pcrt
