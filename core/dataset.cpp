@@ -105,6 +105,42 @@ PointCloud generate(const std::string& name, const ParamValues& p, const Surface
   return cloud;
 }
 
+bool is_volume_generator(const std::string& name) {
+  return name == "ball" || name == "cube" || name == "skew_lines";
+}
+
+// Point sets without a surface (no normals, no truth), for the Delaunay experiments: uniform in a
+// ball or a cube, or half the points on each of two skew lines (the Delaunay worst case: every
+// segment of one line with every segment of the other is a tetrahedron, (N/2 - 1)^2 cells).
+PointCloud generate_volume(const std::string& name, const ParamValues& p, const std::string& spec) {
+  const auto n = static_cast<size_t>(p.at("n"));
+  const auto seed = static_cast<uint64_t>(p.at("seed"));
+  const double density = p.at("density");
+  Rng rng(seed, 0xb0a1);
+  std::mt19937_64 gauss_engine(mix64(seed));
+  std::normal_distribution<double> gauss(0.0, p.at("noise"));
+  PointCloud cloud;
+  cloud.name = spec;
+  cloud.positions.reserve(n);
+  const float size = static_cast<float>(p.at("size"));
+  while (cloud.positions.size() < n) {
+    Vec3 x;
+    if (name == "skew_lines") {
+      const float t = size * (float(rng.uniform_double()) - 0.5f);
+      x = cloud.positions.size() % 2 == 0 ? Vec3(t, 0, -0.5f * size) : Vec3(0, t, 0.5f * size);
+    } else {
+      x = size * Vec3(float(rng.uniform_double()) - 0.5f, float(rng.uniform_double()) - 0.5f,
+                      float(rng.uniform_double()) - 0.5f);
+      if (name == "ball" && x.squaredNorm() > 0.25f * size * size) continue;
+      if (density > 0 && rng.uniform_double() >= 1.0 - density * (x.x() / size + 0.5)) continue;
+    }
+    if (p.at("noise") > 0)
+      x += Vec3(float(gauss(gauss_engine)), float(gauss(gauss_engine)), float(gauss(gauss_engine)));
+    cloud.positions.push_back(x);
+  }
+  return cloud;
+}
+
 }  // namespace
 
 const std::vector<GeneratorInfo>& generators() {
@@ -124,6 +160,14 @@ const std::vector<GeneratorInfo>& generators() {
        with_common({{"radius", 1, 1e-30, 1e30, "base radius"},
                     {"amplitude", 0.05, 0, 0.5, "relative displacement"},
                     {"frequency", 6, 0, 100, "angular frequency f"}})},
+      {"ball", "uniform random points inside a ball at the origin (no surface: Delaunay tests)",
+       with_common({{"size", 2, 1e-30, 1e30, "diameter"}})},
+      {"cube", "uniform random points inside a cube at the origin (no surface: Delaunay tests)",
+       with_common({{"size", 2, 1e-30, 1e30, "side"}})},
+      {"skew_lines",
+       "N/2 random points on each of two skew lines (x axis at z=-size/2, y axis at z=+size/2): "
+       "the Delaunay worst case, (N/2-1)^2 cells",
+       with_common({{"size", 2, 1e-30, 1e30, "length of each segment and distance between them"}})},
   };
   return list;
 }
@@ -157,8 +201,8 @@ ParamValues parse_generator_spec(const std::string& spec, const GeneratorInfo** 
     }
   }
   ParamValues values = resolve_params(info->params, given, fmt::format("dataset '{}'", spec));
-  if (name == "fibonacci_sphere" && values["density"] != 0)
-    input_error("dataset '{}': fibonacci_sphere is deterministic; density does not apply", spec);
+  if ((name == "fibonacci_sphere" || name == "skew_lines") && values["density"] != 0)
+    input_error("dataset '{}': density does not apply to {}", spec, name);
   if (info_out) *info_out = info;
   return values;
 }
@@ -174,6 +218,11 @@ Dataset load_dataset(const std::string& spec) {
   const GeneratorInfo* info = nullptr;
   const auto values = parse_generator_spec(spec, &info);
   Dataset d;
+  if (is_volume_generator(info->name)) {
+    d.cloud = generate_volume(info->name, values, spec);
+    d.cloud.validate();
+    return d;
+  }
   d.truth = make_surface(info->name, values);
   d.cloud = generate(info->name, values, *d.truth, spec);
   d.cloud.validate();

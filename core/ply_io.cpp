@@ -1,5 +1,6 @@
 // PLY reader and writer (Turk's format: header, then elements in header order).
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -225,6 +226,24 @@ struct VertexSink {
   }
 };
 
+// Collects the polygons of the 'face' element's vertex_indices list, fanned into triangles.
+struct FaceSink {
+  std::vector<std::array<uint32_t, 3>>* triangles = nullptr;
+  std::vector<double> polygon;
+  static bool is_index_list(const PlyElement& e, const PlyProperty& p) {
+    return e.name == "face" && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index");
+  }
+  void emit(const std::string& path, uint64_t face, uint64_t vertices) {
+    if (polygon.size() < 3) input_error("{}: face {} has {} vertices", path, face, polygon.size());
+    for (double v : polygon)
+      if (!(v >= 0 && v < double(vertices)) || v != std::floor(v))
+        input_error("{}: face {} names vertex {} of {}", path, face, v, vertices);
+    for (size_t k = 1; k + 1 < polygon.size(); ++k)
+      triangles->push_back({uint32_t(polygon[0]), uint32_t(polygon[k]), uint32_t(polygon[k + 1])});
+    polygon.clear();
+  }
+};
+
 template <typename T>
 T load_raw(const char* p, bool swap) {
   T v;
@@ -267,7 +286,7 @@ size_t min_record_bytes(const PlyElement& e) {
 }
 
 void read_binary(const std::string& text, const PlyHeader& h, const std::string& path,
-                 PointCloud& cloud) {
+                 PointCloud& cloud, FaceSink& faces) {
   const bool swap =
       (h.format == PlyFormat::kBinaryBigEndian) == (std::endian::native == std::endian::little);
   size_t pos = h.data_offset;
@@ -298,6 +317,12 @@ void read_binary(const std::string& text, const PlyHeader& h, const std::string&
           if (n < 0) input_error("{}: '{}' element {} has a negative list length", path, e.name, i);
           const size_t bytes = static_cast<size_t>(n) * type_size(prop.type);
           need(bytes);
+          if (faces.triangles && FaceSink::is_index_list(e, prop)) {
+            for (size_t j = 0; j < size_t(n); ++j)
+              faces.polygon.push_back(
+                  load_binary(text.data() + pos + j * type_size(prop.type), prop.type, swap));
+            faces.emit(path, i, cloud.positions.size());
+          }
           pos += bytes;
         } else {
           need(type_size(prop.type));
@@ -314,7 +339,7 @@ void read_binary(const std::string& text, const PlyHeader& h, const std::string&
 }
 
 void read_ascii(const std::string& text, const PlyHeader& h, const std::string& path,
-                PointCloud& cloud) {
+                PointCloud& cloud, FaceSink& faces) {
   TextScanner scan(std::string_view(text).substr(h.data_offset), path, h.header_lines);
   const size_t remaining_lines =
       static_cast<size_t>(std::count(text.begin() + long(h.data_offset), text.end(), '\n')) + 1;
@@ -340,6 +365,13 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
         if (e.properties[k].is_list) {
           const auto n = scan.number<long long>(t);
           if (n < 0) input_error("{}: line {}: negative list length", path, scan.line());
+          if (faces.triangles && FaceSink::is_index_list(e, e.properties[k])) {
+            if (t + 1 + size_t(n) > tok.size())
+              input_error("{}: line {}: face {} has too few indices", path, scan.line(), i);
+            for (size_t j = 0; j < size_t(n); ++j)
+              faces.polygon.push_back(scan.number<double>(t + 1 + j));
+            faces.emit(path, i, cloud.positions.size());
+          }
           t += 1 + static_cast<size_t>(n);
         } else {
           const double v = scan.number<double>(t++);
@@ -360,7 +392,9 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
 
 }  // namespace
 
-PointCloud read_ply(const std::string& path) {
+PointCloud read_ply(const std::string& path) { return read_ply(path, nullptr); }
+
+PointCloud read_ply(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles) {
   const std::string text = read_file(path);
   const PlyHeader h = parse_header(text, path);
   if (std::none_of(h.elements.begin(), h.elements.end(),
@@ -368,10 +402,11 @@ PointCloud read_ply(const std::string& path) {
     input_error("{}: PLY file has no vertex element", path);
   PointCloud cloud;
   cloud.name = path;
+  FaceSink faces{triangles, {}};
   if (h.format == PlyFormat::kAscii)
-    read_ascii(text, h, path, cloud);
+    read_ascii(text, h, path, cloud, faces);
   else
-    read_binary(text, h, path, cloud);
+    read_binary(text, h, path, cloud, faces);
   normalize_loaded_normals(cloud);
   return cloud;
 }

@@ -3,7 +3,10 @@
 // InputError naming the file and the line or element that is wrong.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/point_cloud.hpp"
 
@@ -14,8 +17,12 @@ namespace pcrt {
 PointCloud read_point_cloud(const std::string& path);
 
 PointCloud read_ply(const std::string& path);
+// The same, also collecting the 'face' element's polygons (vertex_indices), fanned into
+// triangles; indices are checked against the vertex count.
+PointCloud read_ply(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles);
 PointCloud read_xyz(const std::string& path);
 PointCloud read_off(const std::string& path);
+PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles);
 
 enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 // Writes x y z as float plus whichever of nx ny nz, red green blue, radius the cloud has.

@@ -73,7 +73,9 @@ PointCloud read_xyz(const std::string& path) {
   return cloud;
 }
 
-PointCloud read_off(const std::string& path) {
+PointCloud read_off(const std::string& path) { return read_off(path, nullptr); }
+
+PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles) {
   const std::string text = read_file(path);
   TextScanner scan(text, path);
   if (!scan.next_line()) input_error("{}: empty file", path);
@@ -124,6 +126,13 @@ PointCloud read_off(const std::string& path) {
       const auto v = scan.number<long long>(size_t(k));
       if (v < 0 || v >= nv)
         input_error("{}: line {}: face {} names vertex {} of {}", path, scan.line(), f, v, nv);
+    }
+    if (triangles) {
+      if (n < 3) input_error("{}: line {}: face {} has {} vertices", path, scan.line(), f, n);
+      for (long long k = 2; k < n; ++k)
+        triangles->push_back({uint32_t(scan.number<long long>(1)),
+                              uint32_t(scan.number<long long>(size_t(k))),
+                              uint32_t(scan.number<long long>(size_t(k + 1)))});
     }
   }
   if (scan.next_line())

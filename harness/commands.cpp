@@ -22,6 +22,8 @@
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
 #include "preprocess/point_attributes.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/reconstruction.hpp"
 #include "structures/knn_index.hpp"
 
 namespace pcrt {
@@ -62,6 +64,8 @@ std::unique_ptr<tbb::global_control> limit_threads(const CliArgs& a) {
 std::vector<OptionSpec> scene_options() {
   return {{"method", "ID", "method id (pcrt list)"},
           {"data", "DATA", "point cloud file or generator spec"},
+          {"mesh", "FILE", "trace this triangle mesh (.ply/.off) instead of a point method"},
+          {"engine", "ID", "triangle engine for --mesh: bvh, cgal_aabb or embree (default bvh)"},
           {"structure", "ID", "acceleration structure (default: the method's paper's)"},
           {"set", "NAME=VALUE", "method or structure parameter (repeatable)", true},
           {"threads", "N", "worker threads (default: all cores)"},
@@ -104,6 +108,60 @@ json scene_json(const PointScene& scene, const PointCloud& cloud, const std::str
   for (const auto& [k, v] : scene.method_params()) params["method_params"][k] = v;
   for (const auto& [k, v] : scene.structure_params()) params["structure_params"][k] = v;
   return params;
+}
+
+// What render and trace run on: a point method over a dataset, or (--mesh) a triangle mesh on a
+// triangle engine. Members are declared in the order they must outlive each other.
+struct LoadedScene {
+  Dataset data;
+  TriangleMesh mesh;
+  PointCloud mesh_vertices;  // the renderer's bounds and colours for a mesh
+  OpCounters prepare;
+  Timings timings;
+  std::unique_ptr<PointScene> points;
+  std::unique_ptr<MeshScene> triangles;
+  json params;
+
+  [[nodiscard]] const SceneIntersector& scene() const {
+    return points ? static_cast<const SceneIntersector&>(*points) : *triangles;
+  }
+  [[nodiscard]] const PointCloud& cloud() const { return points ? data.cloud : mesh_vertices; }
+  [[nodiscard]] size_t structure_bytes() const {
+    return points ? points->structure_bytes() : triangles->memory_bytes();
+  }
+  [[nodiscard]] std::string label() const {
+    return points ? points->method_info().id + " on " + points->structure_id()
+                  : "mesh on " + triangles->engine_id();
+  }
+};
+
+std::unique_ptr<LoadedScene> load_scene(const CliArgs& a, const char* command) {
+  auto s = std::make_unique<LoadedScene>();
+  if (a.has("mesh")) {
+    for (const char* o : {"method", "data", "structure", "set"})
+      if (a.has(o)) input_error("pcrt {}: --{} does not apply to --mesh", command, o);
+    {
+      ScopedTimer t(s->timings, "load");
+      s->mesh = read_mesh(a.get("mesh"));
+    }
+    s->mesh_vertices.positions = s->mesh.vertices;
+    const std::string engine = a.has("engine") ? a.get("engine") : "bvh";
+    s->triangles = std::make_unique<MeshScene>(s->mesh, engine, s->prepare, s->timings);
+    s->params = {{"mesh", a.get("mesh")},
+                 {"engine", engine},
+                 {"triangles", s->mesh.triangles.size()},
+                 {"N", s->mesh.vertices.size()}};
+    return s;
+  }
+  if (a.has("engine")) input_error("pcrt {}: --engine applies only to --mesh", command);
+  const SceneOptions so = scene_options_from(a);
+  {
+    ScopedTimer t(s->timings, "load");
+    s->data = load_dataset(a.require("data"));
+  }
+  s->points = std::make_unique<PointScene>(s->data.cloud, so, s->prepare, s->timings);
+  s->params = scene_json(*s->points, s->data.cloud, a.get("data"));
+  return s;
 }
 
 }  // namespace
@@ -155,10 +213,12 @@ int command_render(const Args& args) {
        {"ray-epsilon", "E", "offset of secondary ray origins (default 1e-3 x scene diagonal)"},
        {"depth", "FILE.png", "also write the primary-hit depth image"},
        {"normals", "FILE.png", "also write the primary-hit normal image"}});
-  CliArgs a("render", "pcrt render --method ID --data DATA --out FILE.png [options]", opts, 0, 0);
+  CliArgs a("render",
+            "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID]) --out FILE.png "
+            "[options]",
+            opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
-  const SceneOptions so = scene_options_from(a);
   const std::string out = a.require("out");
   RenderSettings rs;
   rs.width = int(a.integer("width", 512, 1, 16384));
@@ -175,21 +235,15 @@ int command_render(const Args& args) {
     input_error("pcrt render: --view and --up must not be parallel");
   if (rs.ray_epsilon < 0) input_error("pcrt render: --ray-epsilon must be >= 0");
 
-  Timings timings;
-  OpCounters prep;
-  Dataset d;
-  {
-    ScopedTimer t(timings, "load");
-    d = load_dataset(a.require("data"));
-  }
-  const PointScene scene(d.cloud, so, prep, timings);
-  RenderResult r = render(scene, d.cloud, rs);
+  const auto loaded = load_scene(a, "render");
+  Timings& timings = loaded->timings;
+  RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
   timings["render"] = r.seconds;
   write_png(out, r.image);
   if (a.has("depth")) write_png(a.get("depth"), r.depth, PngEncoding::kLinear);
   if (a.has("normals")) write_png(a.get("normals"), r.normals, PngEncoding::kLinear);
 
-  json params = scene_json(scene, d.cloud, a.get("data"));
+  json params = loaded->params;
   params.update({{"M", rs.width * rs.height},
                  {"width", rs.width},
                  {"height", rs.height},
@@ -200,14 +254,13 @@ int command_render(const Args& args) {
                  {"threads", rs.threads}});
   const json stats = {{"params", params},
                       {"counters", counters_json(r.counters)},
-                      {"prepare_counters", counters_json(prep)},
+                      {"prepare_counters", counters_json(loaded->prepare)},
                       {"timings", timings},
-                      {"structure_bytes", scene.structure_bytes()},
+                      {"structure_bytes", loaded->structure_bytes()},
                       {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0}};
   if (a.has("stats")) write_json(a.get("stats"), stats);
-  std::printf("%s: %s on %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(),
-              scene.method_info().id.c_str(), scene.structure_id().c_str(), d.cloud.size(),
-              rs.width, rs.height, rs.spp, rs.bounces);
+  std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),
+              loaded->cloud().size(), rs.width, rs.height, rs.spp, rs.bounces);
   std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"],
               timings["build"], r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
   for (const auto& [name, value] : r.counters.to_map())
@@ -256,17 +309,17 @@ int command_trace(const Args& args) {
   opts.insert(opts.end(), {{"rays", "RAYS.csv", "rays, header ox,oy,oz,dx,dy,dz"},
                            {"out", "HITS.csv",
                             "hits: ray,hit,t,px,py,pz,nx,ny,nz (t along the unit direction)"}});
-  CliArgs a("trace", "pcrt trace --method ID --data DATA --rays RAYS.csv --out HITS.csv [options]",
+  CliArgs a("trace",
+            "pcrt trace (--method ID --data DATA | --mesh FILE [--engine ID]) --rays RAYS.csv "
+            "--out HITS.csv [options]",
             opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
-  const SceneOptions so = scene_options_from(a);
   const std::string out = a.require("out");
   const std::vector<Ray> rays = read_rays(a.require("rays"));
-  Timings timings;
-  OpCounters prep;
-  const Dataset d = load_dataset(a.require("data"));
-  const PointScene scene(d.cloud, so, prep, timings);
+  const auto loaded = load_scene(a, "trace");
+  Timings& timings = loaded->timings;
+  const SceneIntersector& scene = loaded->scene();
   std::vector<Hit> hits(rays.size());
   std::vector<char> found(rays.size(), 0);
   tbb::combinable<OpCounters> per_thread;
@@ -290,18 +343,18 @@ int command_trace(const Args& args) {
     }
   });
   if (a.has("stats")) {
-    json params = scene_json(scene, d.cloud, a.get("data"));
+    json params = loaded->params;
     params["rays"] = rays.size();
     write_json(a.get("stats"), {{"params", params},
                                 {"counters", counters_json(counters)},
-                                {"prepare_counters", counters_json(prep)},
+                                {"prepare_counters", counters_json(loaded->prepare)},
                                 {"timings", timings},
-                                {"structure_bytes", scene.structure_bytes()}});
+                                {"structure_bytes", loaded->structure_bytes()}});
   }
   size_t n_hit = 0;
   for (char f : found) n_hit += size_t(f);
-  std::printf("%s: %zu rays, %zu hits (%s on %s, %zu points)\n", out.c_str(), rays.size(), n_hit,
-              scene.method_info().id.c_str(), scene.structure_id().c_str(), d.cloud.size());
+  std::printf("%s: %zu rays, %zu hits (%s, %zu points)\n", out.c_str(), rays.size(), n_hit,
+              loaded->label().c_str(), loaded->cloud().size());
   return 0;
 }
 
@@ -309,13 +362,22 @@ int command_accuracy(const Args& args) {
   auto opts = scene_options();
   opts.insert(opts.end(), {{"rays", "N", "number of rays (default 20000)"},
                            {"seed", "N", "ray seed (default 1)"},
+                           {"reconstruction", "ID",
+                            "reconstruct a mesh (delaunay's surface is not a mesh: afsr) and "
+                            "judge it on --engine instead of a point method"},
                            {"json", "", "print JSON"}});
   CliArgs a("accuracy",
-            "pcrt accuracy --method ID --data GENERATOR_SPEC [--structure ID] [--rays N] [--json]",
+            "pcrt accuracy (--method ID [--structure ID] | --reconstruction ID [--engine ID]) "
+            "--data GENERATOR_SPEC [--rays N] [--json]",
             opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
-  const SceneOptions so = scene_options_from(a);
+  if (a.has("mesh")) input_error("pcrt accuracy: --mesh has no exact surface; use --reconstruction");
+  const bool reconstructing = a.has("reconstruction");
+  if (reconstructing && a.has("method"))
+    input_error("pcrt accuracy: give --method or --reconstruction, not both");
+  if (!reconstructing && a.has("engine"))
+    input_error("pcrt accuracy: --engine applies only to --reconstruction");
   const auto n_rays = size_t(a.integer("rays", 20000, 1, 100000000));
   const auto seed = uint64_t(a.integer("seed", 1, 0, 1ll << 62));
   const std::string data = a.require("data");
@@ -326,7 +388,27 @@ int command_accuracy(const Args& args) {
         data);
   Timings timings;
   OpCounters prep, counters;
-  const PointScene scene(d.cloud, so, prep, timings);
+  std::unique_ptr<SceneIntersector> scene_ptr;
+  TriangleMesh mesh;
+  std::string method, structure;
+  if (reconstructing) {
+    const auto& info = ReconstructionRegistry::instance().get(a.get("reconstruction"),
+                                                             "reconstruction");
+    ReconstructionReport rec = info.run(d.cloud);
+    if (rec.mesh.triangles.empty())
+      input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
+    timings["reconstruct"] = rec.seconds;
+    mesh = std::move(rec.mesh);
+    structure = a.has("engine") ? a.get("engine") : "bvh";
+    method = "reconstruction:" + info.id;
+    scene_ptr = std::make_unique<MeshScene>(mesh, structure, prep, timings);
+  } else {
+    auto ps = std::make_unique<PointScene>(d.cloud, scene_options_from(a), prep, timings);
+    method = ps->method_info().id;
+    structure = ps->structure_id();
+    scene_ptr = std::move(ps);
+  }
+  const SceneIntersector& scene = *scene_ptr;
   const double h = mean_spacing(d.cloud.positions, prep);
   const auto rays = accuracy_rays(*d.truth, h, n_rays, seed);
   AccuracyReport r;
@@ -336,8 +418,8 @@ int command_accuracy(const Args& args) {
   }
   const bool ok = AccuracyBounds{}.met_by(r);
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-  const json j = {{"method", scene.method_info().id},
-                  {"structure", scene.structure_id()},
+  const json j = {{"method", method},
+                  {"structure", structure},
                   {"dataset", data},
                   {"N", d.cloud.size()},
                   {"mean_spacing", h},
@@ -358,9 +440,8 @@ int command_accuracy(const Args& args) {
   if (a.has("json")) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    std::printf("%s on %s, %s (h = %.4g): %zu judged hits, %zu judged misses\n",
-                scene.method_info().id.c_str(), scene.structure_id().c_str(), data.c_str(), h,
-                r.judged_hits, r.judged_misses);
+    std::printf("%s on %s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", method.c_str(),
+                structure.c_str(), data.c_str(), h, r.judged_hits, r.judged_misses);
     std::printf(
         "  holes %.3f%%  false hits %.3f%%  distance median %.4f h, p95 %.4f h  normal median %.3f "
         "deg  -> %s\n",
@@ -516,6 +597,12 @@ int command_list(const Args& args) {
   for (const GeneratorInfo& g : generators())
     gens.push_back(
         {{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
+  json reconstructions = json::array(), engines = json::array();
+  for (const ReconstructionInfo& r : ReconstructionRegistry::instance().all())
+    reconstructions.push_back(
+        {{"id", r.id}, {"description", r.description}, {"claim", r.claim}});
+  for (const MeshEngineInfo& e : MeshEngineRegistry::instance().all())
+    engines.push_back({{"id", e.id}, {"description", e.description}});
   for (size_t i = 0; i < registered_counter_count(); ++i)
     counters.push_back({{"name", registered_counters()[i].name},
                         {"description", registered_counters()[i].description}});
@@ -523,6 +610,8 @@ int command_list(const Args& args) {
     const json j = {{"methods", methods},
                     {"structures", structures},
                     {"generators", gens},
+                    {"reconstructions", reconstructions},
+                    {"mesh_engines", engines},
                     {"counters", counters}};
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
@@ -536,6 +625,14 @@ int command_list(const Args& args) {
   for (const auto& s : structures)
     std::printf("  %-24s %s\n", s["id"].get<std::string>().c_str(),
                 s["description"].get<std::string>().c_str());
+  std::printf("reconstructions:\n");
+  for (const auto& r : reconstructions)
+    std::printf("  %-24s %s\n", r["id"].get<std::string>().c_str(),
+                r["description"].get<std::string>().c_str());
+  std::printf("mesh engines:\n");
+  for (const auto& e : engines)
+    std::printf("  %-24s %s\n", e["id"].get<std::string>().c_str(),
+                e["description"].get<std::string>().c_str());
   std::printf("generators:\n");
   for (const auto& g : gens)
     std::printf("  %-24s %s\n", g["id"].get<std::string>().c_str(),
@@ -554,6 +651,49 @@ int command_convert(const Args& args) {
   write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(),
               fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());
+  return 0;
+}
+
+int command_reconstruct(const Args& args) {
+  CliArgs a("reconstruct",
+            "pcrt reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]",
+            {{"method", "ID", "reconstruction id (pcrt list)"},
+             {"data", "DATA", "point cloud file or generator spec"},
+             {"out", "MESH.ply", "write the mesh (reconstructions that make one)"},
+             {"threads", "N", "worker threads (default: all cores)"},
+             {"json", "", "print JSON"}},
+            0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const ReconstructionInfo& info =
+      ReconstructionRegistry::instance().get(a.require("method"), "reconstruction");
+  const std::string data = a.require("data");
+  const Dataset d = load_dataset(data);
+  const ReconstructionReport r = info.run(d.cloud);
+  if (a.has("out")) {
+    if (r.mesh.triangles.empty())
+      input_error("pcrt reconstruct: --out: '{}' makes no triangle mesh", info.id);
+    write_mesh_ply(a.get("out"), r.mesh);
+  }
+  auto opt = [](const std::optional<uint64_t>& v) { return v ? json(*v) : json(nullptr); };
+  const json j = {{"method", r.method},
+                  {"dataset", data},
+                  {"points", r.points},
+                  {"vertices", r.vertices},
+                  {"seconds", r.seconds},
+                  {"memory_bytes", r.memory_bytes ? json(r.memory_bytes) : json(nullptr)},
+                  {"cells", opt(r.cells)},
+                  {"facets", opt(r.facets)},
+                  {"triangles", opt(r.triangles)},
+                  {"boundary_edges", opt(r.boundary_edges)}};
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s of %s: %zu points in %.3f s\n", r.method.c_str(), data.c_str(), r.points,
+              r.seconds);
+  for (const char* k : {"cells", "facets", "triangles", "boundary_edges", "memory_bytes"})
+    if (!j[k].is_null()) std::printf("  %-16s %llu\n", k, (unsigned long long)j[k].get<uint64_t>());
   return 0;
 }
 

@@ -15,5 +15,6 @@ int command_list(const Args& args);
 int command_convert(const Args& args);
 int command_accuracy(const Args& args);
 int command_anchor(const Args& args);
+int command_reconstruct(const Args& args);
 
 }  // namespace pcrt

@@ -14,14 +14,18 @@ constexpr const char* kUsage =
     "usage: pcrt <command> [options]   (pcrt <command> --help for each)\n\n"
     "commands:\n"
     "  info DATA [--json]          points, bounds, attributes, mean spacing of a dataset\n"
-    "  render --method ID --data DATA --out FILE.png ...   render an image (Algorithms 1-2)\n"
-    "  trace --method ID --data DATA --rays RAYS.csv --out HITS.csv ...   closest hits of given "
-    "rays\n"
+    "  render (--method ID --data DATA | --mesh FILE --engine ID) --out FILE.png ...   render an "
+    "image (Algorithms 1-2)\n"
+    "  trace (--method ID --data DATA | --mesh FILE --engine ID) --rays RAYS.csv --out HITS.csv "
+    "...   closest hits of given rays\n"
     "  accuracy --method ID --data GENERATOR ...   holes, false hits, distance and normal error vs "
     "the exact surface\n"
     "  anchor --data DATA [--json]   our fastest splat method against Embree's oriented discs, "
     "same rays\n"
-    "  list [--json]               methods, structures, generators and counters\n"
+    "  reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]   global "
+    "reconstruction (CGAL)\n"
+    "  list [--json]               methods, structures, reconstructions, engines, generators, "
+    "counters\n"
     "  convert DATA --out FILE.ply [--ascii]   write a dataset (e.g. a generated cloud) as PLY\n\n"
     "DATA is a file (.ply .xyz .pwn .off) or a generator spec such as "
     "sphere:n=100000,seed=1,noise=0.001\n";
@@ -43,6 +47,7 @@ int main(int argc, char** argv) {
     if (cmd == "convert") return pcrt::command_convert(args);
     if (cmd == "accuracy") return pcrt::command_accuracy(args);
     if (cmd == "anchor") return pcrt::command_anchor(args);
+    if (cmd == "reconstruct") return pcrt::command_reconstruct(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);
       return 0;

@@ -1,0 +1,154 @@
+// Everything pcrt takes from CGAL, in one translation unit (CGAL costs 15-60 s per unit to
+// compile): the Delaunay triangulation, advancing-front surface reconstruction, and the AABB tree
+// as a triangle engine. Nothing CGAL appears in a header.
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Advancing_front_surface_reconstruction.h>
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <chrono>
+
+#include "core/error.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/reconstruction.hpp"
+
+namespace pcrt {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Delaunay = CGAL::Delaunay_triangulation_3<Kernel>;
+
+std::vector<Point> cgal_points(const PointCloud& cloud) {
+  std::vector<Point> pts;
+  pts.reserve(cloud.size());
+  for (const Vec3& p : cloud.positions) pts.emplace_back(p.x(), p.y(), p.z());
+  return pts;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void require_points(const PointCloud& cloud, const char* id) {
+  if (cloud.size() < 4)
+    input_error("{}: needs at least 4 points for a 3D triangulation, got {}", id, cloud.size());
+}
+
+ReconstructionReport run_delaunay(const PointCloud& cloud) {
+  require_points(cloud, "delaunay");
+  const std::vector<Point> pts = cgal_points(cloud);
+  const auto start = std::chrono::steady_clock::now();
+  const Delaunay dt(pts.begin(), pts.end());  // range insertion sorts spatially (Hilbert)
+  ReconstructionReport r;
+  r.seconds = seconds_since(start);
+  r.method = "delaunay";
+  r.points = cloud.size();
+  r.vertices = dt.number_of_vertices();
+  if (dt.dimension() < 3)
+    input_error("delaunay: all {} points are {} (triangulation dimension {}): no tetrahedra",
+                cloud.size(), dt.dimension() == 2 ? "coplanar" : "collinear", dt.dimension());
+  r.cells = dt.number_of_finite_cells();
+  r.facets = dt.number_of_finite_facets();
+  r.memory_bytes = dt.number_of_cells() * sizeof(Delaunay::Cell) +
+                   dt.number_of_vertices() * sizeof(Delaunay::Vertex);
+  return r;
+}
+
+ReconstructionReport run_afsr(const PointCloud& cloud) {
+  require_points(cloud, "afsr");
+  const std::vector<Point> pts = cgal_points(cloud);
+  {
+    // Advancing front needs a 3D Delaunay; it asserts on coplanar input, so check first (cheap
+    // next to the reconstruction itself, and outside the timed region).
+    const Delaunay dt(pts.begin(), pts.end());
+    if (dt.dimension() < 3)
+      input_error("afsr: all {} points are {}: no surface to reconstruct", cloud.size(),
+                  dt.dimension() == 2 ? "coplanar" : "collinear");
+  }
+  std::vector<std::array<std::size_t, 3>> facets;
+  const auto start = std::chrono::steady_clock::now();
+  CGAL::advancing_front_surface_reconstruction(pts.begin(), pts.end(), std::back_inserter(facets));
+  ReconstructionReport r;
+  r.seconds = seconds_since(start);
+  r.method = "afsr";
+  r.points = cloud.size();
+  r.vertices = cloud.size();
+  r.mesh.vertices = cloud.positions;
+  r.mesh.triangles.reserve(facets.size());
+  for (const auto& f : facets) r.mesh.triangles.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
+  r.triangles = r.mesh.triangles.size();
+  r.boundary_edges = r.mesh.boundary_edges();
+  return r;
+}
+
+const RegisterReconstruction kDelaunay{ReconstructionInfo{
+    "delaunay", "CGAL Delaunay_triangulation_3 of all N points (range insertion, spatially sorted)",
+    "O(N log N) expected for uniform points, O(N^2) worst case (thesis 5.1.1)", run_delaunay}};
+
+const RegisterReconstruction kAfsr{ReconstructionInfo{
+    "afsr",
+    "CGAL advancing front surface reconstruction (Cohen-Steiner and Da 2004) to a triangle mesh; "
+    "builds a full 3D Delaunay first",
+    "O(N log N) expected, O(N^2) worst case (its Delaunay, thesis 5.1.1)", run_afsr}};
+
+// CGAL's AABB tree over the triangles, queried with first_intersection.
+class CgalAabbEngine final : public MeshEngine {
+ public:
+  using Triangle = Kernel::Triangle_3;
+  using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+  explicit CgalAabbEngine(const TriangleMesh& mesh) : mesh_(mesh) {
+    triangles_.reserve(mesh.triangles.size());
+    auto p = [&](uint32_t v) {
+      const Vec3& x = mesh.vertices[v];
+      return Point(x.x(), x.y(), x.z());
+    };
+    for (const auto& t : mesh.triangles) triangles_.emplace_back(p(t[0]), p(t[1]), p(t[2]));
+    tree_.insert(triangles_.begin(), triangles_.end());
+    tree_.build();
+  }
+
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
+    counters.add(kCgalRays);
+    const Vec3 o = ray.at(ray.tmin);
+    const Kernel::Ray_3 r(Point(o.x(), o.y(), o.z()),
+                          Kernel::Direction_3(ray.d.x(), ray.d.y(), ray.d.z()));
+    const auto found = tree_.first_intersection(r);
+    if (!found) return false;
+    const Point* x = boost::get<Point>(&found->first);
+    if (!x) return false;  // the ray runs inside a triangle's plane: a segment, no single point
+    const float t = ray.tmin + float((Vec3(float(x->x()), float(x->y()), float(x->z())) - o).dot(ray.d));
+    if (!(t < std::min(ray.tmax, hit.t))) return false;
+    hit.t = t;
+    hit.prim = uint32_t(found->second - triangles_.begin());
+    hit.p = ray.at(t);
+    hit.n = mesh_.normal(hit.prim);
+    hit.footprint = 0;
+    return true;
+  }
+  [[nodiscard]] size_t memory_bytes() const override {
+    // The tree's nodes (one per primitive, less one) and our CGAL triangle copies.
+    return triangles_.size() * (sizeof(Triangle) + sizeof(Primitive) + 2 * sizeof(void*) + 48);
+  }
+
+ private:
+  static inline const Counter kCgalRays{"cgal_aabb_rays",
+                                        "rays traced by CGAL's AABB tree (internal work uncounted)"};
+  const TriangleMesh& mesh_;
+  std::vector<Triangle> triangles_;
+  Tree tree_;
+};
+
+const RegisterMeshEngine kCgalEngine{MeshEngineInfo{
+    "cgal_aabb", "CGAL AABB_tree over the triangles, first_intersection per ray",
+    [](const TriangleMesh& mesh, OpCounters&, Timings& timings) {
+      ScopedTimer t(timings, "build");
+      return std::unique_ptr<MeshEngine>(std::make_unique<CgalAabbEngine>(mesh));
+    }}};
+
+}  // namespace
+}  // namespace pcrt

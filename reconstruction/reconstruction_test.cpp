@@ -1,0 +1,99 @@
+// Reconstruction and triangle engines: exact cell counts where the combinatorics are known,
+// clear errors on degenerate input, and the three engines agreeing ray by ray.
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/reconstruction.hpp"
+
+using namespace pcrt;
+
+namespace {
+const ReconstructionInfo& reconstruction(const char* id) {
+  return ReconstructionRegistry::instance().get(id, "reconstruction");
+}
+}  // namespace
+
+TEST_CASE("Delaunay of two skew lines has (N/2 - 1)^2 cells", "[reconstruction]") {
+  for (int n : {20, 60, 200}) {
+    const Dataset d = load_dataset("skew_lines:n=" + std::to_string(n));
+    const ReconstructionReport r = reconstruction("delaunay").run(d.cloud);
+    REQUIRE(r.cells.has_value());
+    const uint64_t half = uint64_t(n / 2);
+    REQUIRE(*r.cells == (half - 1) * (half - 1));
+    REQUIRE(r.vertices == size_t(n));
+  }
+}
+
+TEST_CASE("Delaunay of uniform points: Euler's relation for a ball's tetrahedralization",
+          "[reconstruction]") {
+  const Dataset d = load_dataset("cube:n=2000");
+  const ReconstructionReport r = reconstruction("delaunay").run(d.cloud);
+  // Every finite cell has 4 facets; interior facets are shared by two cells, hull facets by one:
+  // 4 C = 2 F - H, with H > 0 hull facets, so F lies strictly between 2C and 4C.
+  REQUIRE(*r.facets > 2 * *r.cells);
+  REQUIRE(*r.facets < 4 * *r.cells);
+  // About 6.7 cells per point for uniform points (Delaunay statistics).
+  REQUIRE(double(*r.cells) / 2000 == Approx(6.5).margin(1.0));
+}
+
+TEST_CASE("Degenerate input gives a clear error, not a crash", "[reconstruction]") {
+  PointCloud three;
+  three.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  REQUIRE_THROWS_AS(reconstruction("delaunay").run(three), InputError);
+  REQUIRE_THROWS_AS(reconstruction("afsr").run(three), InputError);
+  const Dataset plane = load_dataset("plane:n=200");
+  REQUIRE_THROWS_WITH(reconstruction("delaunay").run(plane.cloud),
+                      Catch::Contains("coplanar"));
+  REQUIRE_THROWS_WITH(reconstruction("afsr").run(plane.cloud), Catch::Contains("coplanar"));
+}
+
+TEST_CASE("Advancing front closes a sphere and the three engines agree", "[reconstruction]") {
+  const Dataset d = load_dataset("sphere:n=3000");
+  const ReconstructionReport r = reconstruction("afsr").run(d.cloud);
+  // A closed triangulated sphere on V vertices has 2V - 4 triangles.
+  REQUIRE(*r.triangles == 2 * d.cloud.size() - 4);
+  REQUIRE(*r.boundary_edges == 0);
+  OpCounters counters;
+  Timings timings;
+  const MeshScene bvh(r.mesh, "bvh", counters, timings);
+  const MeshScene cgal(r.mesh, "cgal_aabb", counters, timings);
+  const MeshScene embree(r.mesh, "embree", counters, timings);
+  Rng rng(7, 1);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 o = 3.0f * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, 1.0f).normalized();
+    const Vec3 target(1.2f * (rng.uniform() - 0.5f), 1.2f * (rng.uniform() - 0.5f), 0.0f);
+    const Ray ray{o, (target - o).normalized()};
+    Hit a, b, c;
+    const bool fa = bvh.closest_hit(ray, a, counters);
+    const bool fb = cgal.closest_hit(ray, b, counters);
+    const bool fc = embree.closest_hit(ray, c, counters);
+    REQUIRE(fa == fb);
+    REQUIRE(fa == fc);
+    if (!fa) continue;
+    ++hits;
+    REQUIRE(a.t == Approx(b.t).epsilon(1e-5));
+    REQUIRE(a.t == Approx(c.t).epsilon(1e-5));
+  }
+  REQUIRE(hits > 1000);
+  REQUIRE(counters.get(kTriangleTests) > 0);
+}
+
+TEST_CASE("Meshes round-trip through PLY, and bad meshes are refused", "[reconstruction]") {
+  TriangleMesh m;
+  m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  m.triangles = {{0, 1, 2}, {0, 1, 3}};
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "pcrt_mesh_roundtrip.ply").string();
+  write_mesh_ply(path, m);
+  const TriangleMesh back = read_mesh(path);
+  REQUIRE(back.vertices == m.vertices);
+  REQUIRE(back.triangles == m.triangles);
+  REQUIRE(back.boundary_edges() == 4);
+  std::filesystem::remove(path);
+  REQUIRE_THROWS_AS(read_mesh(std::string(PCRT_DATA_DIR) + "/no_such_mesh.ply"), InputError);
+}

@@ -1,0 +1,78 @@
+#include "reconstruction/triangle_mesh.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <bit>
+#include <filesystem>
+
+#include "core/error.hpp"
+#include "core/file_output.hpp"
+#include "core/point_cloud_io.hpp"
+
+namespace pcrt {
+
+Aabb TriangleMesh::bounds() const {
+  Aabb b;
+  for (const Vec3& v : vertices) b.extend(v);
+  return b;
+}
+
+size_t TriangleMesh::boundary_edges() const {
+  std::vector<uint64_t> edges;
+  edges.reserve(triangles.size() * 3);
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+      edges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  size_t once = 0;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    once += (j - i == 1);
+    i = j;
+  }
+  return once;
+}
+
+Vec3 TriangleMesh::normal(uint32_t i) const {
+  const auto& t = triangles[i];
+  const Vec3 n = (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]);
+  return n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
+}
+
+TriangleMesh read_mesh(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  TriangleMesh mesh;
+  PointCloud cloud;
+  if (ext == ".ply")
+    cloud = read_ply(path, &mesh.triangles);
+  else if (ext == ".off")
+    cloud = read_off(path, &mesh.triangles);
+  else
+    input_error("{}: a mesh must be .ply or .off", path);
+  if (mesh.triangles.empty()) input_error("{}: the mesh has no faces", path);
+  mesh.vertices = std::move(cloud.positions);
+  return mesh;
+}
+
+void write_mesh_ply(const std::string& path, const TriangleMesh& mesh) {
+  static_assert(std::endian::native == std::endian::little, "raw little-endian writes");
+  write_file_atomically(path, [&](std::ostream& o) {
+    o << "ply\nformat binary_little_endian 1.0\ncomment written by pcrt\n"
+      << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\n"
+      << "property float z\nelement face " << mesh.triangles.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Vec3& v : mesh.vertices) o.write(reinterpret_cast<const char*>(v.data()), 12);
+    for (const auto& t : mesh.triangles) {
+      const char three = 3;
+      o.write(&three, 1);
+      const int32_t idx[3] = {int32_t(t[0]), int32_t(t[1]), int32_t(t[2])};
+      o.write(reinterpret_cast<const char*>(idx), sizeof(idx));
+    }
+  });
+}
+
+}  // namespace pcrt

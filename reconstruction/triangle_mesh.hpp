@@ -1,0 +1,31 @@
+// A triangle mesh: what a global reconstruction produces and what the triangle engines trace.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/aabb.hpp"
+#include "core/geometry.hpp"
+
+namespace pcrt {
+
+struct TriangleMesh {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+
+  [[nodiscard]] Aabb bounds() const;
+  // Edges used by exactly one triangle (the rims of holes and open borders).
+  [[nodiscard]] size_t boundary_edges() const;
+  // Unit normal of triangle i (right-handed in its vertex order); +z if degenerate.
+  [[nodiscard]] Vec3 normal(uint32_t i) const;
+};
+
+// .ply (a 'face' element with vertex_indices; polygons fanned) or .off. Throws InputError naming
+// the file for anything malformed, and for a mesh without triangles.
+TriangleMesh read_mesh(const std::string& path);
+// Binary little-endian PLY, written to a temporary file and renamed.
+void write_mesh_ply(const std::string& path, const TriangleMesh& mesh);
+
+}  // namespace pcrt
