@@ -19,6 +19,7 @@
 #include "core/text_scanner.hpp"
 #include "harness/accuracy.hpp"
 #include "harness/cli_args.hpp"
+#include "harness/command_helpers.hpp"
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
 #include "preprocess/point_attributes.hpp"
@@ -28,38 +29,6 @@
 
 namespace pcrt {
 namespace {
-
-using nlohmann::json;
-
-json params_json(const std::vector<ParamSpec>& specs) {
-  json a = json::array();
-  for (const auto& p : specs)
-    a.push_back({{"name", p.name},
-                 {"default", p.default_value},
-                 {"min", p.min_value},
-                 {"max", p.max_value},
-                 {"integer", p.integer},
-                 {"description", p.description}});
-  return a;
-}
-
-json counters_json(const OpCounters& c) {
-  json j = json::object();
-  for (const auto& [name, value] : c.to_map()) j[name] = value;
-  return j;
-}
-
-void write_json(const std::string& path, const json& j) {
-  write_file_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
-}
-
-// --threads for every parallel phase (TBB's global limit).
-std::unique_ptr<tbb::global_control> limit_threads(const CliArgs& a) {
-  const long long t = a.integer("threads", 0, 0, 1024);
-  if (t == 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               size_t(t));
-}
 
 std::vector<OptionSpec> scene_options() {
   return {{"method", "ID", "method id (pcrt list)"},
@@ -651,49 +620,6 @@ int command_convert(const Args& args) {
   write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(),
               fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());
-  return 0;
-}
-
-int command_reconstruct(const Args& args) {
-  CliArgs a("reconstruct",
-            "pcrt reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]",
-            {{"method", "ID", "reconstruction id (pcrt list)"},
-             {"data", "DATA", "point cloud file or generator spec"},
-             {"out", "MESH.ply", "write the mesh (reconstructions that make one)"},
-             {"threads", "N", "worker threads (default: all cores)"},
-             {"json", "", "print JSON"}},
-            0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const ReconstructionInfo& info =
-      ReconstructionRegistry::instance().get(a.require("method"), "reconstruction");
-  const std::string data = a.require("data");
-  const Dataset d = load_dataset(data);
-  const ReconstructionReport r = info.run(d.cloud);
-  if (a.has("out")) {
-    if (r.mesh.triangles.empty())
-      input_error("pcrt reconstruct: --out: '{}' makes no triangle mesh", info.id);
-    write_mesh_ply(a.get("out"), r.mesh);
-  }
-  auto opt = [](const std::optional<uint64_t>& v) { return v ? json(*v) : json(nullptr); };
-  const json j = {{"method", r.method},
-                  {"dataset", data},
-                  {"points", r.points},
-                  {"vertices", r.vertices},
-                  {"seconds", r.seconds},
-                  {"memory_bytes", r.memory_bytes ? json(r.memory_bytes) : json(nullptr)},
-                  {"cells", opt(r.cells)},
-                  {"facets", opt(r.facets)},
-                  {"triangles", opt(r.triangles)},
-                  {"boundary_edges", opt(r.boundary_edges)}};
-  if (a.has("json")) {
-    std::printf("%s\n", j.dump(2).c_str());
-    return 0;
-  }
-  std::printf("%s of %s: %zu points in %.3f s\n", r.method.c_str(), data.c_str(), r.points,
-              r.seconds);
-  for (const char* k : {"cells", "facets", "triangles", "boundary_edges", "memory_bytes"})
-    if (!j[k].is_null()) std::printf("  %-16s %llu\n", k, (unsigned long long)j[k].get<uint64_t>());
   return 0;
 }
 

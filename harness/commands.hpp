@@ -16,5 +16,6 @@ int command_convert(const Args& args);
 int command_accuracy(const Args& args);
 int command_anchor(const Args& args);
 int command_reconstruct(const Args& args);
+int command_crossover(const Args& args);
 
 }  // namespace pcrt

@@ -24,6 +24,8 @@ constexpr const char* kUsage =
     "same rays\n"
     "  reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]   global "
     "reconstruction (CGAL)\n"
+    "  crossover --data DATA --method ID [--reconstruction afsr --engine bvh] [--json]   frames "
+    "after which reconstruct + trace beats direct tracing\n"
     "  list [--json]               methods, structures, reconstructions, engines, generators, "
     "counters\n"
     "  convert DATA --out FILE.ply [--ascii]   write a dataset (e.g. a generated cloud) as PLY\n\n"
@@ -48,6 +50,7 @@ int main(int argc, char** argv) {
     if (cmd == "accuracy") return pcrt::command_accuracy(args);
     if (cmd == "anchor") return pcrt::command_anchor(args);
     if (cmd == "reconstruct") return pcrt::command_reconstruct(args);
+    if (cmd == "crossover") return pcrt::command_crossover(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);
       return 0;

@@ -1,0 +1,51 @@
+// Small pieces every command shares: JSON of parameters and counters, atomic JSON output, the
+// --threads limit.
+#pragma once
+
+#include <tbb/global_control.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/counters.hpp"
+#include "core/file_output.hpp"
+#include "core/params.hpp"
+#include "harness/cli_args.hpp"
+
+namespace pcrt {
+
+using nlohmann::json;
+
+inline json params_json(const std::vector<ParamSpec>& specs) {
+  json a = json::array();
+  for (const auto& p : specs)
+    a.push_back({{"name", p.name},
+                 {"default", p.default_value},
+                 {"min", p.min_value},
+                 {"max", p.max_value},
+                 {"integer", p.integer},
+                 {"description", p.description}});
+  return a;
+}
+
+inline json counters_json(const OpCounters& c) {
+  json j = json::object();
+  for (const auto& [name, value] : c.to_map()) j[name] = value;
+  return j;
+}
+
+inline void write_json(const std::string& path, const json& j) {
+  write_file_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+// --threads for every parallel phase (TBB's global limit).
+inline std::unique_ptr<tbb::global_control> limit_threads(const CliArgs& a) {
+  const long long t = a.integer("threads", 0, 0, 1024);
+  if (t == 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(t));
+}
+
+}  // namespace pcrt

@@ -1,0 +1,183 @@
+// The reconstruction side of the CLI: `pcrt reconstruct` (a global mesh from all N points) and
+// `pcrt crossover` (reconstruct + build + trace against a direct method's prepare + build + trace:
+// the frame count at which reconstruction pays off, thesis chapter 7).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "harness/command_helpers.hpp"
+#include "harness/commands.hpp"
+#include "harness/renderer.hpp"
+#include "harness/scene.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/reconstruction.hpp"
+
+namespace pcrt {
+
+int command_reconstruct(const Args& args) {
+  CliArgs a("reconstruct",
+            "pcrt reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]",
+            {{"method", "ID", "reconstruction id (pcrt list)"},
+             {"data", "DATA", "point cloud file or generator spec"},
+             {"out", "MESH.ply", "write the mesh (reconstructions that make one)"},
+             {"threads", "N", "worker threads (default: all cores)"},
+             {"json", "", "print JSON"}},
+            0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const ReconstructionInfo& info =
+      ReconstructionRegistry::instance().get(a.require("method"), "reconstruction");
+  const std::string data = a.require("data");
+  const Dataset d = load_dataset(data);
+  const ReconstructionReport r = info.run(d.cloud);
+  if (a.has("out")) {
+    if (r.mesh.triangles.empty())
+      input_error("pcrt reconstruct: --out: '{}' makes no triangle mesh", info.id);
+    write_mesh_ply(a.get("out"), r.mesh);
+  }
+  auto opt = [](const std::optional<uint64_t>& v) { return v ? json(*v) : json(nullptr); };
+  const json j = {{"method", r.method},
+                  {"dataset", data},
+                  {"points", r.points},
+                  {"vertices", r.vertices},
+                  {"seconds", r.seconds},
+                  {"memory_bytes", r.memory_bytes ? json(r.memory_bytes) : json(nullptr)},
+                  {"cells", opt(r.cells)},
+                  {"facets", opt(r.facets)},
+                  {"triangles", opt(r.triangles)},
+                  {"boundary_edges", opt(r.boundary_edges)}};
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s of %s: %zu points in %.3f s\n", r.method.c_str(), data.c_str(), r.points,
+              r.seconds);
+  for (const char* k : {"cells", "facets", "triangles", "boundary_edges", "memory_bytes"})
+    if (!j[k].is_null()) std::printf("  %-16s %llu\n", k, (unsigned long long)j[k].get<uint64_t>());
+  return 0;
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Median seconds per frame over `reps` frames of the same settings.
+double frame_seconds(const SceneIntersector& scene, const PointCloud& cloud,
+                     const RenderSettings& rs, int reps) {
+  std::vector<double> t;
+  for (int i = 0; i < reps; ++i) t.push_back(render(scene, cloud, rs).seconds);
+  return median(t);
+}
+
+}  // namespace
+
+int command_crossover(const Args& args) {
+  CliArgs a("crossover",
+            "pcrt crossover --data DATA --method ID [--structure ID] [--reconstruction afsr] "
+            "[--engine bvh] [--width W --height H --spp S --bounces B --reps R --frames F] [--json]",
+            {{"data", "DATA", "point cloud file or generator spec"},
+             {"method", "ID", "direct method"},
+             {"structure", "ID", "its structure (default: the paper's)"},
+             {"reconstruction", "ID", "reconstruction (default afsr)"},
+             {"engine", "ID", "triangle engine (default bvh)"},
+             {"width", "W", "default 512"},
+             {"height", "H", "default 512"},
+             {"spp", "S", "default 1"},
+             {"bounces", "B", "default 1"},
+             {"reps", "R", "frames measured per side, median taken (default 3)"},
+             {"frames", "F", "report the time to F frames too (default 100)"},
+             {"threads", "N", "worker threads (default: all cores)"},
+             {"json", "", "print JSON"}},
+            0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  RenderSettings rs;
+  rs.width = int(a.integer("width", 512, 1, 16384));
+  rs.height = int(a.integer("height", 512, 1, 16384));
+  rs.spp = int(a.integer("spp", 1, 1, 1 << 16));
+  rs.bounces = int(a.integer("bounces", 1, 0, 64));
+  rs.threads = int(a.integer("threads", 0, 0, 1024));
+  const int reps = int(a.integer("reps", 3, 1, 1000));
+  const long long frames = a.integer("frames", 100, 1, 1ll << 40);
+  const std::string data = a.require("data");
+  const Dataset d = load_dataset(data);
+
+  // Direct: prepare + build, then frames.
+  SceneOptions so;
+  so.method = a.require("method");
+  so.structure = a.get("structure");
+  Timings direct_t;
+  OpCounters direct_c;
+  const PointScene direct(d.cloud, so, direct_c, direct_t);
+  const double direct_setup = direct_t["prepare"] + direct_t["build"];
+  const double direct_frame = frame_seconds(direct, d.cloud, rs, reps);
+
+  // Reconstruction: reconstruct + engine build, then frames of the same camera (framed on the
+  // cloud's bounds, so both sides see the same rays).
+  const auto& info = ReconstructionRegistry::instance().get(
+      a.has("reconstruction") ? a.get("reconstruction") : "afsr", "reconstruction");
+  const ReconstructionReport rec = info.run(d.cloud);
+  if (rec.mesh.triangles.empty())
+    input_error("pcrt crossover: reconstruction '{}' makes no triangle mesh", info.id);
+  Timings mesh_t;
+  OpCounters mesh_c;
+  const std::string engine = a.has("engine") ? a.get("engine") : "bvh";
+  const MeshScene mesh(rec.mesh, engine, mesh_c, mesh_t);
+  const double mesh_setup = rec.seconds + mesh_t["build"];
+  rs.camera = Camera::framing(d.cloud.bounds(), rs.width, rs.height, rs.view, rs.up);
+  const double mesh_frame = frame_seconds(mesh, d.cloud, rs, reps);
+
+  // Reconstruction pays off after F* frames if its frames are cheaper: setup_r + F t_r <
+  // setup_d + F t_d.
+  json crossover = nullptr;
+  if (mesh_frame < direct_frame)
+    crossover = std::max(0.0, std::ceil((mesh_setup - direct_setup) / (direct_frame - mesh_frame)));
+  const json j = {
+      {"dataset", data},
+      {"N", d.cloud.size()},
+      {"M", rs.width * rs.height},
+      {"S", rs.spp},
+      {"B", rs.bounces},
+      {"direct",
+       {{"method", direct.method_info().id},
+        {"structure", direct.structure_id()},
+        {"prepare_s", direct_t["prepare"]},
+        {"build_s", direct_t["build"]},
+        {"frame_s", direct_frame},
+        {"first_frame_s", direct_setup + direct_frame},
+        {"frames_s", direct_setup + double(frames) * direct_frame}}},
+      {"reconstruction",
+       {{"method", info.id},
+        {"engine", engine},
+        {"triangles", rec.mesh.triangles.size()},
+        {"reconstruct_s", rec.seconds},
+        {"build_s", mesh_t["build"]},
+        {"frame_s", mesh_frame},
+        {"first_frame_s", mesh_setup + mesh_frame},
+        {"frames_s", mesh_setup + double(frames) * mesh_frame}}},
+      {"frames", frames},
+      {"crossover_frames", crossover}};
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s, N = %zu, %dx%d, S=%d B=%d\n", data.c_str(), d.cloud.size(), rs.width,
+              rs.height, rs.spp, rs.bounces);
+  std::printf("  direct %s on %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
+              direct.method_info().id.c_str(), direct.structure_id().c_str(), direct_setup,
+              direct_frame, direct_setup + direct_frame);
+  std::printf("  %s + %s: setup %.3f s, frame %.4f s, first frame %.3f s\n", info.id.c_str(),
+              engine.c_str(), mesh_setup, mesh_frame, mesh_setup + mesh_frame);
+  if (crossover.is_null())
+    std::printf("  reconstruction never pays off: its frames are not faster\n");
+  else
+    std::printf("  reconstruction pays off after %lld frames\n", crossover.get<long long>());
+  return 0;
+}
+
+}  // namespace pcrt
