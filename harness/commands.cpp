@@ -109,12 +109,13 @@ std::unique_ptr<LoadedScene> load_scene(const CliArgs& a, const char* command) {
   if (a.has("mesh")) {
     for (const char* o : {"method", "data", "structure", "set"})
       if (a.has(o)) input_error("pcrt {}: --{} does not apply to --mesh", command, o);
+    const std::string engine = a.has("engine") ? a.get("engine") : "bvh";
+    (void)MeshEngineRegistry::instance().get(engine, "mesh engine");  // names before work
     {
       ScopedTimer t(s->timings, "load");
       s->mesh = read_mesh(a.get("mesh"));
     }
     s->mesh_vertices.positions = s->mesh.vertices;
-    const std::string engine = a.has("engine") ? a.get("engine") : "bvh";
     s->triangles = std::make_unique<MeshScene>(s->mesh, engine, s->prepare, s->timings);
     s->params = {{"mesh", a.get("mesh")},
                  {"engine", engine},

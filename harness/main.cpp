@@ -58,7 +58,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "pcrt: unknown command '%s'\n%s", cmd.c_str(), kUsage);
     return 2;
   } catch (const pcrt::InputError& e) {
-    std::fprintf(stderr, "pcrt %s: error: %s\n", cmd.c_str(), e.what());
+    // Messages that already name the command are not prefixed twice.
+    std::string what = e.what();
+    const std::string own = "pcrt " + cmd + ": ";
+    if (what.rfind(own, 0) == 0) what.erase(0, own.size());
+    std::fprintf(stderr, "pcrt %s: error: %s\n", cmd.c_str(), what.c_str());
     return 1;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "pcrt %s: error: out of memory\n", cmd.c_str());

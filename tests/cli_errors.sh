@@ -27,7 +27,7 @@ printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n' >"$dir/rays.csv"
 expect_error "trunc.ply: truncated" info "$dir/trunc.ply"
 expect_error "nan.xyz: line 2" info "$dir/nan.xyz"
 expect_error "no such file" info "$dir/missing.ply"
-expect_error "not a generator" info "cube:n=5"
+expect_error "not a generator" info "cylinder:n=5"
 expect_error "unknown parameter 'q'" info "sphere:q=1"
 expect_error "unknown option '--bogus'" info sphere:n=10 --bogus
 expect_error "unknown method 'nope'" render --method nope --data sphere:n=100 --out "$dir/a.png"
@@ -47,6 +47,22 @@ expect_error "is a file; accuracy needs a generator" accuracy --method reference
 expect_error "traces through its own embree_bvh" trace --method embree_oriented_disc --structure kd_tree --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/h.csv"
 expect_error "--rays 0 is outside" accuracy --method reference_splat --data sphere:n=100 --rays 0
 expect_error "--data is required" anchor
+
+# Reconstruction and meshes.
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n' >"$dir/badface.ply"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' >"$dir/nofaces.ply"
+printf "0 0 0\n1 0 0\n0 1 0\n" >"$dir/three.xyz"
+expect_error "needs at least 4 points" reconstruct --method delaunay --data "$dir/three.xyz"
+expect_error "coplanar" reconstruct --method delaunay --data plane:n=100
+expect_error "coplanar" reconstruct --method afsr --data plane:n=100
+expect_error "unknown reconstruction 'poisson'" reconstruct --method poisson --data sphere:n=100
+expect_error "makes no triangle mesh" reconstruct --method delaunay --data sphere:n=100 --out "$dir/m.ply"
+expect_error "badface.ply: face 0 names vertex 7" render --mesh "$dir/badface.ply" --out "$dir/a.png"
+expect_error "nofaces.ply: the mesh has no faces" render --mesh "$dir/nofaces.ply" --out "$dir/a.png"
+expect_error "--method does not apply to --mesh" render --mesh "$dir/badface.ply" --method goradia_2010 --out "$dir/a.png"
+expect_error "unknown mesh engine 'nope'" trace --mesh "$dir/m.ply" --engine nope --rays "$dir/rays.csv" --out "$dir/h.csv"
+expect_error "--engine applies only to --mesh" render --method reference_splat --data sphere:n=100 --engine bvh --out "$dir/a.png"
+expect_error "density does not apply to skew_lines" info skew_lines:n=10,density=0.5
 
 # A failing run leaves an existing output untouched.
 echo "precious" >"$dir/keep.png"
