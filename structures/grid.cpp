@@ -43,6 +43,7 @@ class Grid final : public Structure {
       for_cells_of(i, [&](size_t c) { refs_[fill[c]++] = i; });
     counters.add(kBuildNodes, cells);
     counters.add(kBuildItemRefs, refs_.size());
+    counters.add(kBuildItemVisits, set.size() + refs_.size());
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,

@@ -47,6 +47,14 @@ class KdTree final : public Structure {
   explicit KdTree(const ParamValues& p)
       : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
 
+  // Sum over leaves of references x levels from the root (the build's partitioning work).
+  [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
+    if (nodes_.empty()) return 0;
+    const KdNode& n = nodes_[node];
+    if (n.axis == 3) return uint64_t(n.b) * level;
+    return item_visits(node + 1, level + 1) + item_visits(n.a, level + 1);
+  }
+
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
     bounds_ = items_.bounds();
@@ -60,6 +68,7 @@ class KdTree final : public Structure {
     refs_.shrink_to_fit();
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, refs_.size());
+    counters.add(kBuildItemVisits, item_visits(0, 1));
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,

@@ -42,6 +42,16 @@ class Octree final : public Structure {
     build_node(0, std::move(all), root_lo_, root_side_, 0);
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, refs_.size());
+    counters.add(kBuildItemVisits, item_visits(0, 1));
+  }
+
+  // Sum over leaves of references x levels from the root (the build's partitioning work).
+  [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
+    const OctNode& n = nodes_[node];
+    if (n.leaf()) return uint64_t(n.count) * level;
+    uint64_t sum = 0;
+    for (uint32_t c = 0; c < 8; ++c) sum += item_visits(n.first + c, level + 1);
+    return sum;
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,

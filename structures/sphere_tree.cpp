@@ -50,6 +50,14 @@ class SphereTree final : public Structure {
     if (!order_.empty()) build_node(0, uint32_t(order_.size()), 0);
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, order_.size());
+    counters.add(kBuildItemVisits, nodes_.empty() ? 0 : item_visits(0, 1));
+  }
+
+  // Sum over leaves of items x levels from the root (the build's partitioning work).
+  [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
+    const SphereNode& n = nodes_[node];
+    if (n.count > 0) return uint64_t(n.count) * level;
+    return item_visits(node + 1, level + 1) + item_visits(n.first, level + 1);
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,

@@ -92,6 +92,10 @@ inline const Counter kItemsVisited{"items_visited", "items (points) in the leave
 inline const Counter kBuildNodes{"build_nodes", "nodes (grid: cells) created by structure builds"};
 inline const Counter kBuildItemRefs{"build_item_refs",
                                     "item references stored in leaves (duplicates included)"};
+inline const Counter kBuildItemVisits{
+    "build_item_visits",
+    "item references handled by a build: each leaf reference once per level above it (the work "
+    "of a top-down build; the grid: items + references)"};
 
 // Whether a leaf entered at t_enter may still hold a hit nearer than hit_t. The slack absorbs
 // rounding between a hit point and the cell planes, so that a hit exactly on a cell boundary is

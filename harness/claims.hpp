@@ -1,0 +1,34 @@
+// The claims registry: every complexity claim of the thesis that the harness tests (DESIGN.md,
+// "Claims the harness tests"), each with its source. Structure and method claims are read from
+// their registrations; the rest are listed here. A claim's complexity string (as printed, e.g.
+// "O(SMB(log N + IK^2))") is parsed, so the growth expected in any one swept variable follows
+// from it (in K: x^2; in N: log x).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace pcrt {
+
+enum class Growth { kConstant, kLog, kLinear, kLinearLog, kQuadratic, kCubic };
+inline constexpr Growth kAllGrowths[] = {Growth::kConstant, Growth::kLog,       Growth::kLinear,
+                                         Growth::kLinearLog, Growth::kQuadratic, Growth::kCubic};
+
+const char* growth_name(Growth g);  // "1", "log x", "x", "x log x", "x^2", "x^3"
+// The growth of `complexity` (e.g. "O(MNIK + SBNIK)") in `variable` (one of S M B N K k I), the
+// others held fixed. Throws InputError if the string does not parse or lacks the variable.
+Growth expected_growth(const std::string& complexity, const std::string& variable);
+
+struct Claim {
+  std::string id;          // "<subject>/<what>", e.g. "kd_tree/build", "cai_2011/leaf"
+  std::string subject;     // a structure, method or reconstruction id; "*" for general claims
+  std::string statement;   // what is claimed, in words
+  std::string complexity;  // as printed in the thesis, or a threshold ("I <= 3", ">= 1 fps")
+  std::vector<std::string> variables;
+  std::string source;  // "Table 5.4", "section 5.5.2", ...
+};
+
+const std::vector<Claim>& all_claims();
+const Claim& find_claim(const std::string& id);  // InputError for an unknown id
+
+}  // namespace pcrt
