@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/error.hpp"
+#include "harness/workloads.hpp"
 #include "methods/method.hpp"
 #include "reconstruction/reconstruction.hpp"
 #include "structures/structure.hpp"
@@ -156,6 +157,9 @@ const std::vector<Claim>& all_claims() {
     c.push_back({"reconstruction/crossover", "*",
                  "direct tracing O((N + M) log N) beats reconstruct-then-trace O(N^2 + M log N)",
                  "crossover frames", {"N", "M"}, "chapter 7"});
+    for (const WorkloadInfo& w : workloads())
+      c.push_back({"calibration/" + w.id, "*", "calibration workload " + w.id, w.complexity,
+                   {"N"}, "known complexity (validates the fitter)"});
     return c;
   }();
   return claims;

@@ -17,5 +17,12 @@ int command_accuracy(const Args& args);
 int command_anchor(const Args& args);
 int command_reconstruct(const Args& args);
 int command_crossover(const Args& args);
+int command_sweep(const Args& args);
+int command_merge(const Args& args);
+int command_fit(const Args& args);
+int command_report(const Args& args);
+int command_calibrate(const Args& args);
+int command_check(const Args& args);
+int command_run_one(const Args& args);
 
 }  // namespace pcrt

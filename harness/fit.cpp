@@ -112,6 +112,19 @@ GrowthFit fit_growth(const std::vector<double>& x, const std::vector<double>& y,
       f.r2 = tss > 0 ? 1.0 - rss / tss : 1.0;
     }
   }
+  // Parsimony: the constant (one coefficient fewer) wins when it is within 2 AICc of the best, or
+  // when the best model changes y by under 10% across the whole x range (no growth to speak of).
+  if (f.best != Growth::kConstant) {
+    const double xmin = *std::min_element(x.begin(), x.end());
+    const size_t b = size_t(rank(f.best));
+    double ymean = 0;
+    for (double v : y) ymean += v / double(n);
+    const double change = f.slope[b] * (g(f.best, xmax) - g(f.best, xmin)) / g(f.best, xmax);
+    if (f.aicc[0] - best <= 2.0 || change < 0.1 * ymean) {
+      f.best = Growth::kConstant;
+      best = f.aicc[0];
+    }
+  }
   f.delta_aicc_expected = f.aicc[size_t(rank(expected))] - best;
   if (f.delta_aicc_expected <= 2.0)
     f.verdict = "consistent";

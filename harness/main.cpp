@@ -26,6 +26,12 @@ constexpr const char* kUsage =
     "reconstruction (CGAL)\n"
     "  crossover --data DATA --method ID [--reconstruction afsr --engine bvh] [--json]   frames "
     "after which reconstruct + trace beats direct tracing\n"
+    "  sweep CONFIG.json [--out DIR] [--resume] [--shard i/n] [--fit]   run a sweep\n"
+    "  merge DIR... --out DIR      join the shards of one sweep\n"
+    "  fit DIR                     fits and verdicts: DIR/fits.json, DIR/fits.csv\n"
+    "  report DIR                  DIR/report.md with plots (matplotlib)\n"
+    "  calibrate [--json]          the fitter on workloads of known complexity\n"
+    "  check --config C --baseline B [--tolerance P] [--update]   op-count regression gate\n"
     "  list [--json]               methods, structures, reconstructions, engines, generators, "
     "counters\n"
     "  convert DATA --out FILE.ply [--ascii]   write a dataset (e.g. a generated cloud) as PLY\n\n"
@@ -51,6 +57,13 @@ int main(int argc, char** argv) {
     if (cmd == "anchor") return pcrt::command_anchor(args);
     if (cmd == "reconstruct") return pcrt::command_reconstruct(args);
     if (cmd == "crossover") return pcrt::command_crossover(args);
+    if (cmd == "sweep") return pcrt::command_sweep(args);
+    if (cmd == "merge") return pcrt::command_merge(args);
+    if (cmd == "fit") return pcrt::command_fit(args);
+    if (cmd == "report") return pcrt::command_report(args);
+    if (cmd == "calibrate") return pcrt::command_calibrate(args);
+    if (cmd == "check") return pcrt::command_check(args);
+    if (cmd == "_run") return pcrt::command_run_one(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);
       return 0;

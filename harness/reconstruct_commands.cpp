@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
+#include "harness/crossover.hpp"
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
 #include "reconstruction/mesh_engine.hpp"
@@ -66,7 +67,6 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-// Median seconds per frame over `reps` frames of the same settings.
 double frame_seconds(const SceneIntersector& scene, const PointCloud& cloud,
                      const RenderSettings& rs, int reps) {
   std::vector<double> t;
@@ -75,6 +75,40 @@ double frame_seconds(const SceneIntersector& scene, const PointCloud& cloud,
 }
 
 }  // namespace
+
+CrossoverResult measure_crossover(const PointCloud& cloud, const SceneOptions& direct_options,
+                                  const std::string& reconstruction, const std::string& engine,
+                                  RenderSettings rs, int reps) {
+  CrossoverResult r;
+  const auto& info = ReconstructionRegistry::instance().get(reconstruction, "reconstruction");
+  (void)MeshEngineRegistry::instance().get(engine, "mesh engine");
+  Timings direct_t;
+  OpCounters direct_c;
+  const PointScene direct(cloud, direct_options, direct_c, direct_t);
+  r.method = direct.method_info().id;
+  r.structure = direct.structure_id();
+  r.direct_prepare_s = direct_t["prepare"];
+  r.direct_build_s = direct_t["build"];
+  rs.camera = Camera::framing(cloud.bounds(), rs.width, rs.height, rs.view, rs.up);
+  r.direct_frame_s = frame_seconds(direct, cloud, rs, reps);
+  const ReconstructionReport rec = info.run(cloud);
+  if (rec.mesh.triangles.empty())
+    input_error("crossover: reconstruction '{}' makes no triangle mesh", info.id);
+  Timings mesh_t;
+  OpCounters mesh_c;
+  const MeshScene mesh(rec.mesh, engine, mesh_c, mesh_t);
+  r.reconstruction = info.id;
+  r.engine = engine;
+  r.triangles = rec.mesh.triangles.size();
+  r.reconstruct_s = rec.seconds;
+  r.mesh_build_s = mesh_t["build"];
+  r.mesh_frame_s = frame_seconds(mesh, cloud, rs, reps);
+  // setup_r + F t_r < setup_d + F t_d once F exceeds this.
+  if (r.mesh_frame_s < r.direct_frame_s)
+    r.crossover_frames = std::max(
+        0.0, std::ceil((r.mesh_setup_s() - r.direct_setup_s()) / (r.direct_frame_s - r.mesh_frame_s)));
+  return r;
+}
 
 int command_crossover(const Args& args) {
   CliArgs a("crossover",
@@ -107,36 +141,13 @@ int command_crossover(const Args& args) {
   const std::string data = a.require("data");
   const Dataset d = load_dataset(data);
 
-  // Direct: prepare + build, then frames.
   SceneOptions so;
   so.method = a.require("method");
   so.structure = a.get("structure");
-  Timings direct_t;
-  OpCounters direct_c;
-  const PointScene direct(d.cloud, so, direct_c, direct_t);
-  const double direct_setup = direct_t["prepare"] + direct_t["build"];
-  const double direct_frame = frame_seconds(direct, d.cloud, rs, reps);
-
-  // Reconstruction: reconstruct + engine build, then frames of the same camera (framed on the
-  // cloud's bounds, so both sides see the same rays).
-  const auto& info = ReconstructionRegistry::instance().get(
-      a.has("reconstruction") ? a.get("reconstruction") : "afsr", "reconstruction");
-  const ReconstructionReport rec = info.run(d.cloud);
-  if (rec.mesh.triangles.empty())
-    input_error("pcrt crossover: reconstruction '{}' makes no triangle mesh", info.id);
-  Timings mesh_t;
-  OpCounters mesh_c;
-  const std::string engine = a.has("engine") ? a.get("engine") : "bvh";
-  const MeshScene mesh(rec.mesh, engine, mesh_c, mesh_t);
-  const double mesh_setup = rec.seconds + mesh_t["build"];
-  rs.camera = Camera::framing(d.cloud.bounds(), rs.width, rs.height, rs.view, rs.up);
-  const double mesh_frame = frame_seconds(mesh, d.cloud, rs, reps);
-
-  // Reconstruction pays off after F* frames if its frames are cheaper: setup_r + F t_r <
-  // setup_d + F t_d.
-  json crossover = nullptr;
-  if (mesh_frame < direct_frame)
-    crossover = std::max(0.0, std::ceil((mesh_setup - direct_setup) / (direct_frame - mesh_frame)));
+  const CrossoverResult r =
+      measure_crossover(d.cloud, so, a.has("reconstruction") ? a.get("reconstruction") : "afsr",
+                        a.has("engine") ? a.get("engine") : "bvh", rs, reps);
+  const json crossover = r.crossover_frames ? json(*r.crossover_frames) : json(nullptr);
   const json j = {
       {"dataset", data},
       {"N", d.cloud.size()},
@@ -144,22 +155,22 @@ int command_crossover(const Args& args) {
       {"S", rs.spp},
       {"B", rs.bounces},
       {"direct",
-       {{"method", direct.method_info().id},
-        {"structure", direct.structure_id()},
-        {"prepare_s", direct_t["prepare"]},
-        {"build_s", direct_t["build"]},
-        {"frame_s", direct_frame},
-        {"first_frame_s", direct_setup + direct_frame},
-        {"frames_s", direct_setup + double(frames) * direct_frame}}},
+       {{"method", r.method},
+        {"structure", r.structure},
+        {"prepare_s", r.direct_prepare_s},
+        {"build_s", r.direct_build_s},
+        {"frame_s", r.direct_frame_s},
+        {"first_frame_s", r.direct_setup_s() + r.direct_frame_s},
+        {"frames_s", r.direct_setup_s() + double(frames) * r.direct_frame_s}}},
       {"reconstruction",
-       {{"method", info.id},
-        {"engine", engine},
-        {"triangles", rec.mesh.triangles.size()},
-        {"reconstruct_s", rec.seconds},
-        {"build_s", mesh_t["build"]},
-        {"frame_s", mesh_frame},
-        {"first_frame_s", mesh_setup + mesh_frame},
-        {"frames_s", mesh_setup + double(frames) * mesh_frame}}},
+       {{"method", r.reconstruction},
+        {"engine", r.engine},
+        {"triangles", r.triangles},
+        {"reconstruct_s", r.reconstruct_s},
+        {"build_s", r.mesh_build_s},
+        {"frame_s", r.mesh_frame_s},
+        {"first_frame_s", r.mesh_setup_s() + r.mesh_frame_s},
+        {"frames_s", r.mesh_setup_s() + double(frames) * r.mesh_frame_s}}},
       {"frames", frames},
       {"crossover_frames", crossover}};
   if (a.has("json")) {
@@ -169,10 +180,11 @@ int command_crossover(const Args& args) {
   std::printf("%s, N = %zu, %dx%d, S=%d B=%d\n", data.c_str(), d.cloud.size(), rs.width,
               rs.height, rs.spp, rs.bounces);
   std::printf("  direct %s on %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
-              direct.method_info().id.c_str(), direct.structure_id().c_str(), direct_setup,
-              direct_frame, direct_setup + direct_frame);
-  std::printf("  %s + %s: setup %.3f s, frame %.4f s, first frame %.3f s\n", info.id.c_str(),
-              engine.c_str(), mesh_setup, mesh_frame, mesh_setup + mesh_frame);
+              r.method.c_str(), r.structure.c_str(), r.direct_setup_s(), r.direct_frame_s,
+              r.direct_setup_s() + r.direct_frame_s);
+  std::printf("  %s + %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
+              r.reconstruction.c_str(), r.engine.c_str(), r.mesh_setup_s(), r.mesh_frame_s,
+              r.mesh_setup_s() + r.mesh_frame_s);
   if (crossover.is_null())
     std::printf("  reconstruction never pays off: its frames are not faster\n");
   else

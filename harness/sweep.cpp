@@ -1,0 +1,787 @@
+#include "harness/sweep.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/file_output.hpp"
+#include "core/rng.hpp"
+#include "harness/claims.hpp"
+#include "harness/command_helpers.hpp"
+#include "harness/crossover.hpp"
+#include "harness/fit.hpp"
+#include "harness/renderer.hpp"
+#include "harness/scene.hpp"
+#include "harness/workloads.hpp"
+#include "methods/method.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/reconstruction.hpp"
+
+extern char** environ;
+
+namespace pcrt {
+namespace {
+
+const std::set<std::string> kKinds = {"render", "build", "reconstruct", "workload", "crossover"};
+const std::set<std::string> kGridVariables = {"N", "M", "S", "B"};
+
+void check_keys(const json& obj, const std::set<std::string>& allowed, const std::string& where) {
+  if (!obj.is_object()) input_error("{}: must be an object", where);
+  for (const auto& [k, v] : obj.items())
+    if (!allowed.count(k) && k.rfind("set.", 0) != 0)
+      input_error("{}: unknown key '{}'", where, k);
+}
+
+std::vector<std::string> string_list(const json& v, const std::string& where) {
+  std::vector<std::string> out;
+  if (v.is_string()) return {v.get<std::string>()};
+  if (!v.is_array() || v.empty()) input_error("{}: must be a non-empty list of names", where);
+  for (const auto& e : v) {
+    if (!e.is_string()) input_error("{}: must be a list of names", where);
+    out.push_back(e.get<std::string>());
+  }
+  return out;
+}
+
+std::vector<double> number_list(const json& v, const std::string& where) {
+  std::vector<double> out;
+  const json list = v.is_array() ? v : json::array({v});
+  if (list.empty()) input_error("{}: empty list", where);
+  for (const auto& e : list) {
+    if (!e.is_number() || !std::isfinite(e.get<double>()))
+      input_error("{}: '{}' is not a number", where, e.dump());
+    out.push_back(e.get<double>());
+  }
+  return out;
+}
+
+bool is_generator(const std::string& base) {
+  const std::string name = base.substr(0, base.find(':'));
+  for (const auto& g : generators())
+    if (g.name == name) return true;
+  return false;
+}
+
+std::string generator_spec(const std::string& base, double n) {
+  return base + (base.find(':') == std::string::npos ? ":" : ",") + "n=" +
+         std::to_string(static_cast<long long>(n));
+}
+
+// The cloud of a run: a generator at N points, or N points drawn from a file without
+// replacement (seeded, so every run of the same spec sees the same subset).
+PointCloud run_cloud(const std::string& base, double n, uint64_t seed) {
+  if (is_generator(base)) return load_dataset(generator_spec(base, n)).cloud;
+  PointCloud full = load_dataset(base).cloud;
+  const auto want = static_cast<size_t>(n);
+  if (want > full.size())
+    input_error("{}: N = {} but the file has {} points", base, want, full.size());
+  if (want == full.size()) return full;
+  std::vector<uint32_t> idx(full.size());
+  for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  Rng rng(seed, 0x5ab5);
+  for (size_t i = 0; i < want; ++i) std::swap(idx[i], idx[i + rng.below(uint32_t(idx.size() - i))]);
+  idx.resize(want);
+  std::sort(idx.begin(), idx.end());
+  return full.subset(idx);
+}
+
+// Splits "set.x" values between the method and the structure and checks them as a run would.
+void validate_params(const std::string& method, const std::string& structure,
+                     const ParamValues& set, const std::string& where) {
+  const MethodInfo& m = MethodRegistry::instance().get(method, "method");
+  ParamValues mp, sp;
+  const std::string sid = structure.empty() ? m.structure : structure;
+  const StructureInfo* s =
+      m.own_structure.empty() ? &StructureRegistry::instance().get(sid, "structure") : nullptr;
+  for (const auto& [k, v] : set) {
+    const bool in_m = std::any_of(m.params.begin(), m.params.end(), [&](auto& p) { return p.name == k; });
+    const bool in_s = s && std::any_of(s->params.begin(), s->params.end(), [&](auto& p) { return p.name == k; });
+    if (!in_m && !in_s) input_error("{}: set.{} is not a parameter of {} or {}", where, k, method, sid);
+    (in_m ? mp : sp)[k] = v;
+  }
+  resolve_params(m.params, mp, where + " (" + method + ")");
+  if (s) resolve_params(s->params, sp, where + " (" + sid + ")");
+}
+
+std::vector<std::string> resolve_methods(const json& e, const std::string& where) {
+  std::vector<std::string> ids;
+  for (const std::string& id : string_list(e.value("methods", json("*")), where + ".methods")) {
+    if (id == "*") {
+      for (const auto& m : MethodRegistry::instance().all()) ids.push_back(m.id);
+    } else {
+      (void)MethodRegistry::instance().get(id, "method");
+      ids.push_back(id);
+    }
+  }
+  return ids;
+}
+
+std::vector<std::string> resolve_structures(const json& e, const MethodInfo& m,
+                                            const std::string& where) {
+  std::vector<std::string> ids;
+  if (!m.own_structure.empty()) return {""};  // traces through its own acceleration
+  for (const std::string& id :
+       string_list(e.value("structures", json("default")), where + ".structures")) {
+    if (id == "default") {
+      ids.push_back(m.structure);
+    } else if (id == "*") {
+      for (const auto& s : StructureRegistry::instance().all())
+        if (s.id != "brute_force" || m.structure == "brute_force") ids.push_back(s.id);
+    } else {
+      (void)StructureRegistry::instance().get(id, "structure");
+      ids.push_back(id);
+    }
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+// The grid's points: the cartesian product of every list (N, M, S, B, set.*), or "points".
+std::vector<json> grid_points(const json& e, const std::string& where) {
+  std::vector<json> points{json::object()};
+  if (e.contains("points")) {
+    if (!e["points"].is_array() || e["points"].empty())
+      input_error("{}.points: must be a non-empty list of objects", where);
+    std::vector<json> out;
+    for (const auto& p : e["points"]) {
+      check_keys(p, kGridVariables, where + ".points");
+      out.push_back(p);
+    }
+    return out;
+  }
+  const json grid = e.value("grid", json::object());
+  check_keys(grid, kGridVariables, where + ".grid");
+  for (const auto& [key, values] : grid.items()) {
+    std::vector<json> next;
+    for (double v : number_list(values, where + ".grid." + key))
+      for (json p : points) {
+        p[key] = v;
+        next.push_back(p);
+      }
+    points = std::move(next);
+  }
+  return points;
+}
+
+void check_point_values(const json& p, const std::string& kind, const std::string& where) {
+  auto positive_int = [&](const char* key, double max) {
+    if (!p.contains(key)) return;
+    const double v = p[key].get<double>();
+    if (!(v >= 1 && v <= max && v == std::floor(v)))
+      input_error("{}: {} = {} is impossible (a whole number in [1, {}])", where, key, v, max);
+  };
+  positive_int("N", 2e8);
+  positive_int("M", 16384.0 * 16384.0);
+  positive_int("S", 65536);
+  if (p.contains("B")) {
+    const double b = p["B"].get<double>();
+    if (!(b >= 0 && b <= 64 && b == std::floor(b)))
+      input_error("{}: B = {} is impossible (a whole number in [0, 64])", where, b);
+  }
+  if (kind != "workload" && kind != "reconstruct" && !p.contains("N"))
+    input_error("{}: no N given (grid.N or points[].N)", where);
+}
+
+FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
+  check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min"}, where);
+  FitSpec s;
+  s.experiment = experiment;
+  if (!f.contains("claim") || !f["claim"].is_string()) input_error("{}: 'claim' is required", where);
+  s.claim = f["claim"].get<std::string>();
+  s.variable = f.value("variable", std::string());
+  s.x = f.value("x", s.variable);
+  if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
+  s.metric = string_list(f["metric"], where + ".metric");
+  s.per = f.value("per", std::string());
+  s.max = f.value("max", -1.0);
+  s.min = f.value("min", -1.0);
+  if (s.max < 0 && s.min < 0 && s.variable.empty())
+    input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
+  if (!s.variable.empty() && std::string("SMBNKkI").find(s.variable) == std::string::npos)
+    input_error("{}: variable '{}' is not one of S M B N K k I", where, s.variable);
+  return s;
+}
+
+}  // namespace
+
+SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
+  check_keys(raw, {"name", "description", "threads", "repetitions", "warmup", "time_limit_s",
+                   "measure", "seed", "experiments"},
+             origin);
+  SweepConfig c;
+  c.raw = raw;
+  c.name = raw.value("name", std::filesystem::path(origin).stem().string());
+  const double threads = raw.value("threads", 2.0), reps = raw.value("repetitions", 1.0),
+               warmup = raw.value("warmup", 0.0), seed = raw.value("seed", 1.0);
+  c.time_limit_s = raw.value("time_limit_s", 300.0);
+  if (!(threads >= 1 && threads <= 1024)) input_error("{}: threads = {} is impossible", origin, threads);
+  if (!(reps >= 1 && reps <= 1000)) input_error("{}: repetitions = {} is impossible", origin, reps);
+  if (!(warmup >= 0 && warmup <= 100)) input_error("{}: warmup = {} is impossible", origin, warmup);
+  if (!(c.time_limit_s > 0)) input_error("{}: time_limit_s must be positive", origin);
+  const std::string measure = raw.value("measure", std::string("both"));
+  if (measure != "both" && measure != "ops" && measure != "time")
+    input_error("{}: measure must be 'ops', 'time' or 'both', not '{}'", origin, measure);
+  if (!raw.contains("experiments") || !raw["experiments"].is_array() || raw["experiments"].empty())
+    input_error("{}: 'experiments' must be a non-empty list", origin);
+  std::set<std::string> names;
+  for (size_t i = 0; i < raw["experiments"].size(); ++i) {
+    const json& e = raw["experiments"][i];
+    const std::string where = fmt::format("{}: experiments[{}]", origin, i);
+    check_keys(e, {"name", "description", "kind", "methods", "structures", "datasets", "grid",
+                   "points", "reconstructions", "engine", "workloads", "fits", "repetitions"},
+               where);
+    const std::string name = e.value("name", fmt::format("experiment{}", i));
+    if (!names.insert(name).second) input_error("{}: name '{}' used twice", where, name);
+    const std::string kind = e.value("kind", std::string());
+    if (!kKinds.count(kind))
+      input_error("{}: kind must be render, build, reconstruct, workload or crossover, not '{}'",
+                  where, kind);
+    ParamValues set;
+    for (const auto& [k, v] : e.items())
+      if (k.rfind("set.", 0) == 0) {
+        if (!v.is_number()) input_error("{}: {} must be a number", where, k);
+        set[k.substr(4)] = v.get<double>();
+      }
+    const std::vector<json> points = grid_points(e, where);
+    for (const json& p : points) check_point_values(p, kind, where);
+    const int run_reps = int(e.value("repetitions", reps));
+    json base = {{"experiment", name}, {"kind", kind},          {"reps", run_reps},
+                 {"warmup", int(warmup)}, {"threads", int(threads)}, {"seed", uint64_t(seed)},
+                 {"measure", measure}};
+    std::vector<std::string> datasets;
+    if (kind != "workload") {
+      datasets = string_list(e.value("datasets", json()), where + ".datasets");
+      for (const std::string& d : datasets) {
+        if (is_generator(d)) {
+          (void)parse_generator_spec(generator_spec(d, 10), nullptr);
+        } else {
+          const PointCloud full = load_dataset(d).cloud;
+          for (const json& p : points)
+            if (p.contains("N") && p["N"].get<double>() > double(full.size()))
+              input_error("{}: N = {} but {} has {} points", where, p["N"].get<double>(), d,
+                          full.size());
+        }
+      }
+    }
+    auto emit = [&](json spec) {
+      for (const json& p : points) {
+        json s = spec;
+        for (const auto& [k, v] : p.items()) s[k] = v;
+        c.runs.push_back(s);
+      }
+    };
+    if (kind == "render" || kind == "build" || kind == "crossover") {
+      const json default_methods = kind == "build" ? json("reference_splat") : json("*");
+      json e2 = e;
+      if (!e.contains("methods")) e2["methods"] = default_methods;
+      for (const std::string& m : resolve_methods(e2, where)) {
+        const MethodInfo& info = MethodRegistry::instance().get(m, "method");
+        for (const std::string& s : resolve_structures(e, info, where)) {
+          validate_params(m, s, set, where);
+          for (const std::string& d : datasets) {
+            json spec = base;
+            spec.update({{"dataset", d}, {"method", m}, {"structure", s}, {"set", set}});
+            if (kind == "crossover") {
+              spec["reconstruction"] = e.value("reconstructions", json("afsr")).is_array()
+                                           ? e["reconstructions"][0]
+                                           : e.value("reconstructions", json("afsr"));
+              spec["engine"] = e.value("engine", std::string("bvh"));
+              (void)ReconstructionRegistry::instance().get(spec["reconstruction"], "reconstruction");
+              (void)MeshEngineRegistry::instance().get(spec["engine"], "mesh engine");
+            }
+            emit(spec);
+          }
+        }
+      }
+    } else if (kind == "reconstruct") {
+      for (const std::string& r :
+           string_list(e.value("reconstructions", json()), where + ".reconstructions")) {
+        (void)ReconstructionRegistry::instance().get(r, "reconstruction");
+        for (const std::string& d : datasets) {
+          json spec = base;
+          spec.update({{"dataset", d}, {"reconstruction", r}});
+          emit(spec);
+        }
+      }
+    } else {  // workload
+      for (const std::string& w : string_list(e.value("workloads", json()), where + ".workloads")) {
+        if (std::none_of(workloads().begin(), workloads().end(), [&](auto& x) { return x.id == w; }))
+          input_error("{}: unknown workload '{}'", where, w);
+        json spec = base;
+        spec["workload"] = w;
+        emit(spec);
+      }
+    }
+    if (e.contains("fits")) {
+      if (!e["fits"].is_array()) input_error("{}.fits: must be a list", where);
+      for (size_t f = 0; f < e["fits"].size(); ++f)
+        c.fits.push_back(parse_fit(e["fits"][f], name, fmt::format("{}.fits[{}]", where, f)));
+    }
+  }
+  return c;
+}
+
+SweepConfig load_sweep_config(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) input_error("{}: cannot open", path);
+  json raw;
+  try {
+    raw = json::parse(in);
+  } catch (const json::exception& e) {
+    input_error("{}: not valid JSON: {}", path, e.what());
+  }
+  try {
+    return parse_sweep_config(raw, path);
+  } catch (const json::exception& e) {
+    input_error("{}: wrong type: {}", path, e.what());
+  }
+}
+
+std::string run_key(const json& spec) {
+  json s = spec;
+  for (const char* k : {"status", "error", "counters", "prepare_counters", "times_s", "extra",
+                        "time_median_s", "time_min_s", "time_max_s", "time_spread"})
+    s.erase(k);
+  return s.dump();
+}
+
+namespace {
+
+void summarize_times(json& r, std::vector<double> t) {
+  r["times_s"] = t;
+  std::sort(t.begin(), t.end());
+  const double med = t.empty() ? 0 : t[t.size() / 2];
+  r["time_median_s"] = med;
+  r["time_min_s"] = t.empty() ? 0 : t.front();
+  r["time_max_s"] = t.empty() ? 0 : t.back();
+  r["time_spread"] = med > 0 ? (t.back() - t.front()) / med : 0.0;
+}
+
+RenderSettings render_settings(const json& spec) {
+  RenderSettings rs;
+  const double m = spec.value("M", 64.0 * 64.0);
+  rs.width = rs.height = std::max(1, int(std::lround(std::sqrt(m))));
+  rs.spp = int(spec.value("S", 1.0));
+  rs.bounces = int(spec.value("B", 1.0));
+  rs.threads = spec.value("threads", 2);
+  rs.seed = spec.value("seed", uint64_t(1));
+  return rs;
+}
+
+}  // namespace
+
+json execute_run(const json& spec) {
+  json r = spec;
+  const std::string kind = spec.at("kind");
+  const int reps = spec.value("reps", 1), warmup = spec.value("warmup", 0);
+  const uint64_t seed = spec.value("seed", uint64_t(1));
+  std::vector<double> times;
+  json extra = json::object();
+  if (kind == "workload") {
+    OpCounters first;
+    for (int i = 0; i < warmup + reps; ++i) {
+      OpCounters c;
+      const double s = run_workload(spec.at("workload"), size_t(spec.at("N").get<double>()), seed, c);
+      if (i >= warmup) times.push_back(s);
+      if (i == 0) first = c;
+    }
+    r["counters"] = counters_json(first);
+  } else {
+    const PointCloud cloud = run_cloud(spec.at("dataset"), spec.value("N", 0.0), seed);
+    r["N"] = cloud.size();
+    if (kind == "reconstruct") {
+      const auto& info = ReconstructionRegistry::instance().get(spec.at("reconstruction"), "reconstruction");
+      json counts;
+      for (int i = 0; i < warmup + reps; ++i) {
+        const ReconstructionReport rec = info.run(cloud);
+        if (i >= warmup) times.push_back(rec.seconds);
+        counts = json::object();
+        for (const auto& [k, v] : std::map<std::string, std::optional<uint64_t>>{
+                 {"cells", rec.cells}, {"facets", rec.facets}, {"triangles", rec.triangles},
+                 {"boundary_edges", rec.boundary_edges}})
+          if (v) counts[k] = *v;
+        counts["vertices"] = rec.vertices;
+        extra["memory_bytes"] = rec.memory_bytes;
+      }
+      r["counters"] = counts;
+    } else {
+      SceneOptions so;
+      so.method = spec.at("method");
+      so.structure = spec.at("structure");
+      for (const auto& [k, v] : spec.at("set").items()) so.set[k] = v.get<double>();
+      const RenderSettings rs = render_settings(spec);
+      if (kind == "crossover") {
+        const CrossoverResult x = measure_crossover(cloud, so, spec.at("reconstruction"),
+                                                    spec.at("engine"), rs, reps);
+        extra = {{"direct_setup_s", x.direct_setup_s()}, {"direct_frame_s", x.direct_frame_s},
+                 {"mesh_setup_s", x.mesh_setup_s()},     {"mesh_frame_s", x.mesh_frame_s},
+                 {"reconstruct_s", x.reconstruct_s},     {"triangles", x.triangles},
+                 {"crossover_frames", x.crossover_frames ? json(*x.crossover_frames) : json(nullptr)}};
+        times.push_back(x.mesh_setup_s() + x.mesh_frame_s);
+        r["counters"] = json::object();
+      } else {
+        OpCounters prep, frame;
+        for (int i = 0; i < warmup + reps; ++i) {
+          Timings t;
+          OpCounters p;
+          const PointScene scene(cloud, so, p, t);
+          if (i == 0) prep = p;
+          if (kind == "build") {
+            if (i >= warmup) times.push_back(t["build"]);
+            extra["prepare_s"] = t["prepare"];
+            extra["structure_bytes"] = scene.structure_bytes();
+            continue;
+          }
+          RenderResult res = render(scene, cloud, rs);
+          if (i >= warmup) times.push_back(res.seconds);
+          if (i == 0) frame = res.counters;
+          extra["prepare_s"] = t["prepare"];
+          extra["build_s"] = t["build"];
+          extra["structure_bytes"] = scene.structure_bytes();
+        }
+        r["counters"] = counters_json(frame);
+        r["prepare_counters"] = counters_json(prep);
+        r["M"] = rs.width * rs.height;
+      }
+    }
+  }
+  summarize_times(r, times);
+  r["extra"] = extra;
+  r["status"] = "ok";
+  return r;
+}
+
+json run_in_child(const json& spec, double time_limit_s) {
+  int out_pipe[2], err_pipe[2];
+  if (pipe(out_pipe) != 0 || pipe(err_pipe) != 0) input_error("sweep: cannot create a pipe");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, out_pipe[1], 1);
+  posix_spawn_file_actions_adddup2(&actions, err_pipe[1], 2);
+  posix_spawn_file_actions_addclose(&actions, out_pipe[0]);
+  posix_spawn_file_actions_addclose(&actions, err_pipe[0]);
+  const std::string arg = spec.dump();
+  std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
+  char* argv[] = {exe.data(), const_cast<char*>("_run"), const_cast<char*>(arg.c_str()), nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(out_pipe[1]);
+  close(err_pipe[1]);
+  if (rc != 0) input_error("sweep: cannot start {}: {}", exe, std::strerror(rc));
+  std::string out, err;
+  const auto start = std::chrono::steady_clock::now();
+  bool timed_out = false;
+  int status = 0;
+  pollfd fds[2] = {{out_pipe[0], POLLIN, 0}, {err_pipe[0], POLLIN, 0}};
+  bool open_out = true, open_err = true;
+  char buf[65536];
+  while (open_out || open_err) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!timed_out && elapsed > time_limit_s) {
+      kill(pid, SIGKILL);
+      timed_out = true;
+    }
+    if (poll(fds, 2, 100) <= 0) continue;
+    for (int i = 0; i < 2; ++i) {
+      if (!(fds[i].revents & (POLLIN | POLLHUP))) continue;
+      const ssize_t n = read(fds[i].fd, buf, sizeof(buf));
+      if (n > 0) {
+        (i == 0 ? out : err).append(buf, size_t(n));
+      } else {
+        (i == 0 ? open_out : open_err) = false;
+        fds[i].fd = -1;
+      }
+    }
+  }
+  close(out_pipe[0]);
+  close(err_pipe[0]);
+  waitpid(pid, &status, 0);
+  json r = spec;
+  if (timed_out) {
+    r["status"] = "timeout";
+    r["error"] = fmt::format("exceeded the time limit of {} s", time_limit_s);
+    return r;
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    try {
+      return json::parse(out);
+    } catch (const json::exception&) {
+      r["status"] = "failed";
+      r["error"] = "the run printed no valid JSON";
+      return r;
+    }
+  }
+  while (!err.empty() && err.back() == '\n') err.pop_back();
+  const size_t nl = err.rfind('\n');
+  r["status"] = "failed";
+  r["error"] = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
+                                   : (nl == std::string::npos ? err : err.substr(nl + 1));
+  return r;
+}
+
+json run_row(const json& r) {
+  json row = json::object();
+  for (const char* k : {"experiment", "kind", "method", "structure", "dataset", "reconstruction",
+                        "engine", "workload", "status", "error"})
+    row[k] = r.value(k, json(""));
+  for (const char* k : {"N", "M", "S", "B"}) row[k] = r.contains(k) ? r[k] : json(nullptr);
+  const json set = r.value("set", json::object());
+  const json counters = r.value("counters", json::object());
+  // K: the method's K when it has one, else the measured mean items per visited leaf.
+  if (set.contains("K"))
+    row["K"] = set["K"];
+  else if (counters.value("leaves_visited", 0.0) > 0)
+    row["K"] = counters.value("items_visited", 0.0) / counters.value("leaves_visited", 1.0);
+  else
+    row["K"] = nullptr;
+  row["k"] = set.contains("k") ? set["k"] : json(nullptr);
+  row["I"] = set.contains("max_iterations") ? set["max_iterations"] : json(nullptr);
+  for (const auto& [k, v] : set.items()) row["set_" + k] = v;
+  for (const auto& [k, v] : counters.items()) row["ops_" + k] = v;
+  for (const auto& [k, v] : r.value("prepare_counters", json::object()).items())
+    row["ops_prep_" + k] = v;
+  for (const char* k : {"time_median_s", "time_min_s", "time_max_s", "time_spread"})
+    row[k] = r.contains(k) ? r[k] : json(nullptr);
+  for (const auto& [k, v] : r.value("extra", json::object()).items()) row[k] = v;
+  return row;
+}
+
+void write_runs_csv(const std::string& path, const std::vector<json>& results) {
+  std::vector<json> rows;
+  std::vector<std::string> columns = {"experiment", "kind", "method", "structure", "dataset",
+                                      "reconstruction", "engine", "workload", "N", "M", "S", "B",
+                                      "K", "k", "I"};
+  std::set<std::string> seen(columns.begin(), columns.end()), rest;
+  for (const json& r : results) {
+    rows.push_back(run_row(r));
+    for (const auto& [k, v] : rows.back().items())
+      if (!seen.count(k)) rest.insert(k);
+  }
+  // Parameters, then counters, then times and the rest, each alphabetically.
+  auto take = [&](auto pred) {
+    for (const std::string& k : rest)
+      if (pred(k)) columns.push_back(k);
+  };
+  take([](const std::string& k) { return k.rfind("set_", 0) == 0; });
+  take([](const std::string& k) { return k.rfind("ops_", 0) == 0; });
+  take([](const std::string& k) { return k.rfind("time_", 0) == 0; });
+  take([](const std::string& k) {
+    return k.rfind("set_", 0) != 0 && k.rfind("ops_", 0) != 0 && k.rfind("time_", 0) != 0 &&
+           k != "status" && k != "error";
+  });
+  columns.push_back("status");
+  columns.push_back("error");
+  auto cell = [](const json& v) -> std::string {
+    if (v.is_null()) return "";
+    if (v.is_string()) {
+      std::string s = v.get<std::string>();
+      if (s.find_first_of(",\"\n") == std::string::npos) return s;
+      std::string q = "\"";
+      for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+      return q + "\"";
+    }
+    if (v.is_number_float()) return fmt::format("{:.9g}", v.get<double>());
+    return v.dump();
+  };
+  write_file_atomically(path, [&](std::ostream& o) {
+    for (size_t i = 0; i < columns.size(); ++i) o << (i ? "," : "") << columns[i];
+    o << '\n';
+    for (const json& row : rows) {
+      for (size_t i = 0; i < columns.size(); ++i)
+        o << (i ? "," : "") << cell(row.value(columns[i], json(nullptr)));
+      o << '\n';
+    }
+  });
+}
+
+std::vector<json> read_runs_jsonl(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) input_error("{}: cannot open", path);
+  std::vector<json> runs;
+  std::string line;
+  size_t n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty()) continue;
+    try {
+      runs.push_back(json::parse(line));
+    } catch (const json::exception&) {
+      // A sweep killed mid-write leaves at most a truncated last line: that run is redone.
+      if (in.peek() == EOF) break;
+      input_error("{}: line {} is not valid JSON", path, n);
+    }
+  }
+  return runs;
+}
+
+json machine_context(const json& config) {
+  auto first_line_of = [](const std::string& file, const std::string& key) {
+    std::ifstream in(file);
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind(key, 0) == 0) {
+        const size_t colon = line.find(':');
+        std::string v = colon == std::string::npos ? line : line.substr(colon + 1);
+        v.erase(0, v.find_first_not_of(" \t"));
+        return v;
+      }
+    return std::string();
+  };
+  auto read_all = [](const std::string& file) {
+    std::ifstream in(file);
+    std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    return s;
+  };
+  std::string commit = read_all(std::string(PCRT_SOURCE_DIR) + "/.git/HEAD");
+  if (commit.rfind("ref: ", 0) == 0)
+    commit = read_all(std::string(PCRT_SOURCE_DIR) + "/.git/" + commit.substr(5));
+  return {{"machine",
+           {{"cpu", first_line_of("/proc/cpuinfo", "model name")},
+            {"cores", std::thread::hardware_concurrency()},
+            {"memory", first_line_of("/proc/meminfo", "MemTotal")},
+            {"governor", read_all("/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor")}}},
+          {"compiler", fmt::format("{} {}", PCRT_COMPILER_ID, PCRT_COMPILER_VERSION)},
+          {"flags", PCRT_CXX_FLAGS},
+          {"build_type", PCRT_BUILD_TYPE},
+          {"dependencies", PCRT_DEPENDENCY_VERSIONS},
+          {"git_commit", commit},
+          {"config", config}};
+}
+
+namespace {
+
+double column(const json& row, const std::string& name) {
+  if (name == "time") return row.value("time_median_s", 0.0);
+  if (name == "fps") {
+    const double t = row.value("time_median_s", 0.0);
+    return t > 0 ? 1.0 / t : 0.0;
+  }
+  const json v = row.value(name, json(nullptr));
+  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string substitute(std::string s, const json& row) {
+  for (const char* k : {"method", "structure", "reconstruction", "workload"}) {
+    const std::string key = std::string("{") + k + "}";
+    for (size_t p; (p = s.find(key)) != std::string::npos;)
+      s.replace(p, key.size(), row.value(k, std::string()));
+  }
+  return s;
+}
+
+}  // namespace
+
+std::vector<json> fit_runs(const SweepConfig& config, const std::vector<json>& results) {
+  std::vector<json> fits;
+  for (const FitSpec& f : config.fits) {
+    // Groups: the runs of the experiment that agree on everything but x.
+    std::map<std::string, std::vector<json>> groups;
+    for (const json& r : results) {
+      if (r.value("experiment", "") != f.experiment) continue;
+      const json row = run_row(r);
+      json key = row;
+      for (const auto& [k, v] : row.items())
+        if (k.rfind("ops_", 0) == 0 || k.rfind("time_", 0) == 0 || k == "K" || k == "k" ||
+            k == "I" || k == "error" || k == "status" || k == f.x || (f.x == "K" && k == "set_K"))
+          key.erase(k);
+      for (const char* k : {"prepare_s", "build_s", "structure_bytes", "memory_bytes",
+                            "direct_setup_s", "direct_frame_s", "mesh_setup_s", "mesh_frame_s",
+                            "reconstruct_s", "crossover_frames", "triangles"})
+        key.erase(k);
+      if (f.x != "N") key.erase("N");  // a file's N is fixed by the spec; generators' too
+      groups[key.dump()].push_back(row);
+    }
+    for (const auto& [key, rows] : groups) {
+      const json& first = rows.front();
+      json out = {{"claim", substitute(f.claim, first)},
+                  {"experiment", f.experiment},
+                  {"method", first.value("method", "")},
+                  {"structure", first.value("structure", "")},
+                  {"dataset", first.value("dataset", "")},
+                  {"reconstruction", first.value("reconstruction", "")},
+                  {"workload", first.value("workload", "")},
+                  {"variable", f.variable},
+                  {"x", f.x},
+                  {"metric", fmt::format("{}{}", fmt::join(f.metric, "+"),
+                                         f.per.empty() ? "" : " per " + f.per)},
+                  {"group", json::parse(key)}};
+      std::vector<double> xs, ys;
+      size_t failed = 0;
+      for (const json& row : rows) {
+        if (row.value("status", "") != "ok") {
+          ++failed;
+          continue;
+        }
+        double y = 0;
+        for (const std::string& m : f.metric) y += column(row, m);
+        if (!f.per.empty()) y /= column(row, f.per);
+        xs.push_back(f.x.empty() ? 0.0 : column(row, f.x));
+        ys.push_back(y);
+      }
+      out["runs"] = rows.size();
+      out["failed_runs"] = failed;
+      const Claim* claim = nullptr;
+      try {
+        claim = &find_claim(out["claim"].get<std::string>());
+      } catch (const InputError& e) {
+        out["verdict"] = "error";
+        out["error"] = e.what();
+        fits.push_back(out);
+        continue;
+      }
+      out["claimed"] = claim->complexity;
+      out["source"] = claim->source;
+      if (f.max >= 0 || f.min >= 0) {  // threshold claims: every run must meet it
+        double worst = f.max >= 0 ? 0 : std::numeric_limits<double>::infinity();
+        for (double y : ys) worst = f.max >= 0 ? std::max(worst, y) : std::min(worst, y);
+        out["measured"] = ys.empty() ? json(nullptr) : json(worst);
+        out["threshold"] = f.max >= 0 ? fmt::format("<= {}", f.max) : fmt::format(">= {}", f.min);
+        out["verdict"] = ys.empty() ? "error"
+                         : (f.max >= 0 ? worst <= f.max : worst >= f.min) ? "consistent"
+                                                                            : "slower";
+        fits.push_back(out);
+        continue;
+      }
+      try {
+        const Growth expected = expected_growth(claim->complexity, f.variable);
+        const GrowthFit g = fit_growth(xs, ys, expected, out["claim"].get<std::string>());
+        out.update({{"points", g.points},
+                    {"exponent", g.exponent},
+                    {"ci_low", g.ci_low},
+                    {"ci_high", g.ci_high},
+                    {"best_model", growth_name(g.best)},
+                    {"expected_model", growth_name(expected)},
+                    {"r2", g.r2},
+                    {"delta_aicc_expected", g.delta_aicc_expected},
+                    {"verdict", g.verdict},
+                    {"x_values", xs},
+                    {"y_values", ys}});
+      } catch (const InputError& e) {
+        out["verdict"] = "error";
+        out["error"] = e.what();
+      }
+      fits.push_back(out);
+    }
+  }
+  return fits;
+}
+
+}  // namespace pcrt

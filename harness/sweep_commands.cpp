@@ -1,0 +1,377 @@
+// The sweep side of the CLI: sweep, merge, fit, report, calibrate, check, and the hidden _run
+// that executes one run in a child process.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/error.hpp"
+#include "core/file_output.hpp"
+#include "harness/command_helpers.hpp"
+#include "harness/commands.hpp"
+#include "harness/fit.hpp"
+#include "harness/sweep.hpp"
+#include "harness/workloads.hpp"
+
+namespace pcrt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// "i/n" -> (i, n), 0 <= i < n.
+std::pair<size_t, size_t> parse_shard(const std::string& text) {
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) input_error("--shard {}: expected i/n", text);
+  const double i = parse_number(text.substr(0, slash), "--shard");
+  const double n = parse_number(text.substr(slash + 1), "--shard");
+  if (!(n >= 1 && i >= 0 && i < n && i == std::floor(i) && n == std::floor(n)))
+    input_error("--shard {}: needs whole numbers 0 <= i < n", text);
+  return {size_t(i), size_t(n)};
+}
+
+void append_line(const std::string& path, const json& j) {
+  std::ofstream out(path, std::ios::app);
+  if (!out) input_error("{}: cannot append", path);
+  out << j.dump() << '\n';
+  out.flush();
+  if (!out) input_error("{}: write failed", path);
+}
+
+std::string fmt_duration(double s) {
+  if (s < 90) return fmt::format("{:.0f} s", s);
+  return fmt::format("{:.0f} min {:.0f} s", std::floor(s / 60), std::fmod(s, 60));
+}
+
+// Runs every run of `config` not yet in DIR/runs.jsonl (with --resume) that falls in the shard;
+// returns all results in DIR afterwards.
+std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
+                            std::pair<size_t, size_t> shard, bool quiet) {
+  fs::create_directories(dir);
+  const std::string jsonl = dir + "/runs.jsonl";
+  std::set<std::string> done;
+  if (resume && fs::exists(jsonl)) {
+    for (const json& r : read_runs_jsonl(jsonl)) done.insert(run_key(r));
+    // Rewrite without a truncated tail, so appends start on a fresh line.
+    std::vector<json> kept = read_runs_jsonl(jsonl);
+    write_file_atomically(jsonl, [&](std::ostream& o) {
+      for (const json& r : kept) o << r.dump() << '\n';
+    });
+  } else if (fs::exists(jsonl)) {
+    fs::remove(jsonl);
+  }
+  write_json(dir + "/context.json", machine_context(config.raw));
+  std::vector<const json*> todo;
+  for (size_t i = 0; i < config.runs.size(); ++i)
+    if (i % shard.second == shard.first && !done.count(run_key(config.runs[i])))
+      todo.push_back(&config.runs[i]);
+  const bool tty = isatty(2) && !quiet;
+  const auto start = std::chrono::steady_clock::now();
+  size_t failed = 0;
+  for (size_t i = 0; i < todo.size(); ++i) {
+    const json& spec = *todo[i];
+    if (tty) {
+      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const std::string eta = i > 0 ? fmt_duration(el / double(i) * double(todo.size() - i)) : "?";
+      std::fprintf(stderr, "\r\033[K[%zu/%zu, ETA %s] %s %s %s N=%s", i + 1, todo.size(),
+                   eta.c_str(), spec.value("experiment", "").c_str(),
+                   spec.value("method", spec.value("reconstruction", spec.value("workload", ""))).c_str(),
+                   spec.value("structure", "").c_str(),
+                   spec.contains("N") ? spec["N"].dump().c_str() : "-");
+    }
+    json result = run_in_child(spec, config.time_limit_s);
+    if (result.value("status", "") != "ok") ++failed;
+    append_line(jsonl, result);
+  }
+  if (tty) std::fprintf(stderr, "\r\033[K");
+  std::vector<json> all = read_runs_jsonl(jsonl);
+  write_runs_csv(dir + "/runs.csv", all);
+  if (!quiet)
+    std::printf("%s: %zu runs done (%zu skipped as done, %zu failed or timed out)\n", dir.c_str(),
+                todo.size(), config.runs.size() / shard.second >= todo.size() ? done.size() : 0,
+                failed);
+  return all;
+}
+
+void write_fits(const std::string& dir, const std::vector<json>& fits) {
+  write_json(dir + "/fits.json", json(fits));
+  const std::vector<std::string> cols = {
+      "claim",  "method",     "structure",      "dataset",        "variable", "x",
+      "metric", "points",     "exponent",       "ci_low",         "ci_high",  "best_model",
+      "expected_model", "r2", "delta_aicc_expected", "claimed", "measured", "threshold",
+      "verdict", "source",  "failed_runs",    "error"};
+  write_file_atomically(dir + "/fits.csv", [&](std::ostream& o) {
+    for (size_t i = 0; i < cols.size(); ++i) o << (i ? "," : "") << cols[i];
+    o << '\n';
+    for (const json& f : fits) {
+      for (size_t i = 0; i < cols.size(); ++i) {
+        const json v = f.value(cols[i], json(nullptr));
+        std::string s = v.is_null() ? "" : v.is_string() ? v.get<std::string>() : v.dump();
+        if (s.find_first_of(",\"") != std::string::npos) {
+          std::string q = "\"";
+          for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+          s = q + "\"";
+        }
+        o << (i ? "," : "") << s;
+      }
+      o << '\n';
+    }
+  });
+}
+
+SweepConfig config_of(const std::string& dir) {
+  const std::string path = dir + "/context.json";
+  std::ifstream in(path);
+  if (!in) input_error("{}: cannot open (is {} a sweep directory?)", path, dir);
+  json ctx;
+  try {
+    ctx = json::parse(in);
+  } catch (const json::exception&) {
+    input_error("{}: not valid JSON", path);
+  }
+  const json cfg = ctx.contains("config") ? ctx["config"] : ctx.value("configs", json::array()).at(0);
+  return parse_sweep_config(cfg, path);
+}
+
+std::string python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3"; }
+
+}  // namespace
+
+int command_run_one(const Args& args) {
+  if (args.size() != 1) input_error("_run takes one JSON run spec");
+  json spec;
+  try {
+    spec = json::parse(args[0]);
+  } catch (const json::exception&) {
+    input_error("_run: the run spec is not valid JSON");
+  }
+  auto limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                     size_t(spec.value("threads", 2)));
+  std::printf("%s\n", execute_run(spec).dump().c_str());
+  return 0;
+}
+
+int command_sweep(const Args& args) {
+  CliArgs a("sweep", "pcrt sweep CONFIG.json [--out DIR] [--resume] [--shard i/n]",
+            {{"out", "DIR", "output directory (default results/<config name>)"},
+             {"resume", "", "skip the runs already in DIR/runs.jsonl"},
+             {"shard", "i/n", "run only every n-th run, starting at the i-th (0-based)"},
+             {"fit", "", "also write DIR/fits.json and fits.csv"}},
+            1, 1);
+  if (!a.parse(args)) return 0;
+  const SweepConfig config = load_sweep_config(a.positional()[0]);
+  const std::string dir = a.has("out") ? a.get("out") : "results/" + config.name;
+  const auto shard = a.has("shard") ? parse_shard(a.get("shard")) : std::pair<size_t, size_t>{0, 1};
+  const std::vector<json> results = run_sweep(config, dir, a.has("resume"), shard, false);
+  if (a.has("fit")) write_fits(dir, fit_runs(config, results));
+  return 0;
+}
+
+int command_merge(const Args& args) {
+  CliArgs a("merge", "pcrt merge DIR... --out DIR", {{"out", "DIR", "merged directory"}}, 1, 1000);
+  if (!a.parse(args)) return 0;
+  const std::string out = a.require("out");
+  std::map<std::string, json> runs;
+  json contexts = json::array();
+  std::string config_dump;
+  for (size_t i = 0; i < a.positional().size(); ++i) {
+    const std::string dir = a.positional()[i];
+    std::ifstream in(dir + "/context.json");
+    if (!in) input_error("{}/context.json: cannot open", dir);
+    const json ctx = json::parse(in, nullptr, false);
+    if (ctx.is_discarded()) input_error("{}/context.json: not valid JSON", dir);
+    if (config_dump.empty()) config_dump = ctx.value("config", json()).dump();
+    if (ctx.value("config", json()).dump() != config_dump)
+      input_error("{}: its config differs from {}'s; only shards of one sweep merge", dir,
+                  a.positional()[0]);
+    contexts.push_back(ctx);
+    for (const json& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
+  }
+  fs::create_directories(out);
+  std::vector<json> all;
+  for (auto& [k, r] : runs) all.push_back(r);
+  write_file_atomically(out + "/runs.jsonl", [&](std::ostream& o) {
+    for (const json& r : all) o << r.dump() << '\n';
+  });
+  write_runs_csv(out + "/runs.csv", all);
+  json merged = contexts[0];
+  merged["shards"] = contexts;
+  write_json(out + "/context.json", merged);
+  std::printf("%s: %zu runs from %zu directories\n", out.c_str(), all.size(), a.positional().size());
+  return 0;
+}
+
+int command_fit(const Args& args) {
+  CliArgs a("fit", "pcrt fit DIR", {}, 1, 1);
+  if (!a.parse(args)) return 0;
+  const std::string dir = a.positional()[0];
+  const SweepConfig config = config_of(dir);
+  const std::vector<json> fits = fit_runs(config, read_runs_jsonl(dir + "/runs.jsonl"));
+  write_fits(dir, fits);
+  std::map<std::string, int> verdicts;
+  for (const json& f : fits) ++verdicts[f.value("verdict", "")];
+  std::printf("%s/fits.json: %zu fits", dir.c_str(), fits.size());
+  for (const auto& [v, n] : verdicts) std::printf(", %d %s", n, v.c_str());
+  std::printf("\n");
+  return 0;
+}
+
+int command_report(const Args& args) {
+  CliArgs a("report", "pcrt report DIR", {}, 1, 1);
+  if (!a.parse(args)) return 0;
+  const std::string dir = a.positional()[0];
+  if (!fs::exists(dir + "/fits.json")) command_fit({dir});
+  const std::string script = std::string(PCRT_SOURCE_DIR) + "/scripts/report.py";
+  const std::string cmd = python() + " '" + script + "' '" + dir + "'";
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) input_error("report: {} failed (exit {})", script, rc);
+  return 0;
+}
+
+int command_calibrate(const Args& args) {
+  CliArgs a("calibrate", "pcrt calibrate [--out DIR] [--json]",
+            {{"out", "DIR", "keep the sweep's runs and fits here (default: a temporary directory)"},
+             {"json", "", "print JSON"}},
+            0, 0);
+  if (!a.parse(args)) return 0;
+  // The same sweep and fit path as the methods: one experiment per workload, fitted in ops and
+  // in time.
+  json experiments = json::array();
+  for (const WorkloadInfo& w : workloads()) {
+    experiments.push_back(
+        {{"name", w.id},
+         {"kind", "workload"},
+         {"workloads", {w.id}},
+         {"grid", {{"N", w.sizes}}},
+         {"fits",
+          {{{"claim", "calibration/" + w.id}, {"variable", "N"}, {"metric", "ops_workload_operations"}},
+           {{"claim", "calibration/" + w.id}, {"variable", "N"}, {"metric", "time"}}}}});
+  }
+  const json raw = {{"name", "calibrate"}, {"threads", 1}, {"repetitions", 5}, {"warmup", 1},
+                    {"time_limit_s", 120}, {"experiments", experiments}};
+  const SweepConfig config = parse_sweep_config(raw, "calibrate");
+  const std::string dir = a.has("out") ? a.get("out")
+                                       : (fs::temp_directory_path() /
+                                          ("pcrt_calibrate_" + std::to_string(getpid()))).string();
+  const std::vector<json> results = run_sweep(config, dir, false, {0, 1}, true);
+  const std::vector<json> fits = fit_runs(config, results);
+  if (a.has("out")) write_fits(dir, fits);
+  else fs::remove_all(dir);
+  json out = json::array();
+  bool all_ok = true;
+  for (const json& f : fits) {
+    const std::string id = f.value("workload", "");
+    const auto& w = *std::find_if(workloads().begin(), workloads().end(),
+                                  [&](auto& x) { return x.id == id; });
+    const bool ok = f.value("best_model", "") == std::string(growth_name(w.expected));
+    all_ok = all_ok && ok;
+    out.push_back({{"workload", id},
+                   {"metric", f.value("metric", "") == "time" ? "time" : "operations"},
+                   {"expected", growth_name(w.expected)},
+                   {"best_model", f.value("best_model", json(nullptr))},
+                   {"exponent", f.value("exponent", json(nullptr))},
+                   {"ci_low", f.value("ci_low", json(nullptr))},
+                   {"ci_high", f.value("ci_high", json(nullptr))},
+                   {"correct", ok}});
+  }
+  if (a.has("json")) {
+    std::printf("%s\n", out.dump(2).c_str());
+  } else {
+    for (const json& o : out)
+      std::printf("  %-14s %-10s expected %-8s best %-8s exponent %.3f  %s\n",
+                  o["workload"].get<std::string>().c_str(), o["metric"].get<std::string>().c_str(),
+                  o["expected"].get<std::string>().c_str(),
+                  o["best_model"].is_null() ? "-" : o["best_model"].get<std::string>().c_str(),
+                  o["exponent"].is_null() ? 0.0 : o["exponent"].get<double>(),
+                  o["correct"].get<bool>() ? "ok" : "WRONG");
+  }
+  return all_ok ? 0 : 1;
+}
+
+int command_check(const Args& args) {
+  CliArgs a("check",
+            "pcrt check --config CONFIG.json --baseline BASELINE.json [--tolerance P] [--update] "
+            "[--out DIR]",
+            {{"config", "CONFIG.json", "the sweep to run (deterministic op counts)"},
+             {"baseline", "BASELINE.json", "committed counters and verdicts"},
+             {"tolerance", "P", "relative change allowed per counter, in percent (default 0)"},
+             {"update", "", "rewrite the baseline from this run"},
+             {"out", "DIR", "keep the sweep here (default: a temporary directory)"}},
+            0, 0);
+  if (!a.parse(args)) return 0;
+  const SweepConfig config = load_sweep_config(a.require("config"));
+  const std::string baseline_path = a.require("baseline");
+  const double tolerance = a.number("tolerance", 0.0);
+  if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
+  const std::string dir = a.has("out") ? a.get("out")
+                                       : (fs::temp_directory_path() /
+                                          ("pcrt_check_" + std::to_string(getpid()))).string();
+  const std::vector<json> results = run_sweep(config, dir, false, {0, 1}, true);
+  const std::vector<json> fits = fit_runs(config, results);
+  if (!a.has("out")) fs::remove_all(dir);
+  // Counters per run, verdicts per op-count fit (time fits are not gated: machines differ).
+  json now = {{"runs", json::object()}, {"verdicts", json::object()}};
+  for (const json& r : results) {
+    json c = r.value("counters", json::object());
+    for (const auto& [k, v] : r.value("prepare_counters", json::object()).items()) c["prep_" + k] = v;
+    c["status"] = r.value("status", "");
+    now["runs"][run_key(r)] = c;
+  }
+  for (const json& f : fits) {
+    const std::string m = f.value("metric", "");
+    if (m.find("time") != std::string::npos || m.find("fps") != std::string::npos) continue;
+    now["verdicts"][f.value("claim", "") + " | " + f.value("dataset", "") + " | " +
+                    f["group"].dump()] = f.value("verdict", "");
+  }
+  if (a.has("update")) {
+    write_json(baseline_path, now);
+    std::printf("%s: baseline written (%zu runs, %zu verdicts)\n", baseline_path.c_str(),
+                now["runs"].size(), now["verdicts"].size());
+    return 0;
+  }
+  std::ifstream in(baseline_path);
+  if (!in) input_error("{}: cannot open (create it with --update)", baseline_path);
+  const json base = json::parse(in, nullptr, false);
+  if (base.is_discarded() || !base.contains("runs")) input_error("{}: not a baseline", baseline_path);
+  size_t problems = 0;
+  for (const auto& [key, old] : base["runs"].items()) {
+    if (!now["runs"].contains(key)) {
+      std::printf("run missing now: %s\n", key.c_str());
+      ++problems;
+      continue;
+    }
+    const json& cur = now["runs"][key];
+    std::set<std::string> names;
+    for (const auto& [k, v] : old.items()) names.insert(k);
+    for (const auto& [k, v] : cur.items()) names.insert(k);
+    for (const std::string& k : names) {
+      const json o = old.value(k, json(nullptr)), c = cur.value(k, json(nullptr));
+      if (o.is_number() && c.is_number()) {
+        const double ov = o.get<double>(), cv = c.get<double>();
+        if (std::abs(cv - ov) <= tolerance / 100.0 * std::abs(ov)) continue;
+      } else if (o == c) {
+        continue;
+      }
+      std::printf("%s\n  %s: %s -> %s\n", key.c_str(), k.c_str(), o.dump().c_str(), c.dump().c_str());
+      ++problems;
+    }
+  }
+  for (const auto& [key, cur] : now["runs"].items())
+    if (!base["runs"].contains(key)) std::printf("new run (not in the baseline): %s\n", key.c_str()), ++problems;
+  for (const auto& [key, old] : base.value("verdicts", json::object()).items()) {
+    const json cur = now["verdicts"].value(key, json(nullptr));
+    if (cur != old) {
+      std::printf("verdict changed: %s: %s -> %s\n", key.c_str(), old.dump().c_str(), cur.dump().c_str());
+      ++problems;
+    }
+  }
+  std::printf("%s: %zu runs, %zu verdicts compared: %zu differences\n", baseline_path.c_str(),
+              now["runs"].size(), now["verdicts"].size(), problems);
+  return problems == 0 ? 0 : 1;
+}
+
+}  // namespace pcrt

@@ -1,0 +1,99 @@
+#include "harness/workloads.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <unordered_set>
+
+#include "core/error.hpp"
+#include "core/rng.hpp"
+
+namespace pcrt {
+namespace {
+
+constexpr size_t kLookups = 1 << 16;  // fixed number of queries per run for the per-lookup workloads
+
+std::vector<uint64_t> random_keys(size_t n, uint64_t seed) {
+  Rng rng(seed, 77);
+  std::vector<uint64_t> v(n);
+  for (auto& x : v) x = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
+  return v;
+}
+
+}  // namespace
+
+const std::vector<WorkloadInfo>& workloads() {
+  static const std::vector<WorkloadInfo> list = {
+      {"sort", Growth::kLinearLog, "O(N log N)", {1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15, 1 << 16, 1 << 17}},
+      {"nth_element", Growth::kLinear, "O(N)", {1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15, 1 << 16, 1 << 17}},
+      {"binary_search", Growth::kLog, "O(log N)", {1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16, 1 << 18, 1 << 20}},
+      {"triple_loop", Growth::kCubic, "O(N^3)", {24, 32, 48, 64, 96, 128, 160}},
+      {"hash_lookup", Growth::kConstant, "O(1)", {1 << 4, 1 << 5, 1 << 6, 1 << 7, 1 << 8, 1 << 9, 1 << 10}},
+  };
+  return list;
+}
+
+double run_workload(const std::string& id, size_t n, uint64_t seed, OpCounters& counters) {
+  uint64_t ops = 0;
+  std::chrono::steady_clock::time_point start;
+  auto begin = [&] { start = std::chrono::steady_clock::now(); };
+  size_t batch = 1;  // independent instances per run; time and operations are per instance
+  if (id == "sort" || id == "nth_element") {
+    // Enough instances for about 2^18 elements in all, generated before the clock starts, so a
+    // run lasts milliseconds whatever N and every instance comes from the same cache level.
+    batch = std::max<size_t>(1, (size_t(1) << 18) / n);
+    std::vector<std::vector<uint64_t>> inputs;
+    for (size_t b = 0; b < batch; ++b) inputs.push_back(random_keys(n, seed + b));
+    auto less = [&ops](uint64_t a, uint64_t b) { return ++ops, a < b; };
+    begin();
+    for (auto& v : inputs) {
+      if (id == "sort")
+        std::sort(v.begin(), v.end(), less);
+      else
+        std::nth_element(v.begin(), v.begin() + long(n / 2), v.end(), less);
+    }
+  } else if (id == "binary_search") {
+    std::vector<uint64_t> v = random_keys(n, seed);
+    std::sort(v.begin(), v.end());
+    const std::vector<uint64_t> q = random_keys(kLookups, seed + 1);
+    auto less = [&ops](uint64_t a, uint64_t b) { return ++ops, a < b; };
+    uint64_t found = 0;
+    begin();
+    for (uint64_t k : q) found += uint64_t(std::lower_bound(v.begin(), v.end(), k, less) - v.begin());
+    static volatile uint64_t sink;  // keeps the lookups from being optimised away
+    sink = found;
+  } else if (id == "triple_loop") {
+    std::vector<double> a(n * n, 1.0), b(n * n, 0.5), c(n * n, 0.0);
+    begin();
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = 0; j < n; ++j) {
+        double s = 0;
+        for (size_t k = 0; k < n; ++k) s += a[i * n + k] * b[k * n + j];
+        c[i * n + j] = s;
+      }
+    ops = uint64_t(n) * n * n;
+    if (c[0] != 0.5 * double(n)) input_error("triple_loop: wrong product");
+  } else if (id == "hash_lookup") {
+    const std::vector<uint64_t> v = random_keys(n, seed);
+    struct Eq {
+      uint64_t* ops;
+      bool operator()(uint64_t a, uint64_t b) const { return ++*ops, a == b; }
+    };
+    std::unordered_set<uint64_t, std::hash<uint64_t>, Eq> set(v.begin(), v.end(), n,
+                                                              std::hash<uint64_t>(), Eq{&ops});
+    ops = 0;  // only the lookups count
+    size_t hits = 0;
+    begin();
+    for (size_t i = 0; i < kLookups; ++i) hits += set.count(v[(i * 7919) % n]);
+    if (hits != kLookups) input_error("hash_lookup: lost keys");
+  } else {
+    std::string known;
+    for (const auto& w : workloads()) known += (known.empty() ? "" : ", ") + w.id;
+    input_error("unknown workload '{}' (known: {})", id, known);
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  counters.add(kWorkloadOperations, ops / batch);
+  return seconds / double(batch);
+}
+
+}  // namespace pcrt
