@@ -121,8 +121,9 @@ void validate_params(const std::string& method, const std::string& structure,
 std::vector<std::string> resolve_methods(const json& e, const std::string& where) {
   std::vector<std::string> ids;
   for (const std::string& id : string_list(e.value("methods", json("*")), where + ".methods")) {
-    if (id == "*") {
-      for (const auto& m : MethodRegistry::instance().all()) ids.push_back(m.id);
+    if (id == "*" || id == "surveyed") {  // surveyed: the 16 methods, without the references
+      for (const auto& m : MethodRegistry::instance().all())
+        if (id == "*" || m.thesis_ref != "-") ids.push_back(m.id);
     } else {
       (void)MethodRegistry::instance().get(id, "method");
       ids.push_back(id);
@@ -199,7 +200,7 @@ void check_point_values(const json& p, const std::string& kind, const std::strin
 }
 
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
-  check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min"}, where);
+  check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by"}, where);
   FitSpec s;
   s.experiment = experiment;
   if (!f.contains("claim") || !f["claim"].is_string()) input_error("{}: 'claim' is required", where);
@@ -209,6 +210,7 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
   s.metric = string_list(f["metric"], where + ".metric");
   s.per = f.value("per", std::string());
+  if (f.contains("by")) s.by = string_list(f["by"], where + ".by");
   s.max = f.value("max", -1.0);
   s.min = f.value("min", -1.0);
   if (s.max < 0 && s.min < 0 && s.variable.empty())
@@ -279,10 +281,22 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
         }
       }
     }
+    // A point's "set.x" values join the experiment's; each combination is checked as a run
+    // would check it.
     auto emit = [&](json spec) {
       for (const json& p : points) {
         json s = spec;
-        for (const auto& [k, v] : p.items()) s[k] = v;
+        for (const auto& [k, v] : p.items()) {
+          if (k.rfind("set.", 0) == 0)
+            s["set"][k.substr(4)] = v;
+          else
+            s[k] = v;
+        }
+        if (s.contains("method")) {
+          ParamValues merged;
+          for (const auto& [k, v] : s["set"].items()) merged[k] = v.get<double>();
+          validate_params(s["method"], s["structure"], merged, where);
+        }
         c.runs.push_back(s);
       }
     };
@@ -293,7 +307,6 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
       for (const std::string& m : resolve_methods(e2, where)) {
         const MethodInfo& info = MethodRegistry::instance().get(m, "method");
         for (const std::string& s : resolve_structures(e, info, where)) {
-          validate_params(m, s, set, where);
           for (const std::string& d : datasets) {
             json spec = base;
             spec.update({{"dataset", d}, {"method", m}, {"structure", s}, {"set", set}});
@@ -330,8 +343,15 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
     }
     if (e.contains("fits")) {
       if (!e["fits"].is_array()) input_error("{}.fits: must be a list", where);
-      for (size_t f = 0; f < e["fits"].size(); ++f)
+      std::vector<std::string> swept;
+      const json grid = e.value("grid", json::object());
+      for (const auto& [k, v] : grid.items())
+        if (v.is_array() && v.size() > 1)
+          swept.push_back(k.rfind("set.", 0) == 0 ? "set_" + k.substr(4) : k);
+      for (size_t f = 0; f < e["fits"].size(); ++f) {
         c.fits.push_back(parse_fit(e["fits"][f], name, fmt::format("{}.fits[{}]", where, f)));
+        c.fits.back().swept = swept;
+      }
     }
   }
   return c;
@@ -555,11 +575,14 @@ json run_row(const json& r) {
   row["I"] = set.contains("max_iterations") ? set["max_iterations"] : json(nullptr);
   for (const auto& [k, v] : set.items()) row["set_" + k] = v;
   for (const auto& [k, v] : counters.items()) row["ops_" + k] = v;
-  for (const auto& [k, v] : r.value("prepare_counters", json::object()).items())
+  // (Each json is held in a local: items() of a temporary would dangle in a range-for.)
+  const json prepare = r.value("prepare_counters", json::object());
+  for (const auto& [k, v] : prepare.items())
     row["ops_prep_" + k] = v;
   for (const char* k : {"time_median_s", "time_min_s", "time_max_s", "time_spread"})
     row[k] = r.contains(k) ? r[k] : json(nullptr);
-  for (const auto& [k, v] : r.value("extra", json::object()).items()) row[k] = v;
+  const json extra = r.value("extra", json::object());
+  for (const auto& [k, v] : extra.items()) row[k] = v;
   return row;
 }
 
@@ -675,7 +698,9 @@ double column(const json& row, const std::string& name) {
     return t > 0 ? 1.0 / t : 0.0;
   }
   const json v = row.value(name, json(nullptr));
-  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+  if (v.is_number()) return v.get<double>();
+  // A counter a run never touched is zero (a method that does no rasterization, say).
+  return name.rfind("ops_", 0) == 0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
 }
 
 std::string substitute(std::string s, const json& row) {
@@ -706,7 +731,8 @@ std::vector<json> fit_runs(const SweepConfig& config, const std::vector<json>& r
                             "direct_setup_s", "direct_frame_s", "mesh_setup_s", "mesh_frame_s",
                             "reconstruct_s", "crossover_frames", "triangles"})
         key.erase(k);
-      if (f.x != "N") key.erase("N");  // a file's N is fixed by the spec; generators' too
+      for (const std::string& k : f.swept)
+        if (std::find(f.by.begin(), f.by.end(), k) == f.by.end()) key.erase(k);
       groups[key.dump()].push_back(row);
     }
     for (const auto& [key, rows] : groups) {

@@ -21,6 +21,10 @@ struct FitSpec {
   std::vector<std::string> metric;  // run columns summed ("time" = median seconds, "fps")
   std::string per;                  // optional column the metric is divided by
   double max = -1, min = -1;        // threshold claims instead of a growth fit
+  // Run columns the experiment sweeps (N, M, S, B, set_*): they form the x axis, not groups,
+  // unless listed in "by".
+  std::vector<std::string> swept;
+  std::vector<std::string> by;
 };
 
 struct SweepConfig {

@@ -317,7 +317,8 @@ int command_check(const Args& args) {
   json now = {{"runs", json::object()}, {"verdicts", json::object()}};
   for (const json& r : results) {
     json c = r.value("counters", json::object());
-    for (const auto& [k, v] : r.value("prepare_counters", json::object()).items()) c["prep_" + k] = v;
+    const json prepare = r.value("prepare_counters", json::object());
+    for (const auto& [k, v] : prepare.items()) c["prep_" + k] = v;
     c["status"] = r.value("status", "");
     now["runs"][run_key(r)] = c;
   }
@@ -362,7 +363,8 @@ int command_check(const Args& args) {
   }
   for (const auto& [key, cur] : now["runs"].items())
     if (!base["runs"].contains(key)) std::printf("new run (not in the baseline): %s\n", key.c_str()), ++problems;
-  for (const auto& [key, old] : base.value("verdicts", json::object()).items()) {
+  const json base_verdicts = base.value("verdicts", json::object());
+  for (const auto& [key, old] : base_verdicts.items()) {
     const json cur = now["verdicts"].value(key, json(nullptr));
     if (cur != old) {
       std::printf("verdict changed: %s: %s -> %s\n", key.c_str(), old.dump().c_str(), cur.dump().c_str());
