@@ -67,6 +67,9 @@ TEST_CASE("claimed growth per variable from the thesis's notation", "[fit][claim
 }
 
 TEST_CASE("fit input errors", "[fit]") {
-  REQUIRE_THROWS_AS(fit_growth({1, 2}, {1, 2}, Growth::kLinear, "two"), InputError);
-  REQUIRE_THROWS_AS(fit_growth({1, 2, 3}, {1, 0, 3}, Growth::kLinear, "zero"), InputError);
+  REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4}, {1, 2, 3, 4}, Growth::kLinear, "four"), InputError);
+  REQUIRE_THROWS_AS(fit_growth({1, 1, 2, 2, 2}, {1, 1, 2, 2, 2}, Growth::kLinear, "two x"),
+                    InputError);
+  REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4, 5}, {1, 0, 3, 4, 5}, Growth::kLinear, "zero"),
+                    InputError);
 }

@@ -374,8 +374,9 @@ SweepConfig load_sweep_config(const std::string& path) {
 }
 
 std::string run_key(const json& spec) {
+  if (spec.contains("spec")) return spec["spec"].dump();  // a result: the spec it ran
   json s = spec;
-  for (const char* k : {"status", "error", "counters", "prepare_counters", "times_s", "extra",
+  for (const char* k : {"status", "error", "counters", "prepare_counters", "times_s", "extra", "spec",
                         "time_median_s", "time_min_s", "time_max_s", "time_spread"})
     s.erase(k);
   return s.dump();
@@ -408,6 +409,7 @@ RenderSettings render_settings(const json& spec) {
 
 json execute_run(const json& spec) {
   json r = spec;
+  r["spec"] = spec;  // as given: what --resume and merges identify the run by
   const std::string kind = spec.at("kind");
   const int reps = spec.value("reps", 1), warmup = spec.value("warmup", 0);
   const uint64_t seed = spec.value("seed", uint64_t(1));
@@ -534,6 +536,7 @@ json run_in_child(const json& spec, double time_limit_s) {
   close(err_pipe[0]);
   waitpid(pid, &status, 0);
   json r = spec;
+  r["spec"] = spec;
   if (timed_out) {
     r["status"] = "timeout";
     r["error"] = fmt::format("exceeded the time limit of {} s", time_limit_s);

@@ -91,9 +91,8 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
   std::vector<json> all = read_runs_jsonl(jsonl);
   write_runs_csv(dir + "/runs.csv", all);
   if (!quiet)
-    std::printf("%s: %zu runs done (%zu skipped as done, %zu failed or timed out)\n", dir.c_str(),
-                todo.size(), config.runs.size() / shard.second >= todo.size() ? done.size() : 0,
-                failed);
+    std::printf("%s: %zu runs done (%zu already done, %zu failed or timed out)\n", dir.c_str(),
+                todo.size(), done.size(), failed);
   return all;
 }
 
@@ -320,7 +319,10 @@ int command_check(const Args& args) {
     const json prepare = r.value("prepare_counters", json::object());
     for (const auto& [k, v] : prepare.items()) c["prep_" + k] = v;
     c["status"] = r.value("status", "");
-    now["runs"][run_key(r)] = c;
+    // Operation counts do not depend on the thread count, so the gate's keys leave it out.
+    json spec = json::parse(run_key(r));
+    spec.erase("threads");
+    now["runs"][spec.dump()] = c;
   }
   for (const json& f : fits) {
     const std::string m = f.value("metric", "");

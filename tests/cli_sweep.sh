@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The sweep harness end to end on a tiny config: outputs and their shapes, --resume, shards and
+# merge, fits, the calibration in operation counts, the op-count gate catching a change, and
+# config errors as one line naming the key.
+set -euo pipefail
+pcrt=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+cat >"$dir/tiny.json" <<'JSON'
+{
+  "name": "tiny",
+  "threads": 2,
+  "experiments": [
+    {"name": "query", "kind": "render", "methods": ["reference_splat"], "structures": ["kd_tree", "grid"],
+     "datasets": ["sphere"], "grid": {"N": [500, 1000, 2000, 4000, 8000], "M": [64], "B": [0]},
+     "fits": [{"claim": "{structure}/query", "variable": "N", "metric": "ops_nodes_visited", "per": "ops_rays_cast"}]},
+    {"name": "worst", "kind": "reconstruct", "reconstructions": ["delaunay"], "datasets": ["skew_lines"],
+     "grid": {"N": [40, 80, 160, 320, 640]},
+     "fits": [{"claim": "delaunay/worst", "variable": "N", "metric": "ops_cells"}]}
+  ]
+}
+JSON
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --fit >/dev/null
+test "$(wc -l <"$dir/a/runs.jsonl")" -eq 15
+head -1 "$dir/a/runs.csv" | python3 -c '
+import sys
+cols = sys.stdin.read().strip().split(",")
+need = ["method", "structure", "dataset", "N", "M", "S", "B", "K", "k", "I", "ops_nodes_visited",
+        "time_median_s", "time_min_s", "time_max_s"]
+assert all(c in cols for c in need), [c for c in need if c not in cols]'
+python3 - "$dir/a" <<'PY'
+import json, sys
+d = sys.argv[1]
+ctx = json.load(open(d + "/context.json"))
+assert {"machine", "compiler", "flags", "dependencies", "git_commit", "config"} <= set(ctx), ctx.keys()
+assert {"cpu", "cores", "memory", "governor"} <= set(ctx["machine"])
+fits = json.load(open(d + "/fits.json"))
+assert len(fits) == 3, len(fits)
+for f in fits:
+    assert {"claim", "method", "variable", "metric", "exponent", "ci_low", "ci_high", "best_model", "r2", "verdict"} <= set(f), f
+    assert f["verdict"] in ("consistent", "faster", "slower"), f
+worst = [f for f in fits if f["claim"] == "delaunay/worst"][0]
+assert worst["best_model"] == "x^2" and worst["verdict"] == "consistent", worst
+PY
+# --resume skips what is done; a truncated last line (a killed sweep) is redone.
+head -c -20 "$dir/a/runs.jsonl" >"$dir/t" && mv "$dir/t" "$dir/a/runs.jsonl"
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --resume | grep -q "1 runs done (14 already done"
+test "$(wc -l <"$dir/a/runs.jsonl")" -eq 15
+# Shards and merge give the same runs.
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/s0" --shard 0/2 >/dev/null
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/s1" --shard 1/2 >/dev/null
+"$pcrt" merge "$dir/s0" "$dir/s1" --out "$dir/m" >/dev/null
+test "$(wc -l <"$dir/m/runs.jsonl")" -eq 15
+"$pcrt" fit "$dir/m" >/dev/null && test -s "$dir/m/fits.csv"
+# The fitter on workloads of known complexity, in exact operation counts.
+"$pcrt" calibrate --json >"$dir/cal.json" || true
+python3 - "$dir/cal.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))
+ops = [x for x in c if x["metric"] == "operations"]
+assert {x["workload"] for x in ops} == {"sort", "nth_element", "binary_search", "triple_loop", "hash_lookup"}
+for x in ops:
+    assert x["best_model"] == x["expected"], x
+PY
+# The gate: an unchanged sweep passes, a changed counter fails and is named.
+"$pcrt" check --config "$dir/tiny.json" --baseline "$dir/base.json" --update >/dev/null
+"$pcrt" check --config "$dir/tiny.json" --baseline "$dir/base.json" >/dev/null
+sed -i '0,/"nodes_visited": [0-9]*/s//"nodes_visited": 1/' "$dir/base.json"
+if "$pcrt" check --config "$dir/tiny.json" --baseline "$dir/base.json" >"$dir/check.out"; then
+  echo "FAIL: check passed a changed counter"; exit 1
+fi
+grep -q "nodes_visited: 1 ->" "$dir/check.out"
+# Config errors: one line naming the key, exit 1.
+expect_error() {
+  local want=$1; shift
+  if "$pcrt" "$@" >/dev/null 2>"$dir/err"; then echo "FAIL: pcrt $* succeeded"; exit 1; fi
+  test "$(wc -l <"$dir/err")" -eq 1 || { echo "FAIL: more than one line"; cat "$dir/err"; exit 1; }
+  grep -qF -- "$want" "$dir/err" || { echo "FAIL: wanted '$want'"; cat "$dir/err"; exit 1; }
+}
+bad() { python3 -c "import json,sys; c=json.load(open('$dir/tiny.json')); exec(sys.argv[1]); json.dump(c, open('$dir/bad.json','w'))" "$1"; }
+bad 'c["bogus"] = 1';                                   expect_error "unknown key 'bogus'" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["methods"] = ["nope"]';         expect_error "unknown method 'nope'" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["grid"]["N"] = [0, 10, 20]';     expect_error "N = 0 is impossible" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["set.radius_k"] = -3';          expect_error "radius_k=-3 is outside" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["datasets"] = ["'"$dir"'/tiny.json"]'; expect_error "tiny.json" sweep "$dir/bad.json"
+bad 'c["experiments"][1]["kind"] = "dance"';             expect_error "kind must be" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["fits"][0]["variable"] = "Q"';  expect_error "variable 'Q'" sweep "$dir/bad.json"
+printf '{"experiments": [' >"$dir/trunc.json";            expect_error "not valid JSON" sweep "$dir/trunc.json"
+expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
+echo "sweep harness ok"
