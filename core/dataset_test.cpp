@@ -82,8 +82,25 @@ TEST_CASE("bad dataset specs are one-line errors naming the spec", "[data][error
   REQUIRE_THROWS_WITH(load_dataset("sphere:foo=1"), Contains("unknown parameter 'foo'"));
   REQUIRE_THROWS_WITH(load_dataset("sphere:noise=nan"), Contains("not finite"));
   REQUIRE_THROWS_WITH(load_dataset("sphere:n=abc"), Contains("not a number"));
-  REQUIRE_THROWS_WITH(load_dataset("cube:n=5"), Contains("not a generator"));
+  REQUIRE_THROWS_WITH(load_dataset("cylinder:n=5"), Contains("not a generator"));
   REQUIRE_THROWS_WITH(load_dataset("torus:R=1,r=2"), Contains("smaller than R"));
   REQUIRE_THROWS_WITH(load_dataset("sphere:n"), Contains("key=value"));
   REQUIRE_THROWS_WITH(load_dataset("sphere:n=5,n=6"), Contains("twice"));
+}
+
+TEST_CASE("volume generators: ball, cube and skew lines", "[dataset]") {
+  const Dataset ball = load_dataset("ball:n=2000,size=2");
+  REQUIRE(ball.cloud.size() == 2000);
+  REQUIRE(ball.truth == nullptr);
+  for (const Vec3& p : ball.cloud.positions) REQUIRE(p.norm() <= 1.0f);
+  const Dataset cube = load_dataset("cube:n=500,size=4");
+  for (const Vec3& p : cube.cloud.positions) REQUIRE(p.cwiseAbs().maxCoeff() <= 2.0f);
+  const Dataset lines = load_dataset("skew_lines:n=101");
+  size_t on_x = 0;
+  for (const Vec3& p : lines.cloud.positions) {
+    const bool a = p.y() == 0 && p.z() == -1, b = p.x() == 0 && p.z() == 1;
+    REQUIRE((a || b));
+    on_x += a;
+  }
+  REQUIRE(on_x == 51);
 }

@@ -18,6 +18,7 @@
 #include "core/point_cloud_io.hpp"
 #include "core/text_scanner.hpp"
 #include "harness/accuracy.hpp"
+#include "harness/claims.hpp"
 #include "harness/cli_args.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/renderer.hpp"
@@ -567,6 +568,14 @@ int command_list(const Args& args) {
   for (const GeneratorInfo& g : generators())
     gens.push_back(
         {{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
+  json claims = json::array();
+  for (const Claim& c : all_claims())
+    claims.push_back({{"id", c.id},
+                      {"subject", c.subject},
+                      {"statement", c.statement},
+                      {"complexity", c.complexity},
+                      {"variables", c.variables},
+                      {"source", c.source}});
   json reconstructions = json::array(), engines = json::array();
   for (const ReconstructionInfo& r : ReconstructionRegistry::instance().all())
     reconstructions.push_back(
@@ -582,6 +591,7 @@ int command_list(const Args& args) {
                     {"generators", gens},
                     {"reconstructions", reconstructions},
                     {"mesh_engines", engines},
+                    {"claims", claims},
                     {"counters", counters}};
     std::printf("%s\n", j.dump(2).c_str());
     return 0;

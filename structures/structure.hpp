@@ -110,4 +110,14 @@ inline bool closer(float t, uint32_t prim, const Hit& hit) {
   return t < hit.t || (t == hit.t && prim < hit.prim);
 }
 
+// Records a hit found by a leaf intersector.
+inline void record_hit(const Ray& ray, float t, uint32_t prim, const Vec3& normal, float footprint,
+                       Hit& hit) {
+  hit.t = t;
+  hit.prim = prim;
+  hit.p = ray.at(t);
+  hit.n = normal;
+  hit.footprint = footprint;
+}
+
 }  // namespace pcrt

@@ -108,5 +108,10 @@ assert j["reconstruction"]["triangles"] == 3996'
 import json, sys
 j = json.load(sys.stdin)
 assert {r["id"] for r in j["reconstructions"]} == {"delaunay", "afsr"}
-assert {e["id"] for e in j["mesh_engines"]} == {"bvh", "cgal_aabb", "embree"}'
+assert {e["id"] for e in j["mesh_engines"]} == {"bvh", "cgal_aabb", "embree"}
+ids = {c["id"] for c in j["claims"]}
+for need in ("kd_tree/build", "grid/query", "cai_2011/leaf", "tejada_2006/frame", "delaunay/worst",
+             "mls/iterations", "*/real_time", "reconstruction/crossover"):
+    assert need in ids, need
+assert all(c["source"] for c in j["claims"])'
 echo "CLI smoke ok"

@@ -45,11 +45,7 @@ class Adams2005 final : public Method {
           ray, t0, t0, t1, [&](const Vec3& x) { return evaluate(x, counters); },
           {tol, newton_.max_iterations}, n, counters);
       if (t == kInfinity || !closer(t, s.index, hit)) continue;
-      hit.t = t;
-      hit.prim = s.index;
-      hit.p = ray.at(t);
-      hit.n = n;
-      hit.footprint = s.r;
+      record_hit(ray, t, s.index, n, s.r, hit);
       found = true;
     }
     return found;

@@ -9,7 +9,6 @@
 #include "methods/kernels/mls_method_params.hpp"
 #include "methods/kernels/mls_surface.hpp"
 #include "methods/method.hpp"
-#include "preprocess/point_attributes.hpp"
 
 namespace pcrt {
 namespace {
@@ -19,34 +18,18 @@ class AdamsonAlexa final : public Method {
   explicit AdamsonAlexa(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    {
-      ScopedTimer t(ctx.timings, "prepare/knn_build");
-      knn_.emplace(cloud.positions);
-    }
-    float h = 0;
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h = std::max(float(mean_spacing(cloud.positions, *knn_, ctx.counters)), 1e-30f);
-    }
-    positions_ = cloud.positions;
-    ball_ = float(params_.at("ball_radius")) * h;
-    radii_.assign(cloud.size(), ball_);
-    surface_.emplace(positions_, *knn_, mls_settings(params_, h));
+    mls_.prepare(cloud, params_, ctx.counters, ctx.timings);
   }
-  [[nodiscard]] ItemSet items() const override { return {positions_, radii_, {}}; }
+  [[nodiscard]] ItemSet items() const override { return {mls_.positions, mls_.radii, {}}; }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    return mls_intersect_leaf(ray, leaf, positions_, ball_, *surface_, hit, counters);
+    return mls_intersect_leaf(ray, leaf, mls_.positions, mls_.ball, *mls_.surface, hit, counters);
   }
 
  private:
   ParamValues params_;
-  std::span<const Vec3> positions_;
-  std::vector<float> radii_;
-  float ball_ = 0;
-  std::optional<KnnIndex> knn_;
-  std::optional<MlsSurface> surface_;
+  MlsPoints mls_;
 };
 
 const RegisterMethod kRegister{MethodInfo{

@@ -41,11 +41,7 @@ class Cai2011 final : public Method {
       Vec3 n = Vec3::Zero();
       const float t = iterate(ray, leaf, s, t0, t1, n, counters);
       if (t == kInfinity || !closer(t, s.index, hit)) continue;
-      hit.t = t;
-      hit.prim = s.index;
-      hit.p = ray.at(t);
-      hit.n = n;
-      hit.footprint = s.r;
+      record_hit(ray, t, s.index, n, s.r, hit);
       found = true;
     }
     return found;

@@ -58,11 +58,7 @@ class Cai2015 final : public Method {
           // The projected-distance test: the plane crossing must lie within reach of the point.
           if (tp >= ray.tmin && tp >= leaf.t_enter - reach_ && tp <= t_end + reach_ &&
               (ray.at(tp) - positions_[p]).norm() <= reach_ && closer(tp, p, hit)) {
-            hit.t = tp;
-            hit.prim = p;
-            hit.p = ray.at(tp);
-            hit.n = n;
-            hit.footprint = reach_;
+            record_hit(ray, tp, p, n, reach_, hit);
             return true;
           }
         }

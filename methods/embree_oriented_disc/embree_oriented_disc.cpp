@@ -3,6 +3,7 @@
 // splat intersector that the surveyed methods' speed and accuracy are compared with.
 #include <embree3/rtcore.h>
 
+#include "core/embree_ray.hpp"
 #include "core/error.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
@@ -62,13 +63,7 @@ class EmbreeOrientedDisc final : public Method {
   bool own_closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    rh.ray.org_x = ray.o.x(), rh.ray.org_y = ray.o.y(), rh.ray.org_z = ray.o.z();
-    rh.ray.dir_x = ray.d.x(), rh.ray.dir_y = ray.d.y(), rh.ray.dir_z = ray.d.z();
-    rh.ray.tnear = ray.tmin;
-    rh.ray.tfar = std::min(ray.tmax, hit.t);
-    rh.ray.mask = ~0u;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embree_ray(ray, hit.t);
     rtcIntersect1(scene_, &context, &rh);
     counters.add(kEmbreeRays);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;

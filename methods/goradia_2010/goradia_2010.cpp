@@ -41,9 +41,7 @@ const RegisterMethod kRegister{MethodInfo{
     {"point normals", "splat radii"},
     [] {
       auto p = splat_params();
-      p.push_back({"front_depth", 0.5, 0, 20,
-                   "blend the splat hits within this many median splat radii behind the "
-                   "front-most"});
+      p.push_back(front_depth_param());
       return p;
     }(),
     {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},

@@ -46,27 +46,13 @@ class Hubo2006 final : public Method {
     Vec3 n = Vec3::Zero();
     t = newton_on_weighted_plane(ray, t, t_lo, t_hi, eval, newton_, n, counters);
     if (t == kInfinity) return false;
-    const uint32_t prim = nearest_point(ray.at(t), leaf.items);
+    const uint32_t prim = nearest_point(ray.at(t), leaf.items, splats_.packed);
     if (!closer(t, prim, hit)) return false;
-    hit.t = t;
-    hit.p = ray.at(t);
-    hit.n = n;
-    hit.prim = prim;
-    hit.footprint = sigma_;
+    record_hit(ray, t, prim, n, sigma_, hit);
     return true;
   }
 
  private:
-  uint32_t nearest_point(const Vec3& x, std::span<const uint32_t> items) const {
-    uint32_t best = splats_.packed[items[0]].index;
-    float best_d2 = kInfinity;
-    for (uint32_t k : items) {
-      const float d2 = (splats_.packed[k].c - x).squaredNorm();
-      if (d2 < best_d2) best_d2 = d2, best = splats_.packed[k].index;
-    }
-    return best;
-  }
-
   ParamValues params_;
   SplatSet splats_;
   float sigma_ = 0, cutoff_ = 3, reach_ = 0;

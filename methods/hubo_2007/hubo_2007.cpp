@@ -104,11 +104,8 @@ class Hubo2007 final : public Method {
     const float t = wsum > 0 ? tsum / wsum : front;
     const uint32_t prim = nearest_point(ray.at(t), leaf.items);
     if (t > leaf.t_exit || !closer(t, prim, hit)) return false;
-    hit.t = t;
-    hit.p = ray.at(t);
-    hit.n = nsum.norm() > 0 ? Vec3(nsum.normalized()) : hits[0].second;
-    hit.prim = prim;
-    hit.footprint = sigma_;
+    record_hit(ray, t, prim, nsum.norm() > 0 ? Vec3(nsum.normalized()) : hits[0].second, sigma_,
+               hit);
     return true;
   }
 

@@ -88,12 +88,10 @@ class Kashyap2010Splat final : public Method {
   explicit Kashyap2010Splat(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    const size_t n = cloud.size();
     const SplatSet base = prepare_splats(cloud, params_, ctx);
-    std::vector<Vec3> normals(n);
-    std::vector<float> cover(n);
-    for (size_t k = 0; k < n; ++k)
-      normals[base.point[k]] = base.normals[k], cover[base.point[k]] = base.radii[k];
+    std::vector<Vec3> normals;
+    std::vector<float> cover;
+    splat_attributes_by_point(base, normals, cover);
     float h = 0;
     {
       ScopedTimer t(ctx.timings, "prepare/spacing");
@@ -138,9 +136,7 @@ const RegisterMethod kRegister{MethodInfo{
       p.push_back({"max_leaf_points", 64, 1, 100000, "most points one splat may replace", true});
       p.push_back({"max_normal_angle", 25, 1, 180,
                    "largest angle between a leaf's splat normal and its points' normals (deg)"});
-      p.push_back({"front_depth", 0.5, 0, 20,
-                   "blend the splat hits within this many median splat radii behind the "
-                   "front-most"});
+      p.push_back(front_depth_param());
       return p;
     }(),
     {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},

@@ -175,11 +175,7 @@ bool ImplicitCells::intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& h
     float t = 0;
     Vec3 n = Vec3::Zero();
     if (!march(ray, k, t0, t1, t, n, counters) || !closer(t, cells_[k].prim, hit)) continue;
-    hit.t = t;
-    hit.prim = cells_[k].prim;
-    hit.p = ray.at(t);
-    hit.n = n;
-    hit.footprint = 0.5f * size_;
+    record_hit(ray, t, cells_[k].prim, n, 0.5f * size_, hit);
     found = true;
   }
   return found;

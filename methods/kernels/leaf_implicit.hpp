@@ -52,4 +52,16 @@ inline bool nearest_tangent_crossing(const Ray& ray, std::span<const uint32_t> i
   return found;
 }
 
+// The cloud index of the leaf point nearest x (a blended hit's colour comes from it). O(K).
+inline uint32_t nearest_point(const Vec3& x, std::span<const uint32_t> items,
+                              std::span<const PackedSplat> points) {
+  uint32_t best = points[items[0]].index;
+  float best_d2 = kInfinity;
+  for (uint32_t k : items) {
+    const float d2 = (points[k].c - x).squaredNorm();
+    if (d2 < best_d2) best_d2 = d2, best = points[k].index;
+  }
+  return best;
+}
+
 }  // namespace pcrt

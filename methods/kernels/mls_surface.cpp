@@ -1,5 +1,8 @@
 #include "methods/kernels/mls_surface.hpp"
 
+#include "methods/kernels/mls_method_params.hpp"
+#include "preprocess/point_attributes.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <array>
@@ -150,14 +153,26 @@ bool mls_intersect_leaf(const Ray& ray, const LeafVisit& leaf, std::span<const V
     Vec3 n = Vec3::Zero();
     const float t = surface.intersect_ray(ray, centres[i], t0, t1, n, counters);
     if (t == kInfinity || !closer(t, i, hit)) continue;
-    hit.t = t;
-    hit.prim = i;
-    hit.p = ray.at(t);
-    hit.n = n;
-    hit.footprint = ball_radius;
+    record_hit(ray, t, i, n, ball_radius, hit);
     found = true;
   }
   return found;
+}
+
+void MlsPoints::prepare(const PointCloud& cloud, const ParamValues& params, OpCounters& counters,
+                        std::map<std::string, double>& timings) {
+  {
+    ScopedTimer t(timings, "prepare/knn_build");
+    knn.emplace(cloud.positions);
+  }
+  {
+    ScopedTimer t(timings, "prepare/spacing");
+    h = std::max(float(mean_spacing(cloud.positions, *knn, counters)), 1e-30f);
+  }
+  positions = cloud.positions;
+  ball = float(params.at("ball_radius")) * h;
+  radii.assign(cloud.size(), ball);
+  surface.emplace(positions, *knn, mls_settings(params, h));
 }
 
 }  // namespace pcrt

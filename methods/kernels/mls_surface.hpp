@@ -5,10 +5,16 @@
 // moves less than a tolerance or a cap on iterations is reached.
 #pragma once
 
+#include <map>
+#include <optional>
+#include <string>
 #include <span>
+#include <vector>
 
 #include "core/counters.hpp"
 #include "core/geometry.hpp"
+#include "core/params.hpp"
+#include "core/point_cloud.hpp"
 #include "structures/knn_index.hpp"
 #include "structures/structure.hpp"
 
@@ -70,6 +76,20 @@ class MlsSurface {
 // The chord [t0, t1] of the ray through the ball (c, r) clipped to [ray.tmin, tmax]; false if
 // the ray misses it.
 bool ball_chord(const Ray& ray, const Vec3& c, float r, float tmax, float& t0, float& t1);
+
+// What every MLS method prepares from positions alone: the k-NN index, the mean spacing h, a
+// ball of `ball_radius` h around each point (the items a structure indexes) and the MLS surface
+// with the parameters of mls_params() (methods/kernels/mls_method_params.hpp).
+struct MlsPoints {
+  std::span<const Vec3> positions;
+  std::vector<float> radii;
+  float h = 0, ball = 0;
+  std::optional<KnnIndex> knn;
+  std::optional<MlsSurface> surface;
+  // Times "prepare/knn_build" and "prepare/spacing" into `timings`.
+  void prepare(const PointCloud& cloud, const ParamValues& params, OpCounters& counters,
+               std::map<std::string, double>& timings);
+};
 
 // The MLS leaf intersection shared by the MLS methods: every ball (item centre, radius) of the
 // leaf the ray enters before the current hit starts Algorithm 3 at its centre; the nearest

@@ -68,25 +68,13 @@ std::vector<ParamSpec> RasterMlsMethod::params(double max_iterations, double tol
 }
 
 void RasterMlsMethod::prepare(const PointCloud& cloud, PrepareContext& ctx) {
-  {
-    ScopedTimer t(ctx.timings, "prepare/knn_build");
-    knn_.emplace(cloud.positions);
-  }
-  float h = 0;
-  {
-    ScopedTimer t(ctx.timings, "prepare/spacing");
-    h = std::max(float(mean_spacing(cloud.positions, *knn_, ctx.counters)), 1e-30f);
-  }
-  positions_ = cloud.positions;
-  ball_ = float(params_.at("ball_radius")) * h;
-  footprint_ = float(params_.at("raster_radius")) * h;
-  radii_.assign(cloud.size(), ball_);
-  surface_.emplace(positions_, *knn_, mls_settings(params_, h));
+  mls_.prepare(cloud, params_, ctx.counters, ctx.timings);
+  footprint_ = float(params_.at("raster_radius")) * mls_.h;
 }
 
 std::unique_ptr<PrimaryPass> RasterMlsMethod::primary_pass(const Camera& camera,
                                                            OpCounters& counters) const {
-  return std::make_unique<ZBufferPass>(*this, camera, positions_, footprint_, counters);
+  return std::make_unique<ZBufferPass>(*this, camera, mls_.positions, footprint_, counters);
 }
 
 bool RasterMlsMethod::refine(const Ray& ray, uint32_t i, Hit& hit, OpCounters& counters) const {
@@ -94,18 +82,15 @@ bool RasterMlsMethod::refine(const Ray& ray, uint32_t i, Hit& hit, OpCounters& c
   // a silhouette the ray runs almost along the surface, so the crossing may lie far from the
   // guess: the root is searched along the whole ray, and kept only if it lies within a ball
   // radius of a sample (an MLS root far from every sample is extrapolation, not surface).
-  const float guess = std::max((positions_[i] - ray.o).dot(ray.d), ray.tmin);
+  const float guess = std::max((mls_.positions[i] - ray.o).dot(ray.d), ray.tmin);
   Vec3 n = Vec3::Zero();
-  const float t = surface_->intersect_ray(ray, ray.at(guess), ray.tmin, hit.t, n, counters);
+  const float t = mls_.surface->intersect_ray(ray, ray.at(guess), ray.tmin, hit.t, n, counters);
   if (t == kInfinity) return false;
   uint32_t nearest = 0;
   float d2 = 0;
-  if (knn_->knn(ray.at(t), 1, &nearest, &d2, counters) == 0 || d2 > ball_ * ball_) return false;
-  hit.t = t;
-  hit.prim = i;
-  hit.p = ray.at(t);
-  hit.n = n;
-  hit.footprint = ball_;
+  if (mls_.knn->knn(ray.at(t), 1, &nearest, &d2, counters) == 0 || d2 > mls_.ball * mls_.ball)
+    return false;
+  record_hit(ray, t, i, n, mls_.ball, hit);
   return true;
 }
 

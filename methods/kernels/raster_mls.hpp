@@ -24,10 +24,10 @@ class RasterMlsMethod final : public Method {
   static std::vector<ParamSpec> params(double max_iterations, double tolerance);
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override;
-  [[nodiscard]] ItemSet items() const override { return {positions_, radii_, {}}; }
+  [[nodiscard]] ItemSet items() const override { return {mls_.positions, mls_.radii, {}}; }
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    return mls_intersect_leaf(ray, leaf, positions_, ball_, *surface_, hit, counters);
+    return mls_intersect_leaf(ray, leaf, mls_.positions, mls_.ball, *mls_.surface, hit, counters);
   }
   [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
                                                           OpCounters& counters) const override;
@@ -37,11 +37,8 @@ class RasterMlsMethod final : public Method {
 
  private:
   ParamValues params_;
-  std::span<const Vec3> positions_;
-  std::vector<float> radii_;
-  float ball_ = 0, footprint_ = 0;
-  std::optional<KnnIndex> knn_;
-  std::optional<MlsSurface> surface_;
+  MlsPoints mls_;
+  float footprint_ = 0;
 };
 
 }  // namespace pcrt

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "core/params.hpp"
 #include "methods/kernels/ray_projection.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 
@@ -29,6 +30,12 @@ inline SplatBlendSettings splat_blend_settings(std::span<const float> radii, flo
   std::nth_element(r.begin(), r.begin() + std::ptrdiff_t(r.size() / 2), r.end());
   const float median_r = r[r.size() / 2];
   return {front_depth * median_r, max_r, median_r};
+}
+
+// The blend window parameter of the splat methods.
+inline ParamSpec front_depth_param() {
+  return {"front_depth", 0.5, 0, 20,
+          "blend the splat hits within this many median splat radii behind the front-most"};
 }
 
 // Weight of a splat hit at squared distance q * r^2 from the centre: 1 - q, falling to 0 at the

@@ -112,4 +112,14 @@ SplatSet make_splat_set(std::span<const Vec3> centres, std::span<const Vec3> nor
   return s;
 }
 
+void splat_attributes_by_point(const SplatSet& s, std::vector<Vec3>& normals,
+                               std::vector<float>& radii) {
+  normals.resize(s.size());
+  radii.resize(s.size());
+  for (size_t k = 0; k < s.size(); ++k) {
+    normals[s.point[k]] = s.normals[k];
+    radii[s.point[k]] = s.radii[k];
+  }
+}
+
 }  // namespace pcrt

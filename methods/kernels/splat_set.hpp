@@ -42,6 +42,11 @@ std::vector<ParamSpec> normal_params();
 SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx,
                         float fixed_radius = 0);
 
+// The normals and radii of a SplatSet made by prepare_splats, back in the cloud's order (for
+// methods that derive their own splats from them).
+void splat_attributes_by_point(const SplatSet& s, std::vector<Vec3>& normals,
+                               std::vector<float>& radii);
+
 // Lays out splats made by a method itself (fewer than the points, or fitted): item k is
 // input point[k] and reports prim[point[k]] (a cloud index) as its hit primitive.
 SplatSet make_splat_set(std::span<const Vec3> centres, std::span<const Vec3> normals,

@@ -57,9 +57,9 @@ class Linsen2007 final : public Method {
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const size_t n = cloud.size();
     const SplatSet base = prepare_splats(cloud, params_, ctx);
-    std::vector<Vec3> normals(n);
-    std::vector<float> cover(n);
-    for (size_t k = 0; k < n; ++k) normals[base.point[k]] = base.normals[k], cover[base.point[k]] = base.radii[k];
+    std::vector<Vec3> normals;
+    std::vector<float> cover;
+    splat_attributes_by_point(base, normals, cover);
     std::optional<KnnIndex> knn;
     {
       ScopedTimer t(ctx.timings, "prepare/knn_build");
@@ -165,9 +165,7 @@ const RegisterMethod kRegister{MethodInfo{
       p.push_back({"max_radius_scale", 4, 1, 100,
                    "cap on a splat's radius, in multiples of its neighbour-distance radius"});
       p.push_back({"reduce", 1, 0, 1, "1: drop the points a larger splat already covers", true});
-      p.push_back({"front_depth", 0.5, 0, 20,
-                   "blend the splat hits within this many median splat radii behind the "
-                   "front-most"});
+      p.push_back(front_depth_param());
       return p;
     }(),
     {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},

@@ -92,27 +92,13 @@ class WaldSeidel final : public Method {
       if (!bracketed && t_hit == kInfinity) return false;  // lines 20-23: no sign change
     }
     if (t_hit == kInfinity) return false;
-    const uint32_t prim = nearest_point(ray.at(t_hit), leaf.items);
+    const uint32_t prim = nearest_point(ray.at(t_hit), leaf.items, splats_.packed);
     if (!closer(t_hit, prim, hit)) return false;
-    hit.t = t_hit;
-    hit.p = ray.at(t_hit);
-    hit.n = n_hit;
-    hit.prim = prim;
-    hit.footprint = radius_;
+    record_hit(ray, t_hit, prim, n_hit, radius_, hit);
     return true;
   }
 
  private:
-  uint32_t nearest_point(const Vec3& x, std::span<const uint32_t> items) const {
-    uint32_t best = splats_.packed[items[0]].index;
-    float best_d2 = kInfinity;
-    for (uint32_t k : items) {
-      const float d2 = (splats_.packed[k].c - x).squaredNorm();
-      if (d2 < best_d2) best_d2 = d2, best = splats_.packed[k].index;
-    }
-    return best;
-  }
-
   ParamValues params_;
   SplatSet splats_;
   float radius_ = 0, tolerance_ = 0;
