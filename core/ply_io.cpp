@@ -231,7 +231,8 @@ struct FaceSink {
   std::vector<std::array<uint32_t, 3>>* triangles = nullptr;
   std::vector<double> polygon;
   static bool is_index_list(const PlyElement& e, const PlyProperty& p) {
-    return e.name == "face" && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index");
+    return e.name == "face" && p.is_list &&
+           (p.name == "vertex_indices" || p.name == "vertex_index");
   }
   void emit(const std::string& path, uint64_t face, uint64_t vertices) {
     if (polygon.size() < 3) input_error("{}: face {} has {} vertices", path, face, polygon.size());

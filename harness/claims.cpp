@@ -20,7 +20,8 @@ class Expression {
   Expression(std::string text, const std::map<char, double>& values) : values_(values) {
     for (char c : text)
       if (!std::isspace(static_cast<unsigned char>(c))) s_ += c;
-    if (s_.size() > 3 && s_.rfind("O(", 0) == 0 && s_.back() == ')') s_ = s_.substr(2, s_.size() - 3);
+    if (s_.size() > 3 && s_.rfind("O(", 0) == 0 && s_.back() == ')')
+      s_ = s_.substr(2, s_.size() - 3);
   }
   double evaluate() {
     pos_ = 0;
@@ -84,7 +85,8 @@ class Expression {
 
 double evaluate(const std::string& complexity, char variable, double x) {
   std::map<char, double> v;
-  for (char c : std::string("SMBNKkI")) v[c] = c == variable ? x : 1.0;  // others at 1: no term hides another
+  for (char c : std::string("SMBNKkI"))
+    v[c] = c == variable ? x : 1.0;  // others at 1: no term hides another
   return Expression(complexity, v).evaluate();
 }
 
@@ -133,9 +135,13 @@ const std::vector<Claim>& all_claims() {
     std::vector<Claim> c;
     for (const StructureInfo& s : StructureRegistry::instance().all()) {
       if (s.id == "brute_force") continue;
-      c.push_back({s.id + "/build", s.id, "construction cost in N", s.build_claim, {"N"},
-                   "Table 5.4"});
-      c.push_back({s.id + "/query", s.id, "traversal cost to a leaf in N", s.query_claim, {"N"},
+      c.push_back(
+          {s.id + "/build", s.id, "construction cost in N", s.build_claim, {"N"}, "Table 5.4"});
+      c.push_back({s.id + "/query",
+                   s.id,
+                   "traversal cost to a leaf in N",
+                   s.query_claim,
+                   {"N"},
                    "section 5.4"});
     }
     for (const MethodInfo& m : MethodRegistry::instance().all())
@@ -144,22 +150,49 @@ const std::vector<Claim>& all_claims() {
         c.push_back({m.id + "/" + what, m.id, mc.quantity + " cost", mc.complexity, mc.variables,
                      mc.source});
       }
-    c.push_back({"delaunay/uniform", "delaunay", "3D Delaunay of N uniform points",
-                 "O(N log N)", {"N"}, "section 5.1.1"});
-    c.push_back({"delaunay/worst", "delaunay", "3D Delaunay worst case (two skew lines)", "O(N^2)",
-                 {"N"}, "section 5.1.1"});
-    c.push_back({"afsr/reconstruct", "afsr", "mesh reconstruction (its Delaunay) in N",
-                 "O(N log N)", {"N"}, "section 5.1.1"});
-    c.push_back({"mls/iterations", "*", "MLS iterations per ray: 2 or 3 suffice", "I <= 3", {},
+    c.push_back({"delaunay/uniform",
+                 "delaunay",
+                 "3D Delaunay of N uniform points",
+                 "O(N log N)",
+                 {"N"},
+                 "section 5.1.1"});
+    c.push_back({"delaunay/worst",
+                 "delaunay",
+                 "3D Delaunay worst case (two skew lines)",
+                 "O(N^2)",
+                 {"N"},
+                 "section 5.1.1"});
+    c.push_back({"afsr/reconstruct",
+                 "afsr",
+                 "mesh reconstruction (its Delaunay) in N",
+                 "O(N log N)",
+                 {"N"},
+                 "section 5.1.1"});
+    c.push_back({"mls/iterations",
+                 "*",
+                 "MLS iterations per ray: 2 or 3 suffice",
+                 "I <= 3",
+                 {},
                  "section 5.5.2"});
-    c.push_back({"*/real_time", "*", "real time: at least 1 frame per second", ">= 1 fps", {},
+    c.push_back({"*/real_time",
+                 "*",
+                 "real time: at least 1 frame per second",
+                 ">= 1 fps",
+                 {},
                  "Table 5.1"});
-    c.push_back({"reconstruction/crossover", "*",
+    c.push_back({"reconstruction/crossover",
+                 "*",
                  "direct tracing O((N + M) log N) beats reconstruct-then-trace O(N^2 + M log N)",
-                 "crossover frames", {"N", "M"}, "chapter 7"});
+                 "crossover frames",
+                 {"N", "M"},
+                 "chapter 7"});
     for (const WorkloadInfo& w : workloads())
-      c.push_back({"calibration/" + w.id, "*", "calibration workload " + w.id, w.complexity,
-                   {"N"}, "known complexity (validates the fitter)"});
+      c.push_back({"calibration/" + w.id,
+                   "*",
+                   "calibration workload " + w.id,
+                   w.complexity,
+                   {"N"},
+                   "known complexity (validates the fitter)"});
     return c;
   }();
   return claims;

@@ -11,7 +11,7 @@
 namespace pcrt {
 
 enum class Growth { kConstant, kLog, kLinear, kLinearLog, kQuadratic, kCubic };
-inline constexpr Growth kAllGrowths[] = {Growth::kConstant, Growth::kLog,       Growth::kLinear,
+inline constexpr Growth kAllGrowths[] = {Growth::kConstant,  Growth::kLog,       Growth::kLinear,
                                          Growth::kLinearLog, Growth::kQuadratic, Growth::kCubic};
 
 const char* growth_name(Growth g);  // "1", "log x", "x", "x log x", "x^2", "x^3"

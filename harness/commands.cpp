@@ -343,7 +343,8 @@ int command_accuracy(const Args& args) {
             opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
-  if (a.has("mesh")) input_error("pcrt accuracy: --mesh has no exact surface; use --reconstruction");
+  if (a.has("mesh"))
+    input_error("pcrt accuracy: --mesh has no exact surface; use --reconstruction");
   const bool reconstructing = a.has("reconstruction");
   if (reconstructing && a.has("method"))
     input_error("pcrt accuracy: give --method or --reconstruction, not both");
@@ -363,8 +364,8 @@ int command_accuracy(const Args& args) {
   TriangleMesh mesh;
   std::string method, structure;
   if (reconstructing) {
-    const auto& info = ReconstructionRegistry::instance().get(a.get("reconstruction"),
-                                                             "reconstruction");
+    const auto& info =
+        ReconstructionRegistry::instance().get(a.get("reconstruction"), "reconstruction");
     ReconstructionReport rec = info.run(d.cloud);
     if (rec.mesh.triangles.empty())
       input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
@@ -578,20 +579,16 @@ int command_list(const Args& args) {
                       {"source", c.source}});
   json reconstructions = json::array(), engines = json::array();
   for (const ReconstructionInfo& r : ReconstructionRegistry::instance().all())
-    reconstructions.push_back(
-        {{"id", r.id}, {"description", r.description}, {"claim", r.claim}});
+    reconstructions.push_back({{"id", r.id}, {"description", r.description}, {"claim", r.claim}});
   for (const MeshEngineInfo& e : MeshEngineRegistry::instance().all())
     engines.push_back({{"id", e.id}, {"description", e.description}});
   for (size_t i = 0; i < registered_counter_count(); ++i)
     counters.push_back({{"name", registered_counters()[i].name},
                         {"description", registered_counters()[i].description}});
   if (a.has("json")) {
-    const json j = {{"methods", methods},
-                    {"structures", structures},
-                    {"generators", gens},
-                    {"reconstructions", reconstructions},
-                    {"mesh_engines", engines},
-                    {"claims", claims},
+    const json j = {{"methods", methods},      {"structures", structures},
+                    {"generators", gens},      {"reconstructions", reconstructions},
+                    {"mesh_engines", engines}, {"claims", claims},
                     {"counters", counters}};
     std::printf("%s\n", j.dump(2).c_str());
     return 0;

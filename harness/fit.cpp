@@ -54,7 +54,8 @@ GrowthFit fit_growth(const std::vector<double>& x, const std::vector<double>& y,
   // AICc of a model with 2 coefficients (and the variance) needs n > 4.
   if (n < 5) input_error("{}: needs at least 5 points for a growth fit, got {}", what, n);
   std::set<double> distinct(x.begin(), x.end());
-  if (distinct.size() < 3) input_error("{}: needs at least 3 distinct x values, got {}", what, distinct.size());
+  if (distinct.size() < 3)
+    input_error("{}: needs at least 3 distinct x values, got {}", what, distinct.size());
   for (size_t i = 0; i < n; ++i)
     if (!(x[i] > 0) || !(y[i] > 0) || !std::isfinite(x[i]) || !std::isfinite(y[i]))
       input_error("{}: x and y must be positive and finite (x = {}, y = {})", what, x[i], y[i]);

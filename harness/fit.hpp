@@ -24,7 +24,8 @@ struct GrowthFit {
   double delta_aicc_expected = 0;  // AICc(claimed) - AICc(best)
 };
 
-// Needs at least 5 points with 3 distinct x > 0, and every y > 0 (InputError naming `what` otherwise).
+// Needs at least 5 points with 3 distinct x > 0, and every y > 0 (InputError naming `what`
+// otherwise).
 GrowthFit fit_growth(const std::vector<double>& x, const std::vector<double>& y, Growth expected,
                      const std::string& what);
 

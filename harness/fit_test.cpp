@@ -13,12 +13,18 @@ using namespace pcrt;
 namespace {
 double model(Growth m, double x) {
   switch (m) {
-    case Growth::kConstant: return 5;
-    case Growth::kLog: return 5 + 3 * std::log(x);
-    case Growth::kLinear: return 40 + 2 * x;
-    case Growth::kLinearLog: return 40 + 2 * x * std::log2(x);
-    case Growth::kQuadratic: return 100 + 0.5 * x * x;
-    case Growth::kCubic: return 100 + 0.01 * x * x * x;
+    case Growth::kConstant:
+      return 5;
+    case Growth::kLog:
+      return 5 + 3 * std::log(x);
+    case Growth::kLinear:
+      return 40 + 2 * x;
+    case Growth::kLinearLog:
+      return 40 + 2 * x * std::log2(x);
+    case Growth::kQuadratic:
+      return 100 + 0.5 * x * x;
+    case Growth::kCubic:
+      return 100 + 0.01 * x * x * x;
   }
   return 0;
 }
@@ -44,7 +50,8 @@ TEST_CASE("fit_growth picks the generating model and its exponent", "[fit]") {
 
 TEST_CASE("verdicts: faster and slower than claimed", "[fit]") {
   std::vector<double> x, y;
-  for (int e = 6; e <= 16; ++e) x.push_back(std::pow(2.0, e)), y.push_back(model(Growth::kQuadratic, x.back()));
+  for (int e = 6; e <= 16; ++e)
+    x.push_back(std::pow(2.0, e)), y.push_back(model(Growth::kQuadratic, x.back()));
   REQUIRE(fit_growth(x, y, Growth::kLinear, "q").verdict == "faster");
   REQUIRE(fit_growth(x, y, Growth::kCubic, "q").verdict == "slower");
   const GrowthFit f = fit_growth(x, y, Growth::kQuadratic, "q");

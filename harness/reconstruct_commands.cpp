@@ -105,29 +105,30 @@ CrossoverResult measure_crossover(const PointCloud& cloud, const SceneOptions& d
   r.mesh_frame_s = frame_seconds(mesh, cloud, rs, reps);
   // setup_r + F t_r < setup_d + F t_d once F exceeds this.
   if (r.mesh_frame_s < r.direct_frame_s)
-    r.crossover_frames = std::max(
-        0.0, std::ceil((r.mesh_setup_s() - r.direct_setup_s()) / (r.direct_frame_s - r.mesh_frame_s)));
+    r.crossover_frames = std::max(0.0, std::ceil((r.mesh_setup_s() - r.direct_setup_s()) /
+                                                 (r.direct_frame_s - r.mesh_frame_s)));
   return r;
 }
 
 int command_crossover(const Args& args) {
-  CliArgs a("crossover",
-            "pcrt crossover --data DATA --method ID [--structure ID] [--reconstruction afsr] "
-            "[--engine bvh] [--width W --height H --spp S --bounces B --reps R --frames F] [--json]",
-            {{"data", "DATA", "point cloud file or generator spec"},
-             {"method", "ID", "direct method"},
-             {"structure", "ID", "its structure (default: the paper's)"},
-             {"reconstruction", "ID", "reconstruction (default afsr)"},
-             {"engine", "ID", "triangle engine (default bvh)"},
-             {"width", "W", "default 512"},
-             {"height", "H", "default 512"},
-             {"spp", "S", "default 1"},
-             {"bounces", "B", "default 1"},
-             {"reps", "R", "frames measured per side, median taken (default 3)"},
-             {"frames", "F", "report the time to F frames too (default 100)"},
-             {"threads", "N", "worker threads (default: all cores)"},
-             {"json", "", "print JSON"}},
-            0, 0);
+  CliArgs a(
+      "crossover",
+      "pcrt crossover --data DATA --method ID [--structure ID] [--reconstruction afsr] "
+      "[--engine bvh] [--width W --height H --spp S --bounces B --reps R --frames F] [--json]",
+      {{"data", "DATA", "point cloud file or generator spec"},
+       {"method", "ID", "direct method"},
+       {"structure", "ID", "its structure (default: the paper's)"},
+       {"reconstruction", "ID", "reconstruction (default afsr)"},
+       {"engine", "ID", "triangle engine (default bvh)"},
+       {"width", "W", "default 512"},
+       {"height", "H", "default 512"},
+       {"spp", "S", "default 1"},
+       {"bounces", "B", "default 1"},
+       {"reps", "R", "frames measured per side, median taken (default 3)"},
+       {"frames", "F", "report the time to F frames too (default 100)"},
+       {"threads", "N", "worker threads (default: all cores)"},
+       {"json", "", "print JSON"}},
+      0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   RenderSettings rs;
@@ -148,37 +149,36 @@ int command_crossover(const Args& args) {
       measure_crossover(d.cloud, so, a.has("reconstruction") ? a.get("reconstruction") : "afsr",
                         a.has("engine") ? a.get("engine") : "bvh", rs, reps);
   const json crossover = r.crossover_frames ? json(*r.crossover_frames) : json(nullptr);
-  const json j = {
-      {"dataset", data},
-      {"N", d.cloud.size()},
-      {"M", rs.width * rs.height},
-      {"S", rs.spp},
-      {"B", rs.bounces},
-      {"direct",
-       {{"method", r.method},
-        {"structure", r.structure},
-        {"prepare_s", r.direct_prepare_s},
-        {"build_s", r.direct_build_s},
-        {"frame_s", r.direct_frame_s},
-        {"first_frame_s", r.direct_setup_s() + r.direct_frame_s},
-        {"frames_s", r.direct_setup_s() + double(frames) * r.direct_frame_s}}},
-      {"reconstruction",
-       {{"method", r.reconstruction},
-        {"engine", r.engine},
-        {"triangles", r.triangles},
-        {"reconstruct_s", r.reconstruct_s},
-        {"build_s", r.mesh_build_s},
-        {"frame_s", r.mesh_frame_s},
-        {"first_frame_s", r.mesh_setup_s() + r.mesh_frame_s},
-        {"frames_s", r.mesh_setup_s() + double(frames) * r.mesh_frame_s}}},
-      {"frames", frames},
-      {"crossover_frames", crossover}};
+  const json j = {{"dataset", data},
+                  {"N", d.cloud.size()},
+                  {"M", rs.width * rs.height},
+                  {"S", rs.spp},
+                  {"B", rs.bounces},
+                  {"direct",
+                   {{"method", r.method},
+                    {"structure", r.structure},
+                    {"prepare_s", r.direct_prepare_s},
+                    {"build_s", r.direct_build_s},
+                    {"frame_s", r.direct_frame_s},
+                    {"first_frame_s", r.direct_setup_s() + r.direct_frame_s},
+                    {"frames_s", r.direct_setup_s() + double(frames) * r.direct_frame_s}}},
+                  {"reconstruction",
+                   {{"method", r.reconstruction},
+                    {"engine", r.engine},
+                    {"triangles", r.triangles},
+                    {"reconstruct_s", r.reconstruct_s},
+                    {"build_s", r.mesh_build_s},
+                    {"frame_s", r.mesh_frame_s},
+                    {"first_frame_s", r.mesh_setup_s() + r.mesh_frame_s},
+                    {"frames_s", r.mesh_setup_s() + double(frames) * r.mesh_frame_s}}},
+                  {"frames", frames},
+                  {"crossover_frames", crossover}};
   if (a.has("json")) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  std::printf("%s, N = %zu, %dx%d, S=%d B=%d\n", data.c_str(), d.cloud.size(), rs.width,
-              rs.height, rs.spp, rs.bounces);
+  std::printf("%s, N = %zu, %dx%d, S=%d B=%d\n", data.c_str(), d.cloud.size(), rs.width, rs.height,
+              rs.spp, rs.bounces);
   std::printf("  direct %s on %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
               r.method.c_str(), r.structure.c_str(), r.direct_setup_s(), r.direct_frame_s,
               r.direct_setup_s() + r.direct_frame_s);

@@ -43,8 +43,7 @@ const std::set<std::string> kGridVariables = {"N", "M", "S", "B"};
 void check_keys(const json& obj, const std::set<std::string>& allowed, const std::string& where) {
   if (!obj.is_object()) input_error("{}: must be an object", where);
   for (const auto& [k, v] : obj.items())
-    if (!allowed.count(k) && k.rfind("set.", 0) != 0)
-      input_error("{}: unknown key '{}'", where, k);
+    if (!allowed.count(k) && k.rfind("set.", 0) != 0) input_error("{}: unknown key '{}'", where, k);
 }
 
 std::vector<std::string> string_list(const json& v, const std::string& where) {
@@ -78,8 +77,8 @@ bool is_generator(const std::string& base) {
 }
 
 std::string generator_spec(const std::string& base, double n) {
-  return base + (base.find(':') == std::string::npos ? ":" : ",") + "n=" +
-         std::to_string(static_cast<long long>(n));
+  return base + (base.find(':') == std::string::npos ? ":" : ",") +
+         "n=" + std::to_string(static_cast<long long>(n));
 }
 
 // The cloud of a run: a generator at N points, or N points drawn from a file without
@@ -109,9 +108,12 @@ void validate_params(const std::string& method, const std::string& structure,
   const StructureInfo* s =
       m.own_structure.empty() ? &StructureRegistry::instance().get(sid, "structure") : nullptr;
   for (const auto& [k, v] : set) {
-    const bool in_m = std::any_of(m.params.begin(), m.params.end(), [&](auto& p) { return p.name == k; });
-    const bool in_s = s && std::any_of(s->params.begin(), s->params.end(), [&](auto& p) { return p.name == k; });
-    if (!in_m && !in_s) input_error("{}: set.{} is not a parameter of {} or {}", where, k, method, sid);
+    const bool in_m =
+        std::any_of(m.params.begin(), m.params.end(), [&](auto& p) { return p.name == k; });
+    const bool in_s =
+        s && std::any_of(s->params.begin(), s->params.end(), [&](auto& p) { return p.name == k; });
+    if (!in_m && !in_s)
+      input_error("{}: set.{} is not a parameter of {} or {}", where, k, method, sid);
     (in_m ? mp : sp)[k] = v;
   }
   resolve_params(m.params, mp, where + " (" + method + ")");
@@ -203,7 +205,8 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by"}, where);
   FitSpec s;
   s.experiment = experiment;
-  if (!f.contains("claim") || !f["claim"].is_string()) input_error("{}: 'claim' is required", where);
+  if (!f.contains("claim") || !f["claim"].is_string())
+    input_error("{}: 'claim' is required", where);
   s.claim = f["claim"].get<std::string>();
   s.variable = f.value("variable", std::string());
   s.x = f.value("x", s.variable);
@@ -223,8 +226,9 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
 }  // namespace
 
 SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
-  check_keys(raw, {"name", "description", "threads", "repetitions", "warmup", "time_limit_s",
-                   "measure", "seed", "experiments"},
+  check_keys(raw,
+             {"name", "description", "threads", "repetitions", "warmup", "time_limit_s", "measure",
+              "seed", "experiments"},
              origin);
   SweepConfig c;
   c.raw = raw;
@@ -232,7 +236,8 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
   const double threads = raw.value("threads", 2.0), reps = raw.value("repetitions", 1.0),
                warmup = raw.value("warmup", 0.0), seed = raw.value("seed", 1.0);
   c.time_limit_s = raw.value("time_limit_s", 300.0);
-  if (!(threads >= 1 && threads <= 1024)) input_error("{}: threads = {} is impossible", origin, threads);
+  if (!(threads >= 1 && threads <= 1024))
+    input_error("{}: threads = {} is impossible", origin, threads);
   if (!(reps >= 1 && reps <= 1000)) input_error("{}: repetitions = {} is impossible", origin, reps);
   if (!(warmup >= 0 && warmup <= 100)) input_error("{}: warmup = {} is impossible", origin, warmup);
   if (!(c.time_limit_s > 0)) input_error("{}: time_limit_s must be positive", origin);
@@ -245,8 +250,9 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
   for (size_t i = 0; i < raw["experiments"].size(); ++i) {
     const json& e = raw["experiments"][i];
     const std::string where = fmt::format("{}: experiments[{}]", origin, i);
-    check_keys(e, {"name", "description", "kind", "methods", "structures", "datasets", "grid",
-                   "points", "reconstructions", "engine", "workloads", "fits", "repetitions"},
+    check_keys(e,
+               {"name", "description", "kind", "methods", "structures", "datasets", "grid",
+                "points", "reconstructions", "engine", "workloads", "fits", "repetitions"},
                where);
     const std::string name = e.value("name", fmt::format("experiment{}", i));
     if (!names.insert(name).second) input_error("{}: name '{}' used twice", where, name);
@@ -263,8 +269,9 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
     const std::vector<json> points = grid_points(e, where);
     for (const json& p : points) check_point_values(p, kind, where);
     const int run_reps = int(e.value("repetitions", reps));
-    json base = {{"experiment", name}, {"kind", kind},          {"reps", run_reps},
-                 {"warmup", int(warmup)}, {"threads", int(threads)}, {"seed", uint64_t(seed)},
+    json base = {{"experiment", name},      {"kind", kind},
+                 {"reps", run_reps},        {"warmup", int(warmup)},
+                 {"threads", int(threads)}, {"seed", uint64_t(seed)},
                  {"measure", measure}};
     std::vector<std::string> datasets;
     if (kind != "workload") {
@@ -315,7 +322,8 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
                                            ? e["reconstructions"][0]
                                            : e.value("reconstructions", json("afsr"));
               spec["engine"] = e.value("engine", std::string("bvh"));
-              (void)ReconstructionRegistry::instance().get(spec["reconstruction"], "reconstruction");
+              (void)ReconstructionRegistry::instance().get(spec["reconstruction"],
+                                                           "reconstruction");
               (void)MeshEngineRegistry::instance().get(spec["engine"], "mesh engine");
             }
             emit(spec);
@@ -334,7 +342,8 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
       }
     } else {  // workload
       for (const std::string& w : string_list(e.value("workloads", json()), where + ".workloads")) {
-        if (std::none_of(workloads().begin(), workloads().end(), [&](auto& x) { return x.id == w; }))
+        if (std::none_of(workloads().begin(), workloads().end(),
+                         [&](auto& x) { return x.id == w; }))
           input_error("{}: unknown workload '{}'", where, w);
         json spec = base;
         spec["workload"] = w;
@@ -376,8 +385,8 @@ SweepConfig load_sweep_config(const std::string& path) {
 std::string run_key(const json& spec) {
   if (spec.contains("spec")) return spec["spec"].dump();  // a result: the spec it ran
   json s = spec;
-  for (const char* k : {"status", "error", "counters", "prepare_counters", "times_s", "extra", "spec",
-                        "time_median_s", "time_min_s", "time_max_s", "time_spread"})
+  for (const char* k : {"status", "error", "counters", "prepare_counters", "times_s", "extra",
+                        "spec", "time_median_s", "time_min_s", "time_max_s", "time_spread"})
     s.erase(k);
   return s.dump();
 }
@@ -419,7 +428,8 @@ json execute_run(const json& spec) {
     OpCounters first;
     for (int i = 0; i < warmup + reps; ++i) {
       OpCounters c;
-      const double s = run_workload(spec.at("workload"), size_t(spec.at("N").get<double>()), seed, c);
+      const double s =
+          run_workload(spec.at("workload"), size_t(spec.at("N").get<double>()), seed, c);
       if (i >= warmup) times.push_back(s);
       if (i == 0) first = c;
     }
@@ -428,15 +438,18 @@ json execute_run(const json& spec) {
     const PointCloud cloud = run_cloud(spec.at("dataset"), spec.value("N", 0.0), seed);
     r["N"] = cloud.size();
     if (kind == "reconstruct") {
-      const auto& info = ReconstructionRegistry::instance().get(spec.at("reconstruction"), "reconstruction");
+      const auto& info =
+          ReconstructionRegistry::instance().get(spec.at("reconstruction"), "reconstruction");
       json counts;
       for (int i = 0; i < warmup + reps; ++i) {
         const ReconstructionReport rec = info.run(cloud);
         if (i >= warmup) times.push_back(rec.seconds);
         counts = json::object();
-        for (const auto& [k, v] : std::map<std::string, std::optional<uint64_t>>{
-                 {"cells", rec.cells}, {"facets", rec.facets}, {"triangles", rec.triangles},
-                 {"boundary_edges", rec.boundary_edges}})
+        for (const auto& [k, v] :
+             std::map<std::string, std::optional<uint64_t>>{{"cells", rec.cells},
+                                                            {"facets", rec.facets},
+                                                            {"triangles", rec.triangles},
+                                                            {"boundary_edges", rec.boundary_edges}})
           if (v) counts[k] = *v;
         counts["vertices"] = rec.vertices;
         extra["memory_bytes"] = rec.memory_bytes;
@@ -449,12 +462,16 @@ json execute_run(const json& spec) {
       for (const auto& [k, v] : spec.at("set").items()) so.set[k] = v.get<double>();
       const RenderSettings rs = render_settings(spec);
       if (kind == "crossover") {
-        const CrossoverResult x = measure_crossover(cloud, so, spec.at("reconstruction"),
-                                                    spec.at("engine"), rs, reps);
-        extra = {{"direct_setup_s", x.direct_setup_s()}, {"direct_frame_s", x.direct_frame_s},
-                 {"mesh_setup_s", x.mesh_setup_s()},     {"mesh_frame_s", x.mesh_frame_s},
-                 {"reconstruct_s", x.reconstruct_s},     {"triangles", x.triangles},
-                 {"crossover_frames", x.crossover_frames ? json(*x.crossover_frames) : json(nullptr)}};
+        const CrossoverResult x =
+            measure_crossover(cloud, so, spec.at("reconstruction"), spec.at("engine"), rs, reps);
+        extra = {
+            {"direct_setup_s", x.direct_setup_s()},
+            {"direct_frame_s", x.direct_frame_s},
+            {"mesh_setup_s", x.mesh_setup_s()},
+            {"mesh_frame_s", x.mesh_frame_s},
+            {"reconstruct_s", x.reconstruct_s},
+            {"triangles", x.triangles},
+            {"crossover_frames", x.crossover_frames ? json(*x.crossover_frames) : json(nullptr)}};
         times.push_back(x.mesh_setup_s() + x.mesh_frame_s);
         r["counters"] = json::object();
       } else {
@@ -515,7 +532,8 @@ json run_in_child(const json& spec, double time_limit_s) {
   bool open_out = true, open_err = true;
   char buf[65536];
   while (open_out || open_err) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!timed_out && elapsed > time_limit_s) {
       kill(pid, SIGKILL);
       timed_out = true;
@@ -580,8 +598,7 @@ json run_row(const json& r) {
   for (const auto& [k, v] : counters.items()) row["ops_" + k] = v;
   // (Each json is held in a local: items() of a temporary would dangle in a range-for.)
   const json prepare = r.value("prepare_counters", json::object());
-  for (const auto& [k, v] : prepare.items())
-    row["ops_prep_" + k] = v;
+  for (const auto& [k, v] : prepare.items()) row["ops_prep_" + k] = v;
   for (const char* k : {"time_median_s", "time_min_s", "time_max_s", "time_spread"})
     row[k] = r.contains(k) ? r[k] : json(nullptr);
   const json extra = r.value("extra", json::object());
@@ -591,9 +608,10 @@ json run_row(const json& r) {
 
 void write_runs_csv(const std::string& path, const std::vector<json>& results) {
   std::vector<json> rows;
-  std::vector<std::string> columns = {"experiment", "kind", "method", "structure", "dataset",
-                                      "reconstruction", "engine", "workload", "N", "M", "S", "B",
-                                      "K", "k", "I"};
+  std::vector<std::string> columns = {
+      "experiment", "kind",     "method", "structure", "dataset", "reconstruction",
+      "engine",     "workload", "N",      "M",         "S",       "B",
+      "K",          "k",        "I"};
   std::set<std::string> seen(columns.begin(), columns.end()), rest;
   for (const json& r : results) {
     rows.push_back(run_row(r));
@@ -783,9 +801,9 @@ std::vector<json> fit_runs(const SweepConfig& config, const std::vector<json>& r
         for (double y : ys) worst = f.max >= 0 ? std::max(worst, y) : std::min(worst, y);
         out["measured"] = ys.empty() ? json(nullptr) : json(worst);
         out["threshold"] = f.max >= 0 ? fmt::format("<= {}", f.max) : fmt::format(">= {}", f.min);
-        out["verdict"] = ys.empty() ? "error"
+        out["verdict"] = ys.empty()                                       ? "error"
                          : (f.max >= 0 ? worst <= f.max : worst >= f.min) ? "consistent"
-                                                                            : "slower";
+                                                                          : "slower";
         fits.push_back(out);
         continue;
       }

@@ -75,13 +75,14 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
   for (size_t i = 0; i < todo.size(); ++i) {
     const json& spec = *todo[i];
     if (tty) {
-      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double el =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const std::string eta = i > 0 ? fmt_duration(el / double(i) * double(todo.size() - i)) : "?";
-      std::fprintf(stderr, "\r\033[K[%zu/%zu, ETA %s] %s %s %s N=%s", i + 1, todo.size(),
-                   eta.c_str(), spec.value("experiment", "").c_str(),
-                   spec.value("method", spec.value("reconstruction", spec.value("workload", ""))).c_str(),
-                   spec.value("structure", "").c_str(),
-                   spec.contains("N") ? spec["N"].dump().c_str() : "-");
+      std::fprintf(
+          stderr, "\r\033[K[%zu/%zu, ETA %s] %s %s %s N=%s", i + 1, todo.size(), eta.c_str(),
+          spec.value("experiment", "").c_str(),
+          spec.value("method", spec.value("reconstruction", spec.value("workload", ""))).c_str(),
+          spec.value("structure", "").c_str(), spec.contains("N") ? spec["N"].dump().c_str() : "-");
     }
     json result = run_in_child(spec, config.time_limit_s);
     if (result.value("status", "") != "ok") ++failed;
@@ -99,10 +100,11 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
 void write_fits(const std::string& dir, const std::vector<json>& fits) {
   write_json(dir + "/fits.json", json(fits));
   const std::vector<std::string> cols = {
-      "claim",  "method",     "structure",      "dataset",        "variable", "x",
-      "metric", "points",     "exponent",       "ci_low",         "ci_high",  "best_model",
-      "expected_model", "r2", "delta_aicc_expected", "claimed", "measured", "threshold",
-      "verdict", "source",  "failed_runs",    "error"};
+      "claim",       "method",     "structure",      "dataset",  "variable",
+      "x",           "metric",     "points",         "exponent", "ci_low",
+      "ci_high",     "best_model", "expected_model", "r2",       "delta_aicc_expected",
+      "claimed",     "measured",   "threshold",      "verdict",  "source",
+      "failed_runs", "error"};
   write_file_atomically(dir + "/fits.csv", [&](std::ostream& o) {
     for (size_t i = 0; i < cols.size(); ++i) o << (i ? "," : "") << cols[i];
     o << '\n';
@@ -132,7 +134,8 @@ SweepConfig config_of(const std::string& dir) {
   } catch (const json::exception&) {
     input_error("{}: not valid JSON", path);
   }
-  const json cfg = ctx.contains("config") ? ctx["config"] : ctx.value("configs", json::array()).at(0);
+  const json cfg =
+      ctx.contains("config") ? ctx["config"] : ctx.value("configs", json::array()).at(0);
   return parse_sweep_config(cfg, path);
 }
 
@@ -200,7 +203,8 @@ int command_merge(const Args& args) {
   json merged = contexts[0];
   merged["shards"] = contexts;
   write_json(out + "/context.json", merged);
-  std::printf("%s: %zu runs from %zu directories\n", out.c_str(), all.size(), a.positional().size());
+  std::printf("%s: %zu runs from %zu directories\n", out.c_str(), all.size(),
+              a.positional().size());
   return 0;
 }
 
@@ -247,25 +251,30 @@ int command_calibrate(const Args& args) {
          {"workloads", {w.id}},
          {"grid", {{"N", w.sizes}}},
          {"fits",
-          {{{"claim", "calibration/" + w.id}, {"variable", "N"}, {"metric", "ops_workload_operations"}},
+          {{{"claim", "calibration/" + w.id},
+            {"variable", "N"},
+            {"metric", "ops_workload_operations"}},
            {{"claim", "calibration/" + w.id}, {"variable", "N"}, {"metric", "time"}}}}});
   }
-  const json raw = {{"name", "calibrate"}, {"threads", 1}, {"repetitions", 5}, {"warmup", 1},
-                    {"time_limit_s", 120}, {"experiments", experiments}};
+  const json raw = {{"name", "calibrate"}, {"threads", 1},        {"repetitions", 5},
+                    {"warmup", 1},         {"time_limit_s", 120}, {"experiments", experiments}};
   const SweepConfig config = parse_sweep_config(raw, "calibrate");
-  const std::string dir = a.has("out") ? a.get("out")
-                                       : (fs::temp_directory_path() /
-                                          ("pcrt_calibrate_" + std::to_string(getpid()))).string();
+  const std::string dir =
+      a.has("out")
+          ? a.get("out")
+          : (fs::temp_directory_path() / ("pcrt_calibrate_" + std::to_string(getpid()))).string();
   const std::vector<json> results = run_sweep(config, dir, false, {0, 1}, true);
   const std::vector<json> fits = fit_runs(config, results);
-  if (a.has("out")) write_fits(dir, fits);
-  else fs::remove_all(dir);
+  if (a.has("out"))
+    write_fits(dir, fits);
+  else
+    fs::remove_all(dir);
   json out = json::array();
   bool all_ok = true;
   for (const json& f : fits) {
     const std::string id = f.value("workload", "");
-    const auto& w = *std::find_if(workloads().begin(), workloads().end(),
-                                  [&](auto& x) { return x.id == id; });
+    const auto& w =
+        *std::find_if(workloads().begin(), workloads().end(), [&](auto& x) { return x.id == id; });
     const bool ok = f.value("best_model", "") == std::string(growth_name(w.expected));
     all_ok = all_ok && ok;
     out.push_back({{"workload", id},
@@ -306,9 +315,10 @@ int command_check(const Args& args) {
   const std::string baseline_path = a.require("baseline");
   const double tolerance = a.number("tolerance", 0.0);
   if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
-  const std::string dir = a.has("out") ? a.get("out")
-                                       : (fs::temp_directory_path() /
-                                          ("pcrt_check_" + std::to_string(getpid()))).string();
+  const std::string dir =
+      a.has("out")
+          ? a.get("out")
+          : (fs::temp_directory_path() / ("pcrt_check_" + std::to_string(getpid()))).string();
   const std::vector<json> results = run_sweep(config, dir, false, {0, 1}, true);
   const std::vector<json> fits = fit_runs(config, results);
   if (!a.has("out")) fs::remove_all(dir);
@@ -339,7 +349,8 @@ int command_check(const Args& args) {
   std::ifstream in(baseline_path);
   if (!in) input_error("{}: cannot open (create it with --update)", baseline_path);
   const json base = json::parse(in, nullptr, false);
-  if (base.is_discarded() || !base.contains("runs")) input_error("{}: not a baseline", baseline_path);
+  if (base.is_discarded() || !base.contains("runs"))
+    input_error("{}: not a baseline", baseline_path);
   size_t problems = 0;
   for (const auto& [key, old] : base["runs"].items()) {
     if (!now["runs"].contains(key)) {
@@ -359,17 +370,20 @@ int command_check(const Args& args) {
       } else if (o == c) {
         continue;
       }
-      std::printf("%s\n  %s: %s -> %s\n", key.c_str(), k.c_str(), o.dump().c_str(), c.dump().c_str());
+      std::printf("%s\n  %s: %s -> %s\n", key.c_str(), k.c_str(), o.dump().c_str(),
+                  c.dump().c_str());
       ++problems;
     }
   }
   for (const auto& [key, cur] : now["runs"].items())
-    if (!base["runs"].contains(key)) std::printf("new run (not in the baseline): %s\n", key.c_str()), ++problems;
+    if (!base["runs"].contains(key))
+      std::printf("new run (not in the baseline): %s\n", key.c_str()), ++problems;
   const json base_verdicts = base.value("verdicts", json::object());
   for (const auto& [key, old] : base_verdicts.items()) {
     const json cur = now["verdicts"].value(key, json(nullptr));
     if (cur != old) {
-      std::printf("verdict changed: %s: %s -> %s\n", key.c_str(), old.dump().c_str(), cur.dump().c_str());
+      std::printf("verdict changed: %s: %s -> %s\n", key.c_str(), old.dump().c_str(),
+                  cur.dump().c_str());
       ++problems;
     }
   }

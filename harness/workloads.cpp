@@ -1,6 +1,7 @@
 #include "harness/workloads.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <unordered_set>
 
@@ -10,7 +11,8 @@
 namespace pcrt {
 namespace {
 
-constexpr size_t kLookups = 1 << 16;  // fixed number of queries per run for the per-lookup workloads
+constexpr size_t kLookups =
+    1 << 16;  // fixed number of queries per run for the per-lookup workloads
 
 std::vector<uint64_t> random_keys(size_t n, uint64_t seed) {
   Rng rng(seed, 77);
@@ -23,11 +25,23 @@ std::vector<uint64_t> random_keys(size_t n, uint64_t seed) {
 
 const std::vector<WorkloadInfo>& workloads() {
   static const std::vector<WorkloadInfo> list = {
-      {"sort", Growth::kLinearLog, "O(N log N)", {1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15, 1 << 16, 1 << 17}},
-      {"nth_element", Growth::kLinear, "O(N)", {1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15, 1 << 16, 1 << 17}},
-      {"binary_search", Growth::kLog, "O(log N)", {1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16, 1 << 18, 1 << 20}},
+      {"sort",
+       Growth::kLinearLog,
+       "O(N log N)",
+       {1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15, 1 << 16, 1 << 17}},
+      {"nth_element",
+       Growth::kLinear,
+       "O(N)",
+       {1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15, 1 << 16, 1 << 17}},
+      {"binary_search",
+       Growth::kLog,
+       "O(log N)",
+       {1 << 8, 1 << 10, 1 << 12, 1 << 14, 1 << 16, 1 << 18, 1 << 20}},
       {"triple_loop", Growth::kCubic, "O(N^3)", {24, 32, 48, 64, 96, 128, 160}},
-      {"hash_lookup", Growth::kConstant, "O(1)", {1 << 4, 1 << 5, 1 << 6, 1 << 7, 1 << 8, 1 << 9, 1 << 10}},
+      {"hash_lookup",
+       Growth::kConstant,
+       "O(1)",
+       {1 << 4, 1 << 5, 1 << 6, 1 << 7, 1 << 8, 1 << 9, 1 << 10}},
   };
   return list;
 }
@@ -58,9 +72,10 @@ double run_workload(const std::string& id, size_t n, uint64_t seed, OpCounters& 
     auto less = [&ops](uint64_t a, uint64_t b) { return ++ops, a < b; };
     uint64_t found = 0;
     begin();
-    for (uint64_t k : q) found += uint64_t(std::lower_bound(v.begin(), v.end(), k, less) - v.begin());
-    static volatile uint64_t sink;  // keeps the lookups from being optimised away
-    sink = found;
+    for (uint64_t k : q)
+      found += uint64_t(std::lower_bound(v.begin(), v.end(), k, less) - v.begin());
+    static std::atomic<uint64_t> sink;  // keeps the lookups from being optimised away
+    sink.store(found, std::memory_order_relaxed);
   } else if (id == "triple_loop") {
     std::vector<double> a(n * n, 1.0), b(n * n, 0.5), c(n * n, 0.0);
     begin();

@@ -19,7 +19,7 @@ inline const Counter kWorkloadOperations{"workload_operations",
 struct WorkloadInfo {
   std::string id;
   Growth expected;
-  std::string complexity;  // as a claim, e.g. "O(N log N)"
+  std::string complexity;     // as a claim, e.g. "O(N log N)"
   std::vector<double> sizes;  // the N swept by `pcrt calibrate`
 };
 

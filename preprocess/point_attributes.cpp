@@ -26,8 +26,6 @@ Vec3 pca_normal(std::span<const Vec3> positions, std::span<const uint32_t> nbrs)
   return n.normalized();
 }
 
-
-
 std::vector<Vec3> estimate_normals(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
                                    OpCounters& counters) {
   const size_t n = positions.size();

@@ -78,7 +78,8 @@ ReconstructionReport run_afsr(const PointCloud& cloud) {
   r.vertices = cloud.size();
   r.mesh.vertices = cloud.positions;
   r.mesh.triangles.reserve(facets.size());
-  for (const auto& f : facets) r.mesh.triangles.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
+  for (const auto& f : facets)
+    r.mesh.triangles.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
   r.triangles = r.mesh.triangles.size();
   r.boundary_edges = r.mesh.boundary_edges();
   return r;
@@ -121,7 +122,8 @@ class CgalAabbEngine final : public MeshEngine {
     if (!found) return false;
     const Point* x = boost::get<Point>(&found->first);
     if (!x) return false;  // the ray runs inside a triangle's plane: a segment, no single point
-    const float t = ray.tmin + float((Vec3(float(x->x()), float(x->y()), float(x->z())) - o).dot(ray.d));
+    const float t =
+        ray.tmin + float((Vec3(float(x->x()), float(x->y()), float(x->z())) - o).dot(ray.d));
     if (!(t < std::min(ray.tmax, hit.t))) return false;
     hit.t = t;
     hit.prim = uint32_t(found->second - triangles_.begin());
@@ -136,19 +138,19 @@ class CgalAabbEngine final : public MeshEngine {
   }
 
  private:
-  static inline const Counter kCgalRays{"cgal_aabb_rays",
-                                        "rays traced by CGAL's AABB tree (internal work uncounted)"};
+  static inline const Counter kCgalRays{
+      "cgal_aabb_rays", "rays traced by CGAL's AABB tree (internal work uncounted)"};
   const TriangleMesh& mesh_;
   std::vector<Triangle> triangles_;
   Tree tree_;
 };
 
-const RegisterMeshEngine kCgalEngine{MeshEngineInfo{
-    "cgal_aabb", "CGAL AABB_tree over the triangles, first_intersection per ray",
-    [](const TriangleMesh& mesh, OpCounters&, Timings& timings) {
-      ScopedTimer t(timings, "build");
-      return std::unique_ptr<MeshEngine>(std::make_unique<CgalAabbEngine>(mesh));
-    }}};
+const RegisterMeshEngine kCgalEngine{
+    MeshEngineInfo{"cgal_aabb", "CGAL AABB_tree over the triangles, first_intersection per ray",
+                   [](const TriangleMesh& mesh, OpCounters&, Timings& timings) {
+                     ScopedTimer t(timings, "build");
+                     return std::unique_ptr<MeshEngine>(std::make_unique<CgalAabbEngine>(mesh));
+                   }}};
 
 }  // namespace
 }  // namespace pcrt

@@ -1,5 +1,7 @@
 // Reconstruction and triangle engines: exact cell counts where the combinatorics are known,
 // clear errors on degenerate input, and the three engines agreeing ray by ray.
+#include "reconstruction/reconstruction.hpp"
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 
@@ -7,7 +9,6 @@
 #include "core/error.hpp"
 #include "core/rng.hpp"
 #include "reconstruction/mesh_engine.hpp"
-#include "reconstruction/reconstruction.hpp"
 
 using namespace pcrt;
 
@@ -46,8 +47,7 @@ TEST_CASE("Degenerate input gives a clear error, not a crash", "[reconstruction]
   REQUIRE_THROWS_AS(reconstruction("delaunay").run(three), InputError);
   REQUIRE_THROWS_AS(reconstruction("afsr").run(three), InputError);
   const Dataset plane = load_dataset("plane:n=200");
-  REQUIRE_THROWS_WITH(reconstruction("delaunay").run(plane.cloud),
-                      Catch::Contains("coplanar"));
+  REQUIRE_THROWS_WITH(reconstruction("delaunay").run(plane.cloud), Catch::Contains("coplanar"));
   REQUIRE_THROWS_WITH(reconstruction("afsr").run(plane.cloud), Catch::Contains("coplanar"));
 }
 

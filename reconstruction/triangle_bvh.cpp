@@ -61,9 +61,9 @@ class TriangleBvh final : public MeshEngine {
           ++tests;
           // Up to and including t_max, so that a tie in t goes to the lower triangle index
           // whatever the traversal order.
-          const float t =
-              intersect_triangle(ray, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]],
-                                 mesh_.vertices[tri[2]], ray.tmin, std::nextafter(t_max, kInfinity));
+          const float t = intersect_triangle(ray, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]],
+                                             mesh_.vertices[tri[2]], ray.tmin,
+                                             std::nextafter(t_max, kInfinity));
           if (t == kInfinity || (t == t_max && order_[k] > hit.prim)) continue;
           t_max = t, hit.t = t, hit.prim = order_[k], found = true;
         }
@@ -98,7 +98,8 @@ class TriangleBvh final : public MeshEngine {
     nodes_.emplace_back();
     split_axis_.push_back(0);
     Aabb box, cbox;
-    for (uint32_t k = begin; k < end; ++k) box.extend(boxes_[order_[k]]), cbox.extend(centroids_[order_[k]]);
+    for (uint32_t k = begin; k < end; ++k)
+      box.extend(boxes_[order_[k]]), cbox.extend(centroids_[order_[k]]);
     nodes_[index].box = box;
     int axis = 0;
     uint32_t mid = 0;
@@ -167,8 +168,9 @@ class TriangleBvh final : public MeshEngine {
     if (e.y() > e[axis]) axis = 1;
     if (e.z() > e[axis]) axis = 2;
     mid = (begin + end) / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](uint32_t a, uint32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
+    std::nth_element(
+        order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+        [&](uint32_t a, uint32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
     return true;
   }
 
@@ -181,7 +183,9 @@ class TriangleBvh final : public MeshEngine {
 };
 
 const RegisterMeshEngine kRegister{MeshEngineInfo{
-    "bvh", "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, counted like the point structures",
+    "bvh",
+    "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, counted like the point "
+    "structures",
     [](const TriangleMesh& mesh, OpCounters& counters, Timings& timings) {
       ScopedTimer t(timings, "build");
       return std::unique_ptr<MeshEngine>(std::make_unique<TriangleBvh>(mesh, counters));

@@ -1,8 +1,8 @@
 #include "reconstruction/triangle_mesh.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <bit>
+#include <cstring>
 #include <filesystem>
 
 #include "core/error.hpp"
@@ -44,7 +44,8 @@ Vec3 TriangleMesh::normal(uint32_t i) const {
 
 TriangleMesh read_mesh(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   TriangleMesh mesh;
   PointCloud cloud;
   if (ext == ".ply")

@@ -1,8 +1,8 @@
 // adams_2005: Adams, Keiser, Pauly, Guibas, Gross and Dutre, "Efficient raytracing of deforming
-// point-sampled surfaces" (Computer Graphics Forum 24(3), 2005), thesis [1], Algorithm 6: surfels in a bounding
-// sphere hierarchy; from where the ray enters a surfel's sphere, Newton steps on the implicit
-// function of the distance-weighted average plane of the K nearest surfels (Eq. 3.22, 3.24). See
-// README.md.
+// point-sampled surfaces" (Computer Graphics Forum 24(3), 2005), thesis [1], Algorithm 6: surfels
+// in a bounding sphere hierarchy; from where the ray enters a surfel's sphere, Newton steps on the
+// implicit function of the distance-weighted average plane of the K nearest surfels
+// (Eq. 3.22, 3.24). See README.md.
 #include <array>
 #include <optional>
 
@@ -86,8 +86,8 @@ const RegisterMethod kRegister{MethodInfo{
     [] {
       auto p = splat_params();
       p.push_back({"K", 16, 1, double(kMaxK), "surfels in each weighted average", true});
-      p.push_back({"support", 2.0, 0.5, 10,
-                   "weight support of a surfel, in multiples of its radius"});
+      p.push_back(
+          {"support", 2.0, 0.5, 10, "weight support of a surfel, in multiples of its radius"});
       p.push_back({"tolerance", 1e-3, 0, 1,
                    "|f| at convergence, in surfel radii (0: always run max_iterations)"});
       p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});

@@ -49,8 +49,8 @@ class Cai2011 final : public Method {
 
  private:
   // From the midpoint of the start splat's chord; the result must stay inside that chord.
-  float iterate(const Ray& ray, const LeafVisit& leaf, const PackedSplat& start, float t0,
-                float t1, Vec3& normal, OpCounters& counters) const {
+  float iterate(const Ray& ray, const LeafVisit& leaf, const PackedSplat& start, float t0, float t1,
+                Vec3& normal, OpCounters& counters) const {
     counters.add(kHeightStarts);
     auto theta = [](float d2, const PackedSplat& p) {
       const float q = d2 / (p.r * p.r);
@@ -59,7 +59,8 @@ class Cai2011 final : public Method {
     float t = 0.5f * (t0 + t1);
     for (int i = 0; i < max_iterations_; ++i) {
       counters.add(kHeightSteps);
-      const WeightedPlane w = weighted_plane(ray.at(t), leaf.items, splats_.packed, theta, counters);
+      const WeightedPlane w =
+          weighted_plane(ray.at(t), leaf.items, splats_.packed, theta, counters);
       const float slope = w.n.dot(ray.d);
       if (!(w.weight > 0) || std::abs(slope) < 1e-6f * w.n.norm()) return kInfinity;
       normal = w.n.normalized();

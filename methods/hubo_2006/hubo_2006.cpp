@@ -72,8 +72,8 @@ const RegisterMethod kRegister{MethodInfo{
       auto p = normal_params();
       p.push_back({"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h (smoothness)"});
       p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
-      p.push_back({"tolerance", 0.001, 0, 10,
-                   "|f| at convergence, in h (0: always run max_iterations)"});
+      p.push_back(
+          {"tolerance", 0.001, 0, 10, "|f| at convergence, in h (0: always run max_iterations)"});
       p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
       return p;
     }(),

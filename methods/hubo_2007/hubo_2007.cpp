@@ -77,9 +77,9 @@ class Hubo2007 final : public Method {
       counters.add(kPatchRuns);
       const std::span<const uint32_t> own(patch_items_.data() + p.begin, p.end - p.begin);
       const float denom = p.normal.dot(ray.d);
-      const float start =
-          std::abs(denom) > 1e-6f ? std::clamp(p.normal.dot(p.centre - ray.o) / denom, t0, t1)
-                                  : 0.5f * (t0 + t1);
+      const float start = std::abs(denom) > 1e-6f
+                              ? std::clamp(p.normal.dot(p.centre - ray.o) / denom, t0, t1)
+                              : 0.5f * (t0 + t1);
       Vec3 n = Vec3::Zero();
       const float t = newton_on_weighted_plane(
           ray, start, t0, t1,
@@ -98,7 +98,8 @@ class Hubo2007 final : public Method {
     Vec3 nsum = Vec3::Zero();
     for (size_t i = 0; i < m; ++i) {
       if (hits[i].first > front + depth_) continue;
-      const Vec3 n = hits[i].second.dot(hits[0].second) < 0 ? Vec3(-hits[i].second) : hits[i].second;
+      const Vec3 n =
+          hits[i].second.dot(hits[0].second) < 0 ? Vec3(-hits[i].second) : hits[i].second;
       wsum += weights[i], tsum += weights[i] * hits[i].first, nsum += weights[i] * n;
     }
     const float t = wsum > 0 ? tsum / wsum : front;
@@ -112,7 +113,8 @@ class Hubo2007 final : public Method {
  private:
   void add_patch(const SplatSet& pts, const uint32_t* b, const uint32_t* e) {
     Patch p{uint32_t(points_.size()), 0, Vec3::Zero(), Vec3::Zero(), 0};
-    for (const uint32_t* i = b; i != e; ++i) p.centre += pts.centres[*i], p.normal += pts.normals[*i];
+    for (const uint32_t* i = b; i != e; ++i)
+      p.centre += pts.centres[*i], p.normal += pts.normals[*i];
     p.centre /= float(e - b);
     p.normal = p.normal.norm() > 0 ? Vec3(p.normal.normalized()) : pts.normals[*b];
     for (const uint32_t* i = b; i != e; ++i) {
@@ -159,11 +161,12 @@ const RegisterMethod kRegister{MethodInfo{
       p.push_back({"patch_points", 32, 1, 4096, "most points in one patch", true});
       p.push_back({"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h"});
       p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
-      p.push_back({"tolerance", 0.001, 0, 10,
-                   "|f| at convergence, in h (0: always run max_iterations)"});
+      p.push_back(
+          {"tolerance", 0.001, 0, 10, "|f| at convergence, in h (0: always run max_iterations)"});
       p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
-      p.push_back({"front_depth", 1.0, 0, 100, "blend the patch hits within this many h of the "
-                                               "front-most"});
+      p.push_back({"front_depth", 1.0, 0, 100,
+                   "blend the patch hits within this many h of the "
+                   "front-most"});
       return p;
     }(),
     {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},

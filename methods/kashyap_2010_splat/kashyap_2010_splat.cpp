@@ -26,7 +26,11 @@ class SplatOctreeBuilder {
  public:
   SplatOctreeBuilder(std::span<const Vec3> p, std::span<const Vec3> n, std::span<const float> cover,
                      float tolerance, size_t max_points, float min_cos)
-      : p_(p), n_(n), cover_(cover), tolerance_(tolerance), max_points_(max_points),
+      : p_(p),
+        n_(n),
+        cover_(cover),
+        tolerance_(tolerance),
+        max_points_(max_points),
         min_cos_(min_cos) {}
 
   LeafSplats build(OpCounters& counters) {

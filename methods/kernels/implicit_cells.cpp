@@ -47,8 +47,9 @@ void ImplicitCells::prepare(const PointCloud& cloud, const ParamValues& params,
   for (const Vec3& p : pts.centres) b.extend(p);
   origin_ = b.lo - Vec3::Constant(2 * size_);
   if ((b.extent() / size_).maxCoeff() > float(kBias)) {
-    throw InputError("implicit octree: cell_size too small for the cloud's extent (more than 2^20 "
-                     "cells per axis)");
+    throw InputError(
+        "implicit octree: cell_size too small for the cloud's extent (more than 2^20 "
+        "cells per axis)");
   }
   // The cells within one cell of a point's cell.
   ScopedTimer timer(ctx.timings, "prepare/implicit_octree");
@@ -68,7 +69,8 @@ void ImplicitCells::prepare(const PointCloud& cloud, const ParamValues& params,
   for (uint64_t key : keys) {
     int64_t x, y, z;
     unpack(key, x, y, z);
-    for (int c = 0; c < 8; ++c) corners.push_back(pack(x + (c & 1), y + (c >> 1 & 1), z + (c >> 2)));
+    for (int c = 0; c < 8; ++c)
+      corners.push_back(pack(x + (c & 1), y + (c >> 1 & 1), z + (c >> 2)));
   }
   std::sort(corners.begin(), corners.end());
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());

@@ -32,8 +32,7 @@ class ImplicitCells {
   // Cell items for a structure: centres and half-extents of the cells.
   [[nodiscard]] ItemSet items() const { return {centres_, radii_, half_extents_}; }
   // Algorithm 4 over every cell of the leaf the ray crosses before hit.t; the nearest root wins.
-  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
-                      OpCounters& counters) const;
+  bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit, OpCounters& counters) const;
 
  private:
   struct Cell {

@@ -1,12 +1,12 @@
 #include "methods/kernels/mls_surface.hpp"
 
-#include "methods/kernels/mls_method_params.hpp"
-#include "preprocess/point_attributes.hpp"
-
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <array>
 #include <cmath>
+
+#include "methods/kernels/mls_method_params.hpp"
+#include "preprocess/point_attributes.hpp"
 
 namespace pcrt {
 
@@ -64,7 +64,8 @@ LocalPolynomial MlsSurface::fit(const Vec3& q, OpCounters& counters) const {
   const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(a);
   const Eigen::Matrix<double, 6, 1> c = ldlt.solve(b);
   // A rank-deficient neighbourhood (collinear points) keeps the plane.
-  if (ldlt.info() == Eigen::Success && c.allFinite() && (a * c - b).norm() <= 1e-6 * b.norm() + 1e-300)
+  if (ldlt.info() == Eigen::Success && c.allFinite() &&
+      (a * c - b).norm() <= 1e-6 * b.norm() + 1e-300)
     for (int i = 0; i < 6; ++i) f.c[i] = c[i];
   return f;
 }
@@ -79,8 +80,8 @@ float MlsSurface::intersect(const LocalPolynomial& f, const Ray& ray, float t0, 
   const double qa = c[3] * dx * dx + c[4] * dx * dy + c[5] * dy * dy;
   const double qb = c[1] * dx + c[2] * dy + 2 * c[3] * x0 * dx + c[4] * (x0 * dy + y0 * dx) +
                     2 * c[5] * y0 * dy - dz;
-  const double qc = c[0] + c[1] * x0 + c[2] * y0 + c[3] * x0 * x0 + c[4] * x0 * y0 +
-                    c[5] * y0 * y0 - z0;
+  const double qc =
+      c[0] + c[1] * x0 + c[2] * y0 + c[3] * x0 * x0 + c[4] * x0 * y0 + c[5] * y0 * y0 - z0;
   double r0 = kInfinity, r1 = kInfinity;
   if (std::abs(qa) <= 1e-12 * std::abs(qb)) {
     if (qb != 0) r0 = -qc / qb;

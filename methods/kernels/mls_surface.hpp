@@ -7,8 +7,8 @@
 
 #include <map>
 #include <optional>
-#include <string>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/counters.hpp"
@@ -25,18 +25,19 @@ inline const Counter kMlsNeighbours{"mls_neighbours", "points used by MLS fits (
 inline const Counter kMlsRuns{"mls_runs", "MLS iterations started (one per ball a ray enters)"};
 inline const Counter kMlsConverged{"mls_converged", "MLS runs that met the tolerance"};
 inline const Counter kMlsConvergedIterations{
-    "mls_converged_iterations", "iterations of the runs that met the tolerance (mean I = this / mls_converged)"};
+    "mls_converged_iterations",
+    "iterations of the runs that met the tolerance (mean I = this / mls_converged)"};
 inline const Counter kMlsCapped{"mls_capped", "MLS runs stopped by the iteration cap"};
 inline const Counter kMlsNoRoot{"mls_no_root", "MLS runs whose polynomial the ray missed"};
 
 inline constexpr size_t kMaxMlsNeighbours = 128;
 
 struct MlsSettings {
-  size_t k = 20;               // K neighbours per fit
-  float weight_radius = 1;     // H in theta(d) = exp(-d^2 / H^2), absolute
-  float tolerance = 0;         // stop when the hit point moves less than this (absolute)
-  int max_iterations = 3;      // cap on I
-  bool polynomial = true;      // false: the reference plane alone (a degree-1 MLS)
+  size_t k = 20;            // K neighbours per fit
+  float weight_radius = 1;  // H in theta(d) = exp(-d^2 / H^2), absolute
+  float tolerance = 0;      // stop when the hit point moves less than this (absolute)
+  int max_iterations = 3;   // cap on I
+  bool polynomial = true;   // false: the reference plane alone (a degree-1 MLS)
 };
 
 // The local frame (origin on the reference plane, axes u, v, normal n) and the height field

@@ -43,8 +43,8 @@ TEST_CASE("MLS fit reproduces a quadratic height field and the ray root is exact
   const float t = surface.intersect_ray(ray, pts[0], 0, 10, n, counters);
   REQUIRE(t == Approx(2.0f).margin(1e-4));
   // The height field's gradient at the target: (0.6x - 0.2y + 0.05, -0.2x + 0.2y).
-  const Vec3 truth = Vec3(-(0.6f * 0.1f + 0.2f * 0.05f + 0.05f), -(-0.2f * 0.1f - 0.2f * 0.05f), 1)
-                         .normalized();
+  const Vec3 truth =
+      Vec3(-(0.6f * 0.1f + 0.2f * 0.05f + 0.05f), -(-0.2f * 0.1f - 0.2f * 0.05f), 1).normalized();
   REQUIRE(std::abs(n.dot(truth)) == Approx(1.0f).margin(1e-4));
   REQUIRE(counters.get(kMlsConverged) == 1);
   REQUIRE(counters.get(kMlsFits) >= 2);

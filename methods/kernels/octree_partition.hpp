@@ -20,8 +20,7 @@ inline const Counter kPartitionCells{"octree_partition_cells",
 namespace detail {
 template <typename IsLeaf, typename OnLeaf>
 void partition_cell(std::span<const Vec3> p, uint32_t* begin, uint32_t* end, const Vec3& lo,
-                    float side, int depth, IsLeaf& is_leaf, OnLeaf& on_leaf,
-                    OpCounters& counters) {
+                    float side, int depth, IsLeaf& is_leaf, OnLeaf& on_leaf, OpCounters& counters) {
   if (begin == end) return;
   counters.add(kPartitionCells);
   if (is_leaf(begin, end, depth)) {
@@ -57,8 +56,8 @@ void octree_partition(std::span<const Vec3> positions, std::span<uint32_t> indic
   Aabb b;
   for (uint32_t i : indices) b.extend(positions[i]);
   const float side = std::max(b.extent().maxCoeff(), 1e-30f) * 1.0001f;
-  detail::partition_cell(positions, indices.data(), indices.data() + indices.size(), b.lo, side,
-                         0, is_leaf, on_leaf, counters);
+  detail::partition_cell(positions, indices.data(), indices.data() + indices.size(), b.lo, side, 0,
+                         is_leaf, on_leaf, counters);
 }
 
 }  // namespace pcrt

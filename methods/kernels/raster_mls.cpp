@@ -62,8 +62,8 @@ class ZBufferPass final : public PrimaryPass {
 
 std::vector<ParamSpec> RasterMlsMethod::params(double max_iterations, double tolerance) {
   auto p = mls_params(max_iterations, tolerance);
-  p.push_back({"raster_radius", 3.0, 0.1, 50,
-               "world radius of each point's disc in the z-buffer, in h"});
+  p.push_back(
+      {"raster_radius", 3.0, 0.1, 50, "world radius of each point's disc in the z-buffer, in h"});
   return p;
 }
 

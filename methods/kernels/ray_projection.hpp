@@ -32,8 +32,7 @@ struct ProjectionSettings {
 template <typename Weight, typename NormalAt>
 bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
                             std::span<const PackedSplat> splats, const ProjectionSettings& s,
-                            Weight&& weight, NormalAt&& normal_at, Hit& hit,
-                            OpCounters& counters) {
+                            Weight&& weight, NormalAt&& normal_at, Hit& hit, OpCounters& counters) {
   auto project = [&](const PackedSplat& p, float& t, float& w) {
     const Vec3 v = p.c - ray.o;
     const Vec3 lateral = v - v.dot(ray.d) * ray.d;

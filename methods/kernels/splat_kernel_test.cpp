@@ -1,10 +1,9 @@
 #include "methods/kernels/splat_kernel.hpp"
 
+#include <catch2/catch.hpp>
 #include <vector>
 
 #include "methods/kernels/splat_blend.hpp"
-
-#include <catch2/catch.hpp>
 
 using namespace pcrt;
 

@@ -38,7 +38,7 @@ NormalField fit_normal_field(std::span<const Vec3> positions, std::span<const Ve
   }
   NormalField f;
   if (std::abs(a.determinant()) <= 1e-12f * a.squaredNorm()) return f;  // collinear neighbours
-  const Eigen::Matrix<float, 3, 2> g = b * a.inverse();  // dn per unit (u, v)
+  const Eigen::Matrix<float, 3, 2> g = b * a.inverse();                 // dn per unit (u, v)
   Eigen::Matrix<float, 3, 2> uv;
   uv << u, v;
   f.m = g * uv.transpose();
@@ -74,7 +74,8 @@ class Linsen2007 final : public Method {
       const float max_scale = float(params_.at("max_radius_scale"));
       for_each_point_knn(cloud.positions, *knn, size_t(params_.at("field_k")), ctx.counters,
                          [&](size_t i, auto nbrs, auto) {
-                           fields[i] = fit_normal_field(cloud.positions, normals, uint32_t(i), nbrs);
+                           fields[i] =
+                               fit_normal_field(cloud.positions, normals, uint32_t(i), nbrs);
                            // A flat disc of radius r departs from a surface of curvature kappa by
                            // kappa r^2 / 2 at its rim: r = sqrt(2 eps / kappa) keeps that <= eps.
                            const float kappa = fields[i].curvature;

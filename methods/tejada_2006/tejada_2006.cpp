@@ -8,19 +8,19 @@
 namespace pcrt {
 namespace {
 
-const RegisterMethod kRegister{MethodInfo{
-    "tejada_2006",
-    "E. Tejada, J. Gois, L. Nonato, A. Castelo and T. Ertl, Hardware-accelerated "
-    "extraction and rendering of point set surfaces, EuroVis 2006",
-    "[58]",
-    "primary hits from a z-buffer of the points, refined by iterated MLS (Algorithm 3); "
-    "secondary rays by brute force",
-    "brute_force",
-    {"positions only"},
-    RasterMlsMethod::params(10, 0.01),
-    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-     {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); }}};
+const RegisterMethod kRegister{
+    MethodInfo{"tejada_2006",
+               "E. Tejada, J. Gois, L. Nonato, A. Castelo and T. Ertl, Hardware-accelerated "
+               "extraction and rendering of point set surfaces, EuroVis 2006",
+               "[58]",
+               "primary hits from a z-buffer of the points, refined by iterated MLS (Algorithm 3); "
+               "secondary rays by brute force",
+               "brute_force",
+               {"positions only"},
+               RasterMlsMethod::params(10, 0.01),
+               {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+                {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
+               [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); }}};
 
 }  // namespace
 }  // namespace pcrt

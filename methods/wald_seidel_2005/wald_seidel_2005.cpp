@@ -78,7 +78,7 @@ class WaldSeidel final : public Method {
           t_hit = t, n_hit = n;
           break;
         }
-        if (have_prev && f * f_prev < 0) {  // lines 16-19: refine [t_prev, t]
+        if (have_prev && f * f_prev < 0) {     // lines 16-19: refine [t_prev, t]
           if (pass + 1 == max_refinements_) {  // the cap: the linear root of the last bracket
             t_hit = t_prev + (t - t_prev) * f_prev / (f_prev - f);
             n_hit = (n_prev + n).normalized();
