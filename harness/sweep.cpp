@@ -601,6 +601,8 @@ json run_row(const json& r) {
   for (const auto& [k, v] : prepare.items()) row["ops_prep_" + k] = v;
   for (const char* k : {"time_median_s", "time_min_s", "time_max_s", "time_spread"})
     row[k] = r.contains(k) ? r[k] : json(nullptr);
+  // Flagged, never dropped: repetitions more than 20% apart.
+  row["time_noisy"] = r.value("times_s", json::array()).size() > 1 && r.value("time_spread", 0.0) > 0.2;
   const json extra = r.value("extra", json::object());
   for (const auto& [k, v] : extra.items()) row[k] = v;
   return row;
