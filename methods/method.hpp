@@ -34,6 +34,10 @@ class PrimaryPass {
                            OpCounters& counters) const = 0;
 };
 
+// The mean spacing h that scales a method's radii and tolerances, timed as "prepare/spacing"
+// (at least 1e-30, so that h-relative sizes stay positive on degenerate clouds).
+float prepare_spacing(const PointCloud& cloud, PrepareContext& ctx);
+
 class Method : public LeafIntersector {
  public:
   // Computes the method's preconditions (normals, radii, splats, ...) from the cloud, which must

@@ -6,10 +6,11 @@
 #include <array>
 #include <optional>
 
+#include "methods/kernels/ball_runs.hpp"
 #include "methods/kernels/implicit_newton.hpp"
-#include "methods/kernels/mls_surface.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
+#include "structures/knn_index.hpp"
 
 namespace pcrt {
 namespace {
@@ -34,21 +35,17 @@ class Adams2005 final : public Method {
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    bool found = false;
-    for (uint32_t k : leaf.items) {
+    auto ball = [&](uint32_t k, Vec3& c, float& r, uint32_t& prim) {
       const PackedSplat& s = splats_.packed[k];
-      float t0 = 0, t1 = 0;
-      if (!ball_chord(ray, s.c, s.r, hit.t, t0, t1)) continue;
-      Vec3 n = Vec3::Zero();
-      const float tol = newton_.tolerance * s.r;
-      const float t = newton_on_weighted_plane(
+      c = s.c, r = s.r, prim = s.index;
+    };
+    auto run = [&](uint32_t k, float t0, float t1, Vec3& n) {
+      // Algorithm 6 from the ray's entry into the surfel's sphere.
+      return newton_on_weighted_plane(
           ray, t0, t0, t1, [&](const Vec3& x) { return evaluate(x, counters); },
-          {tol, newton_.max_iterations}, n, counters);
-      if (t == kInfinity || !closer(t, s.index, hit)) continue;
-      record_hit(ray, t, s.index, n, s.r, hit);
-      found = true;
-    }
-    return found;
+          {newton_.tolerance * splats_.packed[k].r, newton_.max_iterations}, n, counters);
+    };
+    return nearest_ball_hit(ray, leaf.items, ball, run, hit);
   }
 
  private:

@@ -7,7 +7,7 @@
 // from up to K starts: O(IK^2). See README.md.
 #include <cmath>
 
-#include "methods/kernels/mls_surface.hpp"
+#include "methods/kernels/ball_runs.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/kernels/weighted_plane.hpp"
 #include "methods/method.hpp"
@@ -33,18 +33,14 @@ class Cai2011 final : public Method {
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    bool found = false;
-    for (uint32_t k : leaf.items) {
+    auto ball = [&](uint32_t k, Vec3& c, float& r, uint32_t& prim) {
       const PackedSplat& s = splats_.packed[k];
-      float t0 = 0, t1 = 0;
-      if (!ball_chord(ray, s.c, s.r, hit.t, t0, t1)) continue;
-      Vec3 n = Vec3::Zero();
-      const float t = iterate(ray, leaf, s, t0, t1, n, counters);
-      if (t == kInfinity || !closer(t, s.index, hit)) continue;
-      record_hit(ray, t, s.index, n, s.r, hit);
-      found = true;
-    }
-    return found;
+      c = s.c, r = s.r, prim = s.index;
+    };
+    auto run = [&](uint32_t k, float t0, float t1, Vec3& n) {
+      return iterate(ray, leaf, splats_.packed[k], t0, t1, n, counters);
+    };
+    return nearest_ball_hit(ray, leaf.items, ball, run, hit);
   }
 
  private:

@@ -26,11 +26,7 @@ class Cai2015 final : public Method {
   explicit Cai2015(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    float h = 0;
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
-    }
+    const float h = prepare_spacing(cloud, ctx);
     positions_ = cloud.positions;
     reach_ = float(params_.at("reach")) * h;
     min_step_ = float(params_.at("min_step")) * h;

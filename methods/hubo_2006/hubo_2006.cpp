@@ -18,11 +18,7 @@ class Hubo2006 final : public Method {
   explicit Hubo2006(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    float h = 0;
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
-    }
+    const float h = prepare_spacing(cloud, ctx);
     sigma_ = float(params_.at("sigma")) * h;
     cutoff_ = float(params_.at("cutoff"));
     reach_ = sigma_ * cutoff_;

@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <vector>
 
+#include "methods/kernels/ball_runs.hpp"
 #include "methods/kernels/implicit_newton.hpp"
 #include "methods/kernels/leaf_implicit.hpp"
-#include "methods/kernels/mls_surface.hpp"
 #include "methods/kernels/octree_partition.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
@@ -32,11 +32,7 @@ class Hubo2007 final : public Method {
   explicit Hubo2007(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    float h = 0;
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
-    }
+    const float h = prepare_spacing(cloud, ctx);
     sigma_ = float(params_.at("sigma")) * h;
     reach_ = sigma_ * float(params_.at("cutoff"));
     newton_ = {float(params_.at("tolerance")) * h, int(params_.at("max_iterations"))};

@@ -96,11 +96,7 @@ class Kashyap2010Splat final : public Method {
     std::vector<Vec3> normals;
     std::vector<float> cover;
     splat_attributes_by_point(base, normals, cover);
-    float h = 0;
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h = float(mean_spacing(cloud.positions, ctx.counters));
-    }
+    const float h = prepare_spacing(cloud, ctx);
     ScopedTimer t(ctx.timings, "prepare/splat_octree");
     SplatOctreeBuilder builder(cloud.positions, normals, cover,
                                float(params_.at("error_tolerance")) * h,

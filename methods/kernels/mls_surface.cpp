@@ -133,31 +133,16 @@ float MlsSurface::intersect_ray(const Ray& ray, const Vec3& start, float t0, flo
   return t;
 }
 
-bool ball_chord(const Ray& ray, const Vec3& c, float r, float tmax, float& t0, float& t1) {
-  const Vec3 oc = c - ray.o;
-  const float tc = oc.dot(ray.d);
-  const float d2 = oc.squaredNorm() - tc * tc;
-  if (d2 > r * r) return false;
-  const float half = std::sqrt(r * r - d2);
-  t0 = std::max(tc - half, ray.tmin);
-  t1 = std::min(tc + half, tmax);
-  return t0 <= t1;
-}
-
 bool mls_intersect_leaf(const Ray& ray, const LeafVisit& leaf, std::span<const Vec3> centres,
                         float ball_radius, const MlsSurface& surface, Hit& hit,
                         OpCounters& counters) {
-  bool found = false;
-  for (uint32_t i : leaf.items) {
-    float t0 = 0, t1 = 0;
-    if (!ball_chord(ray, centres[i], ball_radius, hit.t, t0, t1)) continue;
-    Vec3 n = Vec3::Zero();
-    const float t = surface.intersect_ray(ray, centres[i], t0, t1, n, counters);
-    if (t == kInfinity || !closer(t, i, hit)) continue;
-    record_hit(ray, t, i, n, ball_radius, hit);
-    found = true;
-  }
-  return found;
+  auto ball = [&](uint32_t i, Vec3& c, float& r, uint32_t& prim) {
+    c = centres[i], r = ball_radius, prim = i;
+  };
+  auto run = [&](uint32_t i, float t0, float t1, Vec3& n) {
+    return surface.intersect_ray(ray, centres[i], t0, t1, n, counters);
+  };
+  return nearest_ball_hit(ray, leaf.items, ball, run, hit);
 }
 
 void MlsPoints::prepare(const PointCloud& cloud, const ParamValues& params, OpCounters& counters,

@@ -15,6 +15,7 @@
 #include "core/geometry.hpp"
 #include "core/params.hpp"
 #include "core/point_cloud.hpp"
+#include "methods/kernels/ball_runs.hpp"
 #include "structures/knn_index.hpp"
 #include "structures/structure.hpp"
 
@@ -73,10 +74,6 @@ class MlsSurface {
   const KnnIndex& knn_;
   MlsSettings s_;
 };
-
-// The chord [t0, t1] of the ray through the ball (c, r) clipped to [ray.tmin, tmax]; false if
-// the ray misses it.
-bool ball_chord(const Ray& ray, const Vec3& c, float r, float tmax, float& t0, float& t1);
 
 // What every MLS method prepares from positions alone: the k-NN index, the mean spacing h, a
 // ball of `ball_radius` h around each point (the items a structure indexes) and the MLS surface

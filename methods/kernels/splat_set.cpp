@@ -122,4 +122,9 @@ void splat_attributes_by_point(const SplatSet& s, std::vector<Vec3>& normals,
   }
 }
 
+float prepare_spacing(const PointCloud& cloud, PrepareContext& ctx) {
+  ScopedTimer t(ctx.timings, "prepare/spacing");
+  return std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
+}
+
 }  // namespace pcrt

@@ -18,10 +18,7 @@ class SchauflerJensen final : public Method {
   explicit SchauflerJensen(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h_ = float(mean_spacing(cloud.positions, ctx.counters));
-    }
+    h_ = prepare_spacing(cloud, ctx);
     d_ = float(params_.at("cylinder_radius")) * std::max(h_, 1e-30f);
     depth_ = float(params_.at("front_depth")) * d_;
     // Every point reaches rays passing within d: its bounding radius is d.

@@ -5,8 +5,8 @@
 // refinements. O(kIK). See README.md.
 #include <algorithm>
 
+#include "methods/kernels/ball_runs.hpp"
 #include "methods/kernels/leaf_implicit.hpp"
-#include "methods/kernels/mls_surface.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/kernels/weighted_plane.hpp"
 #include "methods/method.hpp"
@@ -26,11 +26,7 @@ class WaldSeidel final : public Method {
   explicit WaldSeidel(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    float h = 0;
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
-    }
+    const float h = prepare_spacing(cloud, ctx);
     radius_ = float(params_.at("radius")) * h;
     tolerance_ = float(params_.at("tolerance")) * h;
     samples_ = int(params_.at("k"));

@@ -18,10 +18,7 @@ class WandStrasser final : public Method {
   explicit WandStrasser(ParamValues params) : params_(std::move(params)) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    {
-      ScopedTimer t(ctx.timings, "prepare/spacing");
-      h_ = std::max(float(mean_spacing(cloud.positions, ctx.counters)), 1e-30f);
-    }
+    h_ = prepare_spacing(cloud, ctx);
     sigma0_ = float(params_.at("cone_radius")) * h_;
     spread_ = float(params_.at("cone_spread"));
     sigma_max_ = float(params_.at("max_cone_radius")) * h_;
