@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's method table: accuracy on the exact sphere and torus (10^5 points, 20 000 rays,
 # `pcrt accuracy`) and frames per second on a 10^6-point sphere at 512x512, 1 spp, 1 bounce,
-# 2 threads (`pcrt render`), for every registered method on its default structure.
+# 2 threads (`pcrt render`), for every registered method on its default structure, and for the
+# reconstruction baseline (advancing front, traced on our BVH) judged the same way.
 # Usage: scripts/method_table.sh [build/bin/pcrt] > results/method_table.md
 set -euo pipefail
 pcrt=${1:-build/bin/pcrt}
@@ -21,6 +22,15 @@ for m in $methods; do
     --out "$tmp/$m.png" --width 512 --height 512 --spp 1 --bounces 1 --threads 2 \
     --stats "$tmp/$m.render.json" >/dev/null || echo "{\"timeout\": ${PCRT_FRAME_LIMIT:-300}}" >"$tmp/$m.render.json"
 done
+# The reconstruction side, point by point: the afsr mesh of the same clouds on our BVH.
+m=reconstruction:afsr
+for d in sphere torus; do
+  "$pcrt" accuracy --reconstruction afsr --engine bvh --data "$d:n=100000" --rays 20000 --threads 2 --json >"$tmp/$m.$d.json"
+done
+"$pcrt" reconstruct --method afsr --data sphere:n=1000000 --out "$tmp/afsr.ply" >/dev/null
+"$pcrt" render --mesh "$tmp/afsr.ply" --engine bvh --out "$tmp/afsr.png" --width 512 --height 512 --spp 1 --bounces 1 \
+  --threads 2 --stats "$tmp/$m.render.json" >/dev/null
+methods="$methods $m"
 python3 - "$tmp" $methods <<'PY'
 import json, sys
 tmp, methods = sys.argv[1], sys.argv[2:]
