@@ -92,6 +92,7 @@ def main():
     growth = [f for f in fits if "exponent" in f]
     subjects = sorted({f["method"] or f["structure"] or f["claim"].split("/")[0] for f in growth})
     out.append("## Claims in the thesis's layout\n")
+    out.append("Plots are in `plots/` next to this file (`pcrt report DIR` draws them again).\n")
     out.append("| subject | claim | claimed | source | variable | metric | data | best model | exponent [95% CI] | R² | verdict | plot |")
     out.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for s in subjects:
