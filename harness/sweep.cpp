@@ -201,6 +201,16 @@ void check_point_values(const json& p, const std::string& kind, const std::strin
     input_error("{}: no N given (grid.N or points[].N)", where);
 }
 
+// Fills a claim template ({method}, {structure}, ...) from a run spec or row.
+std::string substitute(std::string s, const json& row) {
+  for (const char* k : {"method", "structure", "reconstruction", "workload"}) {
+    const std::string key = std::string("{") + k + "}";
+    for (size_t p; (p = s.find(key)) != std::string::npos;)
+      s.replace(p, key.size(), row.value(k, std::string()));
+  }
+  return s;
+}
+
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
   check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by"}, where);
   FitSpec s;
@@ -358,8 +368,20 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
         if (v.is_array() && v.size() > 1)
           swept.push_back(k.rfind("set.", 0) == 0 ? "set_" + k.substr(4) : k);
       for (size_t f = 0; f < e["fits"].size(); ++f) {
-        c.fits.push_back(parse_fit(e["fits"][f], name, fmt::format("{}.fits[{}]", where, f)));
+        const std::string fwhere = fmt::format("{}.fits[{}]", where, f);
+        c.fits.push_back(parse_fit(e["fits"][f], name, fwhere));
         c.fits.back().swept = swept;
+        // Every run the fit will see must name a registered claim that is in its variable.
+        for (const json& run : c.runs) {
+          if (run.value("experiment", "") != name) continue;
+          try {
+            const Claim& claim = find_claim(substitute(c.fits.back().claim, run));
+            if (!c.fits.back().variable.empty() && c.fits.back().max < 0 && c.fits.back().min < 0)
+              (void)expected_growth(claim.complexity, c.fits.back().variable);
+          } catch (const InputError& err) {
+            input_error("{}: {}", fwhere, err.what());
+          }
+        }
       }
     }
   }
@@ -726,14 +748,6 @@ double column(const json& row, const std::string& name) {
   return name.rfind("ops_", 0) == 0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
 }
 
-std::string substitute(std::string s, const json& row) {
-  for (const char* k : {"method", "structure", "reconstruction", "workload"}) {
-    const std::string key = std::string("{") + k + "}";
-    for (size_t p; (p = s.find(key)) != std::string::npos;)
-      s.replace(p, key.size(), row.value(k, std::string()));
-  }
-  return s;
-}
 
 }  // namespace
 

@@ -85,6 +85,7 @@ bad 'c["experiments"][0]["set.radius_k"] = -3';          expect_error "radius_k=
 bad 'c["experiments"][0]["datasets"] = ["'"$dir"'/tiny.json"]'; expect_error "tiny.json" sweep "$dir/bad.json"
 bad 'c["experiments"][1]["kind"] = "dance"';             expect_error "kind must be" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["variable"] = "Q"';  expect_error "variable 'Q'" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["fits"][0]["claim"] = "{method}/frame"'; expect_error "unknown claim 'reference_splat/frame'" sweep "$dir/bad.json"
 printf '{"experiments": [' >"$dir/trunc.json";            expect_error "not valid JSON" sweep "$dir/trunc.json"
 expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
 echo "sweep harness ok"
