@@ -134,9 +134,12 @@ SweepConfig config_of(const std::string& dir) {
   } catch (const json::exception&) {
     input_error("{}: not valid JSON", path);
   }
-  const json cfg =
-      ctx.contains("config") ? ctx["config"] : ctx.value("configs", json::array()).at(0);
-  return parse_sweep_config(cfg, path);
+  if (!ctx.is_object() || !ctx.contains("config")) input_error("{}: has no \"config\"", path);
+  try {
+    return parse_sweep_config(ctx["config"], path);
+  } catch (const json::exception& e) {
+    input_error("{}: config of the wrong type: {}", path, e.what());
+  }
 }
 
 std::string python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3"; }
@@ -315,6 +318,18 @@ int command_check(const Args& args) {
   const std::string baseline_path = a.require("baseline");
   const double tolerance = a.number("tolerance", 0.0);
   if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
+  json base;
+  if (!a.has("update")) {  // the baseline is read and checked before the sweep runs
+    std::ifstream in(baseline_path);
+    if (!in) input_error("{}: cannot open (create it with --update)", baseline_path);
+    base = json::parse(in, nullptr, false);
+    if (base.is_discarded() || !base.is_object() || !base.contains("runs") ||
+        !base["runs"].is_object() || !base.value("verdicts", json::object()).is_object())
+      input_error("{}: not a baseline (written by pcrt check --update)", baseline_path);
+    for (const auto& [key, old] : base["runs"].items())
+      if (!old.is_object())
+        input_error("{}: run {} is not an object of counters", baseline_path, key);
+  }
   const std::string dir =
       a.has("out")
           ? a.get("out")
@@ -346,11 +361,6 @@ int command_check(const Args& args) {
                 now["runs"].size(), now["verdicts"].size());
     return 0;
   }
-  std::ifstream in(baseline_path);
-  if (!in) input_error("{}: cannot open (create it with --update)", baseline_path);
-  const json base = json::parse(in, nullptr, false);
-  if (base.is_discarded() || !base.contains("runs"))
-    input_error("{}: not a baseline", baseline_path);
   size_t problems = 0;
   for (const auto& [key, old] : base["runs"].items()) {
     if (!now["runs"].contains(key)) {

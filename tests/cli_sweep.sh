@@ -88,4 +88,7 @@ bad 'c["experiments"][0]["fits"][0]["variable"] = "Q"';  expect_error "variable 
 bad 'c["experiments"][0]["fits"][0]["claim"] = "{method}/frame"'; expect_error "unknown claim 'reference_splat/frame'" sweep "$dir/bad.json"
 printf '{"experiments": [' >"$dir/trunc.json";            expect_error "not valid JSON" sweep "$dir/trunc.json"
 expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
+echo '{"runs": 3}' >"$dir/notbase.json"; expect_error "notbase.json: not a baseline" check --config "$dir/tiny.json" --baseline "$dir/notbase.json"
+mkdir -p "$dir/nosweep" && echo '{"x": 1}' >"$dir/nosweep/context.json"; expect_error "has no \"config\"" fit "$dir/nosweep"
+expect_error "runs.jsonl: cannot open" merge "$dir/nosweep" --out "$dir/merged"
 echo "sweep harness ok"
