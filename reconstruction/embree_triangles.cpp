@@ -1,10 +1,6 @@
 // Embree 3 triangles (RTC_GEOMETRY_TYPE_TRIANGLE, high-quality BVH build): the industrial
 // reference for triangle tracing. Embree's internal work is not counted, only its rays.
-#include <embree3/rtcore.h>
-
-#include <atomic>
-
-#include "core/embree_ray.hpp"
+#include "core/embree_scene.hpp"
 #include "core/error.hpp"
 #include "reconstruction/mesh_engine.hpp"
 
@@ -17,19 +13,7 @@ inline const Counter kEmbreeTriangleRays{"embree_triangle_rays",
 class EmbreeTriangles final : public MeshEngine {
  public:
   explicit EmbreeTriangles(const TriangleMesh& mesh) : mesh_(mesh) {
-    device_ = rtcNewDevice(nullptr);
-    if (!device_)
-      input_error("embree: Embree could not start (error {})", int(rtcGetDeviceError(nullptr)));
-    // Embree's own allocations (its BVH above all) are counted through its memory monitor.
-    rtcSetDeviceMemoryMonitorFunction(
-        device_,
-        [](void* user, ssize_t bytes, bool) {
-          static_cast<std::atomic<int64_t>*>(user)->fetch_add(bytes);
-          return true;
-        },
-        &bytes_);
-    scene_ = rtcNewScene(device_);
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry geom = embree_.new_geometry(RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree reads vertices and indices from our arrays (shared buffers): no copy. It may read
     // up to 16 bytes past a vertex, so the vertex array gets a padded copy instead.
     padded_.resize(mesh.vertices.size() + 1);
@@ -40,26 +24,13 @@ class EmbreeTriangles final : public MeshEngine {
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                mesh.triangles.data(), 0, 3 * sizeof(uint32_t),
                                mesh.triangles.size());
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene_, geom);
-    rtcReleaseGeometry(geom);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-    rtcCommitScene(scene_);
+    embree_.build(geom);
   }
-  ~EmbreeTriangles() override {
-    if (scene_) rtcReleaseScene(scene_);
-    if (device_) rtcReleaseDevice(device_);
-  }
-  EmbreeTriangles(const EmbreeTriangles&) = delete;
-  EmbreeTriangles& operator=(const EmbreeTriangles&) = delete;
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh = embree_ray(ray, hit.t);
-    rtcIntersect1(scene_, &context, &rh);
+    RTCRayHit rh;
     counters.add(kEmbreeTriangleRays);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (!embree_.closest_hit(ray, hit.t, rh)) return false;
     hit.t = rh.ray.tfar;
     hit.prim = rh.hit.primID;
     hit.p = ray.at(hit.t);
@@ -68,7 +39,7 @@ class EmbreeTriangles final : public MeshEngine {
     return true;
   }
   [[nodiscard]] size_t memory_bytes() const override {
-    return padded_.size() * sizeof(Float4) + size_t(std::max<int64_t>(bytes_.load(), 0));
+    return padded_.size() * sizeof(Float4) + embree_.bytes();
   }
 
  private:
@@ -77,9 +48,7 @@ class EmbreeTriangles final : public MeshEngine {
   };
   const TriangleMesh& mesh_;
   std::vector<Float4> padded_;
-  std::atomic<int64_t> bytes_{0};
-  RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
+  EmbreeScene embree_{"embree"};
 };
 
 const RegisterMeshEngine kRegister{MeshEngineInfo{

@@ -1,9 +1,9 @@
 // embree_oriented_disc: the same splats (centre, normal, radius per point) as Embree 3's
 // RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT in Embree's own BVH. Not a surveyed method: the industrial
 // splat intersector that the surveyed methods' speed and accuracy are compared with.
-#include <embree3/rtcore.h>
+#include <memory>
 
-#include "core/embree_ray.hpp"
+#include "core/embree_scene.hpp"
 #include "core/error.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
@@ -14,22 +14,11 @@ namespace {
 class EmbreeOrientedDisc final : public Method {
  public:
   explicit EmbreeOrientedDisc(ParamValues params) : params_(std::move(params)) {}
-  ~EmbreeOrientedDisc() override {
-    if (scene_) rtcReleaseScene(scene_);
-    if (device_) rtcReleaseDevice(device_);
-  }
-  EmbreeOrientedDisc(const EmbreeOrientedDisc&) = delete;
-  EmbreeOrientedDisc& operator=(const EmbreeOrientedDisc&) = delete;
-
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     splats_ = prepare_splats(cloud, params_, ctx);
     ScopedTimer t(ctx.timings, "prepare/embree_build");
-    device_ = rtcNewDevice(nullptr);
-    if (!device_)
-      input_error("embree_oriented_disc: Embree could not start (error {})",
-                  int(rtcGetDeviceError(nullptr)));
-    scene_ = rtcNewScene(device_);
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
+    embree_ = std::make_unique<EmbreeScene>("embree_oriented_disc");
+    RTCGeometry geom = embree_->new_geometry(RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
     // Embree wants x, y, z, radius per point and its own copy of the normals.
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), cloud.size()));
@@ -47,11 +36,7 @@ class EmbreeOrientedDisc final : public Method {
       item_of_point_.resize(splats_.size());
       for (uint32_t k = 0; k < splats_.size(); ++k) item_of_point_[splats_.point[k]] = k;
     }
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene_, geom);
-    rtcReleaseGeometry(geom);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-    rtcCommitScene(scene_);
+    embree_->build(geom);
   }
 
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
@@ -61,12 +46,9 @@ class EmbreeOrientedDisc final : public Method {
   }
 
   bool own_closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh = embree_ray(ray, hit.t);
-    rtcIntersect1(scene_, &context, &rh);
+    RTCRayHit rh;
     counters.add(kEmbreeRays);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (!embree_->closest_hit(ray, hit.t, rh)) return false;
     const uint32_t k = morton_ ? rh.hit.primID : item_of_point_[rh.hit.primID];
     hit.t = rh.ray.tfar;
     hit.prim = splats_.point[k];
@@ -83,8 +65,7 @@ class EmbreeOrientedDisc final : public Method {
   SplatSet splats_;
   bool morton_ = false;
   std::vector<uint32_t> item_of_point_;
-  RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
+  std::unique_ptr<EmbreeScene> embree_;
 };
 
 const RegisterMethod kRegister{MethodInfo{

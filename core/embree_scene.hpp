@@ -1,0 +1,75 @@
+// One Embree 3 device and scene, shared by the Embree splat reference and the Embree triangle
+// engine: started with a clear error, its allocations counted through Embree's memory monitor,
+// one geometry committed with a high-quality BVH, and closest-hit queries in our Ray's terms.
+// Include only from translation units that link Embree.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+
+#include "core/error.hpp"
+#include "core/geometry.hpp"
+
+namespace pcrt {
+
+class EmbreeScene {
+ public:
+  // `who` names the user in the error if Embree cannot start.
+  explicit EmbreeScene(const char* who) {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_)
+      input_error("{}: Embree could not start (error {})", who, int(rtcGetDeviceError(nullptr)));
+    rtcSetDeviceMemoryMonitorFunction(
+        device_,
+        [](void* user, ssize_t bytes, bool) {
+          static_cast<std::atomic<int64_t>*>(user)->fetch_add(bytes);
+          return true;
+        },
+        &bytes_);
+    scene_ = rtcNewScene(device_);
+  }
+  ~EmbreeScene() {
+    if (scene_) rtcReleaseScene(scene_);
+    if (device_) rtcReleaseDevice(device_);
+  }
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  [[nodiscard]] RTCGeometry new_geometry(RTCGeometryType type) const {
+    return rtcNewGeometry(device_, type);
+  }
+  // Commits the geometry (whose buffers are set), attaches it and builds the scene.
+  void build(RTCGeometry geom) {
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitScene(scene_);
+  }
+  // The closest hit with t in [ray.tmin, min(ray.tmax, t_limit)]: true with rh filled in.
+  bool closest_hit(const Ray& ray, float t_limit, RTCRayHit& rh) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rh = RTCRayHit{};
+    rh.ray.org_x = ray.o.x(), rh.ray.org_y = ray.o.y(), rh.ray.org_z = ray.o.z();
+    rh.ray.dir_x = ray.d.x(), rh.ray.dir_y = ray.d.y(), rh.ray.dir_z = ray.d.z();
+    rh.ray.tnear = ray.tmin;
+    rh.ray.tfar = std::min(ray.tmax, t_limit);
+    rh.ray.mask = ~0u;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  // Bytes Embree holds (its BVH above all).
+  [[nodiscard]] size_t bytes() const { return size_t(std::max<int64_t>(bytes_.load(), 0)); }
+
+ private:
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  std::atomic<int64_t> bytes_{0};
+};
+
+}  // namespace pcrt
