@@ -29,7 +29,7 @@ class Adams2005 final : public Method {
     }
     k_ = size_t(params_.at("K"));
     support_ = float(params_.at("support"));
-    newton_ = {float(params_.at("tolerance")), int(params_.at("max_iterations"))};
+    newton_ = newton_settings(params_, 1.0f);  // tolerance scaled per surfel in intersect_leaf
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
@@ -85,9 +85,7 @@ const RegisterMethod kRegister{MethodInfo{
       p.push_back({"K", 16, 1, double(kMaxK), "surfels in each weighted average", true});
       p.push_back(
           {"support", 2.0, 0.5, 10, "weight support of a surfel, in multiples of its radius"});
-      p.push_back({"tolerance", 1e-3, 0, 1,
-                   "|f| at convergence, in surfel radii (0: always run max_iterations)"});
-      p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
+      for (auto& q : iteration_params(1e-3, 1, "surfel radii (|f|)", 10)) p.push_back(q);
       return p;
     }(),
     {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "methods/kernels/ball_runs.hpp"
+#include "methods/kernels/implicit_newton.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/kernels/weighted_plane.hpp"
 #include "methods/method.hpp"
@@ -87,10 +88,7 @@ const RegisterMethod kRegister{MethodInfo{
     {"point normals", "splat radii"},
     [] {
       auto p = splat_params();
-      p.push_back({"tolerance", 1e-3, 0, 1,
-                   "stop when |height| is under this many start-splat radii (0: always run "
-                   "max_iterations)"});
-      p.push_back({"max_iterations", 8, 1, 100, "cap on the steps I per start", true});
+      for (auto& q : iteration_params(1e-3, 1, "start-splat radii (|height|)", 8)) p.push_back(q);
       return p;
     }(),
     {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},

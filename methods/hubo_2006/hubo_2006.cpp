@@ -22,7 +22,7 @@ class Hubo2006 final : public Method {
     sigma_ = float(params_.at("sigma")) * h;
     cutoff_ = float(params_.at("cutoff"));
     reach_ = sigma_ * cutoff_;
-    newton_ = {float(params_.at("tolerance")) * h, int(params_.at("max_iterations"))};
+    newton_ = newton_settings(params_, h);
     splats_ = prepare_splats(cloud, params_, ctx, reach_);  // item radius: the weight's reach
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
@@ -66,11 +66,8 @@ const RegisterMethod kRegister{MethodInfo{
     {"point normals"},
     [] {
       auto p = normal_params();
-      p.push_back({"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h (smoothness)"});
-      p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
-      p.push_back(
-          {"tolerance", 0.001, 0, 10, "|f| at convergence, in h (0: always run max_iterations)"});
-      p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
+      for (auto& q : gaussian_params()) p.push_back(q);
+      for (auto& q : iteration_params(0.001, 10, "h (|f|)", 10)) p.push_back(q);
       return p;
     }(),
     {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},

@@ -35,7 +35,7 @@ class Hubo2007 final : public Method {
     const float h = prepare_spacing(cloud, ctx);
     sigma_ = float(params_.at("sigma")) * h;
     reach_ = sigma_ * float(params_.at("cutoff"));
-    newton_ = {float(params_.at("tolerance")) * h, int(params_.at("max_iterations"))};
+    newton_ = newton_settings(params_, h);
     depth_ = float(params_.at("front_depth")) * h;
     const SplatSet pts = prepare_splats(cloud, params_, ctx, reach_);
     ScopedTimer t(ctx.timings, "prepare/patches");
@@ -155,11 +155,8 @@ const RegisterMethod kRegister{MethodInfo{
     [] {
       auto p = normal_params();
       p.push_back({"patch_points", 32, 1, 4096, "most points in one patch", true});
-      p.push_back({"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h"});
-      p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
-      p.push_back(
-          {"tolerance", 0.001, 0, 10, "|f| at convergence, in h (0: always run max_iterations)"});
-      p.push_back({"max_iterations", 10, 1, 100, "cap on the Newton steps I", true});
+      for (auto& q : gaussian_params()) p.push_back(q);
+      for (auto& q : iteration_params(0.001, 10, "h (|f|)", 10)) p.push_back(q);
       p.push_back({"front_depth", 1.0, 0, 100,
                    "blend the patch hits within this many h of the "
                    "front-most"});

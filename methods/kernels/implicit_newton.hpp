@@ -6,9 +6,12 @@
 #pragma once
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "core/counters.hpp"
 #include "core/geometry.hpp"
+#include "core/params.hpp"
 #include "methods/kernels/weighted_plane.hpp"
 
 namespace pcrt {
@@ -22,6 +25,19 @@ struct NewtonSettings {
   float tolerance = 0;  // |f| at convergence (absolute); 0: run exactly max_iterations
   int max_iterations = 10;
 };
+
+// The tolerance (in `unit`) and cap parameters of an iterative method; tolerance 0 runs exactly
+// max_iterations, so that a sweep can hold I fixed.
+inline std::vector<ParamSpec> iteration_params(double tolerance, double max_tolerance,
+                                               const std::string& unit, double max_iterations) {
+  return {{"tolerance", tolerance, 0, max_tolerance,
+           "residual at convergence, in " + unit + " (0: always run max_iterations)"},
+          {"max_iterations", max_iterations, 1, 100, "cap on the iterations I", true}};
+}
+// Those parameters with the tolerance scaled from `unit` to absolute length.
+inline NewtonSettings newton_settings(const ParamValues& p, float unit) {
+  return {float(p.at("tolerance")) * unit, int(p.at("max_iterations"))};
+}
 
 // Eval(x) returns the WeightedPlane at x. Returns the hit t in [t_lo, t_hi] (and the unit normal)
 // or +inf: when no point reaches the current point, the plane is parallel to the ray, a step

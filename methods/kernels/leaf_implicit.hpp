@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <span>
+#include <vector>
 
+#include "core/params.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 #include "structures/structure.hpp"
 
@@ -20,6 +22,12 @@ struct GaussianWeight {
     return d2 < cut2 ? std::exp(-d2 * inv_two_sigma2) : 0.0f;
   }
 };
+
+// The parameters of GaussianWeight, in mean spacings h.
+inline std::vector<ParamSpec> gaussian_params() {
+  return {{"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h (smoothness)"},
+          {"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"}};
+}
 
 // theta(a) = max(1 - a, 0) with a = d / R (Wald and Seidel 2005).
 struct TentWeight {
