@@ -133,7 +133,8 @@ class CgalAabbEngine final : public MeshEngine {
     return true;
   }
   [[nodiscard]] size_t memory_bytes() const override {
-    // The tree's nodes (one per primitive, less one) and our CGAL triangle copies.
+    // An estimate from element sizes (CGAL reports none): our CGAL triangle copy, the primitive,
+    // and a tree node per primitive (a box of 6 doubles, 48 bytes, and two child pointers).
     return triangles_.size() * (sizeof(Triangle) + sizeof(Primitive) + 2 * sizeof(void*) + 48);
   }
 
