@@ -8,6 +8,7 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/rng.hpp"
+#include "harness/renderer.hpp"
 #include "reconstruction/mesh_engine.hpp"
 
 using namespace pcrt;
@@ -96,4 +97,27 @@ TEST_CASE("Meshes round-trip through PLY, and bad meshes are refused", "[reconst
   REQUIRE(back.boundary_edges() == 4);
   std::filesystem::remove(path);
   REQUIRE_THROWS_AS(read_mesh(std::string(PCRT_DATA_DIR) + "/no_such_mesh.ply"), InputError);
+}
+
+TEST_CASE("Mesh rendering is the same at 1 and 2 threads on every engine", "[reconstruction]") {
+  const Dataset d = load_dataset("torus:n=3000");
+  const ReconstructionReport r = reconstruction("afsr").run(d.cloud);
+  PointCloud vertices;
+  vertices.positions = r.mesh.vertices;
+  for (const MeshEngineInfo& e : MeshEngineRegistry::instance().all()) {
+    OpCounters counters;
+    Timings timings;
+    const MeshScene scene(r.mesh, e.id, counters, timings);
+    RenderSettings rs;
+    rs.width = rs.height = 48;
+    rs.spp = 2;
+    rs.threads = 1;
+    const RenderResult one = render(scene, vertices, rs);
+    rs.threads = 2;
+    const RenderResult two = render(scene, vertices, rs);
+    INFO(e.id);
+    REQUIRE(one.image.pixels() == two.image.pixels());
+    REQUIRE(one.counters.to_map() == two.counters.to_map());
+    REQUIRE(one.counters.get(kRayHits) > 0);
+  }
 }
