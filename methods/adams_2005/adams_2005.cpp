@@ -35,17 +35,13 @@ class Adams2005 final : public Method {
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    auto ball = [&](uint32_t k, Vec3& c, float& r, uint32_t& prim) {
-      const PackedSplat& s = splats_.packed[k];
-      c = s.c, r = s.r, prim = s.index;
-    };
     auto run = [&](uint32_t k, float t0, float t1, Vec3& n) {
       // Algorithm 6 from the ray's entry into the surfel's sphere.
       return newton_on_weighted_plane(
           ray, t0, t0, t1, [&](const Vec3& x) { return evaluate(x, counters); },
           {newton_.tolerance * splats_.packed[k].r, newton_.max_iterations}, n, counters);
     };
-    return nearest_ball_hit(ray, leaf.items, ball, run, hit);
+    return nearest_splat_ball_hit(ray, leaf.items, splats_.packed, run, hit);
   }
 
  private:

@@ -34,14 +34,10 @@ class Cai2011 final : public Method {
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    auto ball = [&](uint32_t k, Vec3& c, float& r, uint32_t& prim) {
-      const PackedSplat& s = splats_.packed[k];
-      c = s.c, r = s.r, prim = s.index;
-    };
     auto run = [&](uint32_t k, float t0, float t1, Vec3& n) {
       return iterate(ray, leaf, splats_.packed[k], t0, t1, n, counters);
     };
-    return nearest_ball_hit(ray, leaf.items, ball, run, hit);
+    return nearest_splat_ball_hit(ray, leaf.items, splats_.packed, run, hit);
   }
 
  private:

@@ -7,6 +7,7 @@
 #include <span>
 
 #include "core/geometry.hpp"
+#include "methods/kernels/splat_kernel.hpp"
 #include "structures/structure.hpp"
 
 namespace pcrt {
@@ -44,6 +45,17 @@ bool nearest_ball_hit(const Ray& ray, std::span<const uint32_t> items, Ball&& ba
     found = true;
   }
   return found;
+}
+
+// The same over splats: each splat's bounding sphere is its ball, its cloud index the prim.
+template <typename Run>
+bool nearest_splat_ball_hit(const Ray& ray, std::span<const uint32_t> items,
+                            std::span<const PackedSplat> splats, Run&& run, Hit& hit) {
+  auto ball = [&](uint32_t k, Vec3& c, float& r, uint32_t& prim) {
+    const PackedSplat& s = splats[k];
+    c = s.c, r = s.r, prim = s.index;
+  };
+  return nearest_ball_hit(ray, items, ball, run, hit);
 }
 
 }  // namespace pcrt
