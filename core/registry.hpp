@@ -23,6 +23,9 @@ class Registry {
               [](const Info& a, const Info& b) { return a.id < b.id; });
   }
   [[nodiscard]] const std::vector<Info>& all() const { return entries_; }
+  [[nodiscard]] bool contains(const std::string& id) const {
+    return std::any_of(entries_.begin(), entries_.end(), [&](const Info& e) { return e.id == id; });
+  }
   // Throws InputError "unknown <kind> '<id>' (known: ...)".
   [[nodiscard]] const Info& get(const std::string& id, const char* kind) const {
     for (const Info& e : entries_)

@@ -558,7 +558,13 @@ int command_list(const Args& args) {
                        {"own_structure", !m.own_structure.empty()},
                        {"needs", m.needs},
                        {"parameters", params_json(m.params)},
-                       {"claims", claims}});
+                       {"claims", claims},
+                       {"work_counters", [&] {
+                          json w = json::array();
+                          for (const Counter* c : m.work)
+                            w.push_back(registered_counters()[c->id()].name);
+                          return w;
+                        }()}});
   }
   for (const StructureInfo& s : StructureRegistry::instance().all())
     structures.push_back({{"id", s.id},
@@ -576,7 +582,9 @@ int command_list(const Args& args) {
                       {"statement", c.statement},
                       {"complexity", c.complexity},
                       {"variables", c.variables},
-                      {"source", c.source}});
+                      {"source", c.source},
+                      {"tested", c.not_tested.empty()},
+                      {"not_tested", c.not_tested}});
   json reconstructions = json::array(), engines = json::array();
   for (const ReconstructionInfo& r : ReconstructionRegistry::instance().all())
     reconstructions.push_back({{"id", r.id}, {"description", r.description}, {"claim", r.claim}});

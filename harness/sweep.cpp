@@ -212,7 +212,7 @@ std::string substitute(std::string s, const json& row) {
 }
 
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
-  check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by"}, where);
+  check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by", "free"}, where);
   FitSpec s;
   s.experiment = experiment;
   if (!f.contains("claim") || !f["claim"].is_string())
@@ -224,12 +224,24 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   s.metric = string_list(f["metric"], where + ".metric");
   s.per = f.value("per", std::string());
   if (f.contains("by")) s.by = string_list(f["by"], where + ".by");
+  if (f.contains("free")) s.free = string_list(f["free"], where + ".free");
+  for (const std::string& v : s.free)
+    if (v != "K" && v != "k" && v != "I_run")
+      input_error("{}.free: '{}' is not one of K, k, I_run", where, v);
   s.max = f.value("max", -1.0);
   s.min = f.value("min", -1.0);
   if (s.max < 0 && s.min < 0 && s.variable.empty())
     input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
   if (!s.variable.empty() && std::string("SMBNKkI").find(s.variable) == std::string::npos)
     input_error("{}: variable '{}' is not one of S M B N K k I", where, s.variable);
+  // Rays are S * M * (paths) by construction: a growth fit on them proves nothing.
+  const std::set<std::string> rays = {"ops_rays_cast", "ops_primary_rays", "ops_bounce_rays",
+                                      "ops_shadow_rays", "ops_ray_hits"};
+  if (s.max < 0 && s.min < 0 &&
+      std::all_of(s.metric.begin(), s.metric.end(), [&](auto& m) { return rays.count(m); }))
+    input_error("{}: metric counts rays only, which grow with S and M by construction; fit "
+                "'work' or a method's own counters",
+                where);
   return s;
 }
 
@@ -262,7 +274,8 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
     const std::string where = fmt::format("{}: experiments[{}]", origin, i);
     check_keys(e,
                {"name", "description", "kind", "methods", "structures", "datasets", "grid",
-                "points", "reconstructions", "engine", "workloads", "fits", "repetitions"},
+                "points", "reconstructions", "engine", "workloads", "fits", "repetitions",
+                "camera"},
                where);
     const std::string name = e.value("name", fmt::format("experiment{}", i));
     if (!names.insert(name).second) input_error("{}: name '{}' used twice", where, name);
@@ -279,10 +292,15 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
     const std::vector<json> points = grid_points(e, where);
     for (const json& p : points) check_point_values(p, kind, where);
     const int run_reps = int(e.value("repetitions", reps));
+    const std::string camera = e.value("camera", std::string("outside"));
+    if (camera != "outside" && camera != "inside")
+      input_error("{}: camera must be 'outside' or 'inside', not '{}'", where, camera);
     json base = {{"experiment", name},      {"kind", kind},
                  {"reps", run_reps},        {"warmup", int(warmup)},
                  {"threads", int(threads)}, {"seed", uint64_t(seed)},
                  {"measure", measure}};
+    // Inside a closed surface every bounce hits again, so work per path grows with B.
+    if (camera == "inside") base["camera"] = camera;
     std::vector<std::string> datasets;
     if (kind != "workload") {
       datasets = string_list(e.value("datasets", json()), where + ".datasets");
@@ -376,6 +394,8 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
           if (run.value("experiment", "") != name) continue;
           try {
             const Claim& claim = find_claim(substitute(c.fits.back().claim, run));
+            if (!claim.not_tested.empty())
+              input_error("claim '{}' is not tested: {}", claim.id, claim.not_tested);
             if (!c.fits.back().variable.empty() && c.fits.back().max < 0 && c.fits.back().min < 0)
               (void)expected_growth(claim.complexity, c.fits.back().variable);
           } catch (const InputError& err) {
@@ -425,7 +445,7 @@ void summarize_times(json& r, std::vector<double> t) {
   r["time_spread"] = med > 0 ? (t.back() - t.front()) / med : 0.0;
 }
 
-RenderSettings render_settings(const json& spec) {
+RenderSettings render_settings(const json& spec, const PointCloud& cloud) {
   RenderSettings rs;
   const double m = spec.value("M", 64.0 * 64.0);
   rs.width = rs.height = std::max(1, int(std::lround(std::sqrt(m))));
@@ -433,6 +453,11 @@ RenderSettings render_settings(const json& spec) {
   rs.bounces = int(spec.value("B", 1.0));
   rs.threads = spec.value("threads", 2);
   rs.seed = spec.value("seed", uint64_t(1));
+  if (spec.value("camera", std::string()) == "inside") {
+    // At the centre of the cloud's bounds, looking along the default view, 90 degrees wide.
+    const Aabb b = cloud.bounds();
+    rs.camera = Camera(b.center(), b.center() - rs.view, rs.up, 90.0f, rs.width, rs.height);
+  }
   return rs;
 }
 
@@ -482,7 +507,7 @@ json execute_run(const json& spec) {
       so.method = spec.at("method");
       so.structure = spec.at("structure");
       for (const auto& [k, v] : spec.at("set").items()) so.set[k] = v.get<double>();
-      const RenderSettings rs = render_settings(spec);
+      const RenderSettings rs = render_settings(spec, cloud);
       if (kind == "crossover") {
         const CrossoverResult x =
             measure_crossover(cloud, so, spec.at("reconstruction"), spec.at("engine"), rs, reps);
@@ -616,6 +641,13 @@ json run_row(const json& r) {
     row["K"] = nullptr;
   row["k"] = set.contains("k") ? set["k"] : json(nullptr);
   row["I"] = set.contains("max_iterations") ? set["max_iterations"] : json(nullptr);
+  // I as measured: iterations per iterative run (Newton, MLS, height difference), whatever the
+  // cap; what the drift check and iteration fits look at.
+  const double steps = counters.value("newton_steps", 0.0) + counters.value("mls_fits", 0.0) +
+                       counters.value("height_steps", 0.0);
+  const double runs = counters.value("newton_runs", 0.0) + counters.value("mls_runs", 0.0) +
+                      counters.value("height_starts", 0.0);
+  row["I_run"] = runs > 0 ? json(steps / runs) : json(nullptr);
   for (const auto& [k, v] : set.items()) row["set_" + k] = v;
   for (const auto& [k, v] : counters.items()) row["ops_" + k] = v;
   // (Each json is held in a local: items() of a temporary would dangle in a range-for.)
@@ -635,7 +667,7 @@ void write_runs_csv(const std::string& path, const std::vector<json>& results) {
   std::vector<std::string> columns = {
       "experiment", "kind",     "method", "structure", "dataset", "reconstruction",
       "engine",     "workload", "N",      "M",         "S",       "B",
-      "K",          "k",        "I"};
+      "K",          "k",        "I",      "I_run"};
   std::set<std::string> seen(columns.begin(), columns.end()), rest;
   for (const json& r : results) {
     rows.push_back(run_row(r));
@@ -699,6 +731,34 @@ std::vector<json> read_runs_jsonl(const std::string& path) {
   return runs;
 }
 
+namespace {
+
+// The source tree's commit and whether tracked files differ from it (results made from a dirty
+// tree cannot be reproduced from the commit alone). Asks git; "unknown" without it.
+std::pair<std::string, json> source_revision() {
+  std::string quoted = "'";
+  for (char ch : std::string(PCRT_SOURCE_DIR)) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  quoted += "'";
+  auto run = [](const std::string& cmd, bool& ok) {
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return ok = false, out;
+    char buf[4096];
+    for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    ok = pclose(p) == 0;
+    return out;
+  };
+  bool ok = false;
+  std::string commit = run("git -C " + quoted + " rev-parse HEAD 2>/dev/null", ok);
+  while (!commit.empty() && std::isspace(static_cast<unsigned char>(commit.back()))) commit.pop_back();
+  if (!ok || commit.empty()) return {"unknown", nullptr};
+  const std::string status =
+      run("git -C " + quoted + " status --porcelain --untracked-files=no 2>/dev/null", ok);
+  return {commit, ok ? json(!status.empty()) : json(nullptr)};
+}
+
+}  // namespace
+
 json machine_context(const json& config) {
   auto first_line_of = [](const std::string& file, const std::string& key) {
     std::ifstream in(file);
@@ -718,9 +778,7 @@ json machine_context(const json& config) {
     while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
     return s;
   };
-  std::string commit = read_all(std::string(PCRT_SOURCE_DIR) + "/.git/HEAD");
-  if (commit.rfind("ref: ", 0) == 0)
-    commit = read_all(std::string(PCRT_SOURCE_DIR) + "/.git/" + commit.substr(5));
+  const auto [commit, dirty] = source_revision();
   return {{"machine",
            {{"cpu", first_line_of("/proc/cpuinfo", "model name")},
             {"cores", std::thread::hardware_concurrency()},
@@ -731,6 +789,7 @@ json machine_context(const json& config) {
           {"build_type", PCRT_BUILD_TYPE},
           {"dependencies", PCRT_DEPENDENCY_VERSIONS},
           {"git_commit", commit},
+          {"git_dirty", dirty},
           {"config", config}};
 }
 
@@ -748,101 +807,195 @@ double column(const json& row, const std::string& name) {
   return name.rfind("ops_", 0) == 0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
 }
 
+// The columns a metric names: "work" is a method's declared work (traversal nodes and items, and
+// its own leaf counters, MethodInfo::work), so frame claims are judged on work, never on rays.
+std::vector<std::string> metric_columns(const std::vector<std::string>& metric, const json& row) {
+  std::vector<std::string> cols;
+  for (const std::string& m : metric) {
+    if (m != "work") {
+      cols.push_back(m);
+      continue;
+    }
+    cols.push_back("ops_nodes_visited");
+    cols.push_back("ops_items_visited");
+    const std::string method = row.value("method", "");
+    if (MethodRegistry::instance().contains(method))
+      for (const Counter* c : MethodRegistry::instance().get(method, "method").work)
+        cols.push_back("ops_" + registered_counters()[c->id()].name);
+  }
+  return cols;
+}
+
+struct FitPoint {
+  double x, y;
+  json fixed;  // the K, k, I of the run, which must not drift
+};
+
+// Variables that the claim does not sweep must stay put: K (the method's K or the measured
+// items per leaf), k, and I (the measured iterations per run).
+std::string drift_of(const std::vector<FitPoint>& pts, const FitSpec& f) {
+  for (const char* v : {"K", "k", "I_run"}) {
+    if (f.variable == v || (f.variable == "I" && std::string(v) == "I_run")) continue;
+    if (std::find(f.free.begin(), f.free.end(), v) != f.free.end()) continue;
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    for (const FitPoint& p : pts) {
+      const json val = p.fixed.value(v, json(nullptr));
+      if (!val.is_number()) continue;
+      lo = std::min(lo, val.get<double>()), hi = std::max(hi, val.get<double>());
+    }
+    if (hi > 0 && lo < hi && (hi - lo) > 0.2 * lo)
+      return fmt::format("{} moved from {:.3g} to {:.3g} (+{:.0f}%) while it should be fixed",
+                         std::string(v) == "I_run" ? "I (iterations per run)" : v, lo, hi,
+                         100 * (hi - lo) / lo);
+  }
+  return {};
+}
+
+// y / x the same at every x: the metric counts x by construction (a loop over K items adds K).
+bool is_identity(const std::vector<FitPoint>& pts) {
+  const double r0 = pts.front().y / pts.front().x;
+  return std::all_of(pts.begin(), pts.end(),
+                     [&](const FitPoint& p) { return std::abs(p.y / p.x - r0) <= 1e-9 * r0; });
+}
+
+void fit_threshold(const FitSpec& f, const std::vector<FitPoint>& pts, json& out) {
+  double worst = f.max >= 0 ? 0 : std::numeric_limits<double>::infinity();
+  for (const FitPoint& p : pts) worst = f.max >= 0 ? std::max(worst, p.y) : std::min(worst, p.y);
+  out["measured"] = pts.empty() ? json(nullptr) : json(worst);
+  out["threshold"] = f.max >= 0 ? fmt::format("<= {}", f.max) : fmt::format(">= {}", f.min);
+  const bool met = f.max >= 0 ? worst <= f.max : worst >= f.min;
+  out["verdict"] = verdict_name(pts.empty() ? ClaimVerdict::kError
+                                : met       ? ClaimVerdict::kMeets
+                                            : ClaimVerdict::kMisses);
+}
+
+void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint> pts,
+                      json& out) {
+  // Identical points (parameters that build the same structure) are one observation.
+  std::sort(pts.begin(), pts.end(),
+            [](const FitPoint& a, const FitPoint& b) { return std::tie(a.x, a.y) < std::tie(b.x, b.y); });
+  pts.erase(std::unique(pts.begin(), pts.end(),
+                        [](const FitPoint& a, const FitPoint& b) { return a.x == b.x && a.y == b.y; }),
+            pts.end());
+  std::vector<double> xs, ys;
+  for (const FitPoint& p : pts) xs.push_back(p.x), ys.push_back(p.y);
+  out["x_values"] = xs;
+  out["y_values"] = ys;
+  const Growth expected = expected_growth(claim.complexity, f.variable);
+  out["expected_model"] = growth_name(expected);
+  const GrowthFit g = fit_growth(xs, ys, expected, out["claim"].get<std::string>());
+  json weights = json::object();
+  for (size_t m = 0; m < kModels; ++m) weights[growth_name(kAllGrowths[m])] = g.weight[m];
+  out.update({{"points", g.points},
+              {"exponent", g.exponent},
+              {"ci_low", g.ci_low},
+              {"ci_high", g.ci_high},
+              {"detectable_exponent", g.detectable_exponent},
+              {"best_model", growth_name(g.best)},
+              {"r2", g.r2},
+              {"noise", g.noise},
+              {"akaike_weights", weights},
+              {"weight_faster", g.weight_faster},
+              {"weight_slower", g.weight_slower},
+              {"delta_aicc_expected", g.delta_aicc_expected},
+              {"verdict", verdict_name(g.verdict)},
+              {"reason", g.reason}});
+  // What this design could detect at the noise it shows (floor 0.5%): a violation one class up,
+  // and how often an exactly true claim would be called `exceeds`.
+  const double noise = std::max(g.noise, 0.005);
+  if (next_growth(expected) != expected)
+    out["power_one_up"] =
+        simulate_verdicts(xs, next_growth(expected), expected, noise, 0, 200, 7).exceeds;
+  out["false_exceeds"] = simulate_verdicts(xs, expected, expected, noise, 0, 200, 8).exceeds;
+  if (is_identity(pts)) {
+    out["verdict"] = verdict_name(ClaimVerdict::kIdentity);
+    out["reason"] = fmt::format("y / x = {:.6g} at every x: the metric counts x by construction "
+                                "(a loop-structure check, not a test of the claim)",
+                                pts.front().y / pts.front().x);
+  }
+}
+
+json fit_group(const FitSpec& f, const std::string& key, const std::vector<json>& rows) {
+  const json& first = rows.front();
+  json out = {{"claim", substitute(f.claim, first)},
+              {"experiment", f.experiment},
+              {"method", first.value("method", "")},
+              {"structure", first.value("structure", "")},
+              {"dataset", first.value("dataset", "")},
+              {"reconstruction", first.value("reconstruction", "")},
+              {"workload", first.value("workload", "")},
+              {"variable", f.variable},
+              {"x", f.x},
+              {"group", json::parse(key)}};
+  const std::vector<std::string> cols = metric_columns(f.metric, first);
+  out["metric"] = fmt::format("{}{}", fmt::join(cols, "+"), f.per.empty() ? "" : " per " + f.per);
+  std::vector<FitPoint> pts;
+  size_t failed = 0;
+  for (const json& row : rows) {
+    if (row.value("status", "") != "ok") {
+      ++failed;
+      continue;
+    }
+    double y = 0;
+    for (const std::string& m : cols) y += column(row, m);
+    if (!f.per.empty()) y /= column(row, f.per);
+    json fixed = json::object();
+    for (const char* v : {"K", "k", "I_run"}) fixed[v] = row.value(v, json(nullptr));
+    pts.push_back({f.x.empty() ? 0.0 : column(row, f.x), y, fixed});
+  }
+  out["runs"] = rows.size();
+  out["failed_runs"] = failed;
+  try {
+    const Claim& claim = find_claim(out["claim"].get<std::string>());
+    out["claimed"] = claim.complexity;
+    out["source"] = claim.source;
+    if (f.max >= 0 || f.min >= 0) {
+      fit_threshold(f, pts, out);
+      return out;
+    }
+    fit_growth_group(f, claim, pts, out);
+    const std::string drift = drift_of(pts, f);
+    if (!drift.empty() && out["verdict"] != verdict_name(ClaimVerdict::kIdentity)) {
+      out["verdict_if_fixed"] = out["verdict"];
+      out["verdict"] = verdict_name(ClaimVerdict::kDrifted);
+      out["reason"] = drift;
+    }
+  } catch (const InputError& e) {
+    out["verdict"] = verdict_name(ClaimVerdict::kError);
+    out["error"] = e.what();
+  }
+  return out;
+}
+
+// The key of a run's group: everything but x, the measurements and what the experiment sweeps.
+std::string group_key(const FitSpec& f, const json& row) {
+  json key = row;
+  for (const auto& [k, v] : row.items())
+    if (k.rfind("ops_", 0) == 0 || k.rfind("time_", 0) == 0 || k == "K" || k == "k" ||
+        k == "I" || k == "I_run" || k == "error" || k == "status" || k == f.x ||
+        (f.x == "K" && k == "set_K"))
+      key.erase(k);
+  for (const char* k : {"prepare_s", "build_s", "structure_bytes", "memory_bytes",
+                        "direct_setup_s", "direct_frame_s", "mesh_setup_s", "mesh_frame_s",
+                        "reconstruct_s", "crossover_frames", "triangles"})
+    key.erase(k);
+  for (const std::string& k : f.swept)
+    if (std::find(f.by.begin(), f.by.end(), k) == f.by.end()) key.erase(k);
+  return key.dump();
+}
 
 }  // namespace
 
 std::vector<json> fit_runs(const SweepConfig& config, const std::vector<json>& results) {
   std::vector<json> fits;
   for (const FitSpec& f : config.fits) {
-    // Groups: the runs of the experiment that agree on everything but x.
     std::map<std::string, std::vector<json>> groups;
-    for (const json& r : results) {
-      if (r.value("experiment", "") != f.experiment) continue;
-      const json row = run_row(r);
-      json key = row;
-      for (const auto& [k, v] : row.items())
-        if (k.rfind("ops_", 0) == 0 || k.rfind("time_", 0) == 0 || k == "K" || k == "k" ||
-            k == "I" || k == "error" || k == "status" || k == f.x || (f.x == "K" && k == "set_K"))
-          key.erase(k);
-      for (const char* k : {"prepare_s", "build_s", "structure_bytes", "memory_bytes",
-                            "direct_setup_s", "direct_frame_s", "mesh_setup_s", "mesh_frame_s",
-                            "reconstruct_s", "crossover_frames", "triangles"})
-        key.erase(k);
-      for (const std::string& k : f.swept)
-        if (std::find(f.by.begin(), f.by.end(), k) == f.by.end()) key.erase(k);
-      groups[key.dump()].push_back(row);
-    }
-    for (const auto& [key, rows] : groups) {
-      const json& first = rows.front();
-      json out = {{"claim", substitute(f.claim, first)},
-                  {"experiment", f.experiment},
-                  {"method", first.value("method", "")},
-                  {"structure", first.value("structure", "")},
-                  {"dataset", first.value("dataset", "")},
-                  {"reconstruction", first.value("reconstruction", "")},
-                  {"workload", first.value("workload", "")},
-                  {"variable", f.variable},
-                  {"x", f.x},
-                  {"metric", fmt::format("{}{}", fmt::join(f.metric, "+"),
-                                         f.per.empty() ? "" : " per " + f.per)},
-                  {"group", json::parse(key)}};
-      std::vector<double> xs, ys;
-      size_t failed = 0;
-      for (const json& row : rows) {
-        if (row.value("status", "") != "ok") {
-          ++failed;
-          continue;
-        }
-        double y = 0;
-        for (const std::string& m : f.metric) y += column(row, m);
-        if (!f.per.empty()) y /= column(row, f.per);
-        xs.push_back(f.x.empty() ? 0.0 : column(row, f.x));
-        ys.push_back(y);
+    for (const json& r : results)
+      if (r.value("experiment", "") == f.experiment) {
+        const json row = run_row(r);
+        groups[group_key(f, row)].push_back(row);
       }
-      out["runs"] = rows.size();
-      out["failed_runs"] = failed;
-      const Claim* claim = nullptr;
-      try {
-        claim = &find_claim(out["claim"].get<std::string>());
-      } catch (const InputError& e) {
-        out["verdict"] = "error";
-        out["error"] = e.what();
-        fits.push_back(out);
-        continue;
-      }
-      out["claimed"] = claim->complexity;
-      out["source"] = claim->source;
-      if (f.max >= 0 || f.min >= 0) {  // threshold claims: every run must meet it
-        double worst = f.max >= 0 ? 0 : std::numeric_limits<double>::infinity();
-        for (double y : ys) worst = f.max >= 0 ? std::max(worst, y) : std::min(worst, y);
-        out["measured"] = ys.empty() ? json(nullptr) : json(worst);
-        out["threshold"] = f.max >= 0 ? fmt::format("<= {}", f.max) : fmt::format(">= {}", f.min);
-        out["verdict"] = ys.empty()                                       ? "error"
-                         : (f.max >= 0 ? worst <= f.max : worst >= f.min) ? "consistent"
-                                                                          : "slower";
-        fits.push_back(out);
-        continue;
-      }
-      try {
-        const Growth expected = expected_growth(claim->complexity, f.variable);
-        const GrowthFit g = fit_growth(xs, ys, expected, out["claim"].get<std::string>());
-        out.update({{"points", g.points},
-                    {"exponent", g.exponent},
-                    {"ci_low", g.ci_low},
-                    {"ci_high", g.ci_high},
-                    {"best_model", growth_name(g.best)},
-                    {"expected_model", growth_name(expected)},
-                    {"r2", g.r2},
-                    {"delta_aicc_expected", g.delta_aicc_expected},
-                    {"verdict", g.verdict},
-                    {"x_values", xs},
-                    {"y_values", ys}});
-      } catch (const InputError& e) {
-        out["verdict"] = "error";
-        out["error"] = e.what();
-      }
-      fits.push_back(out);
-    }
+    for (const auto& [key, rows] : groups) fits.push_back(fit_group(f, key, rows));
   }
   return fits;
 }

@@ -25,6 +25,8 @@ struct FitSpec {
   // unless listed in "by".
   std::vector<std::string> swept;
   std::vector<std::string> by;
+  // Of K, k and I_run, which may move (the metric itself, say); the others must stay within 20%.
+  std::vector<std::string> free;
 };
 
 struct SweepConfig {

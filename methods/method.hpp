@@ -77,6 +77,9 @@ struct MethodInfo {
   std::function<std::unique_ptr<Method>(const ParamValues&)> create;
   std::string own_structure =
       {};  // non-empty: traces whole rays itself (own_closest_hit); --structure does not apply
+  // The counters of this method's own leaf work (weighted-plane terms, MLS neighbours, march
+  // steps, ...): with the traversal's nodes and items, the work frame claims are judged on.
+  std::vector<const Counter*> work = {};
 };
 
 using MethodRegistry = Registry<MethodInfo>;

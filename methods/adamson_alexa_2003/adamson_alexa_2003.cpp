@@ -43,7 +43,9 @@ const RegisterMethod kRegister{MethodInfo{
     mls_params(10, 0.01),
     {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
      {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<AdamsonAlexa>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<AdamsonAlexa>(p); },
+    {},
+    {&kKnnResults, &kMlsNeighbours}}};
 
 }  // namespace
 }  // namespace pcrt

@@ -89,7 +89,9 @@ const RegisterMethod kRegister{MethodInfo{
     }(),
     {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
      {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Cai2011>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<Cai2011>(p); },
+    {},
+    {&kWeightedPointTerms}}};
 
 }  // namespace
 }  // namespace pcrt

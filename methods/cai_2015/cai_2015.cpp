@@ -142,7 +142,9 @@ const RegisterMethod kRegister{MethodInfo{
      {"max_steps", 256, 1, 100000, "cap on the march steps I per leaf", true}},
     {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
      {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Cai2015>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<Cai2015>(p); },
+    {},
+    {&kNeighbourTests, &kFanTriangles}}};
 
 }  // namespace
 }  // namespace pcrt

@@ -19,7 +19,9 @@ const RegisterMethod kRegister{MethodInfo{
     ImplicitCells::params(),
     {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
      {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<ImplicitCellsMethod>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<ImplicitCellsMethod>(p); },
+    {},
+    {&kMarchingSteps}}};
 
 }  // namespace
 }  // namespace pcrt

@@ -72,7 +72,9 @@ const RegisterMethod kRegister{MethodInfo{
     }(),
     {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
      {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Hubo2006>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<Hubo2006>(p); },
+    {},
+    {&kWeightedPointTerms}}};
 
 }  // namespace
 }  // namespace pcrt

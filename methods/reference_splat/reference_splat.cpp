@@ -55,7 +55,9 @@ const RegisterMethod kRegister{
                {"point normals", "point radii"},
                splat_params(),
                {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
-               [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); }}};
+               [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); },
+    {},
+    {&kSplatTests}}};
 
 }  // namespace
 }  // namespace pcrt

@@ -65,7 +65,9 @@ const RegisterMethod kRegister{MethodInfo{
     }(),
     {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
      {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<SchauflerJensen>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<SchauflerJensen>(p); },
+    {},
+    {&kProjectionTests}}};
 
 }  // namespace
 }  // namespace pcrt

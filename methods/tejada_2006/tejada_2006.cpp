@@ -20,7 +20,9 @@ const RegisterMethod kRegister{
                RasterMlsMethod::params(10, 0.01),
                {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
                 {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
-               [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); }}};
+               [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); },
+    {},
+    {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}}};
 
 }  // namespace
 }  // namespace pcrt

@@ -19,7 +19,9 @@ const RegisterMethod kRegister{MethodInfo{
     RasterMlsMethod::params(1, 0),
     {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
      {"frame", "O(MNK + SBNK)", {"M", "N", "K", "S", "B"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); },
+    {},
+    {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}}};
 
 }  // namespace
 }  // namespace pcrt

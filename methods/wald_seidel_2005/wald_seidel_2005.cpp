@@ -123,7 +123,9 @@ const RegisterMethod kRegister{MethodInfo{
     }(),
     {{"leaf intersection", "O(kIK)", {"k", "I", "K"}, "Table 5.5"},
      {"frame", "O(SMB(log N + kIK))", {"S", "M", "B", "N", "k", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<WaldSeidel>(p); }}};
+    [](const ParamValues& p) { return std::make_unique<WaldSeidel>(p); },
+    {},
+    {&kSupportTests, &kSampleEvaluations, &kWeightedPointTerms}}};
 
 }  // namespace
 }  // namespace pcrt
