@@ -310,7 +310,12 @@ VerdictRates simulate_verdicts(const std::vector<double>& x, Growth truth, Growt
                                double noise, double intercept, int trials, uint64_t seed) {
   Rng rng(seed, 0x5eed);
   const double xmax = *std::max_element(x.begin(), x.end());
-  const double scale = truth == Growth::kConstant ? 1 : g(truth, xmax);
+  const double xmin = *std::min_element(x.begin(), x.end());
+  // log x and x log x are not positive at x <= 1: there the model is shifted to start at a
+  // tenth of its range (a constant term, which the claimed class allows).
+  const double g_min = g(truth, xmin), shift = g_min > 0 ? 0 : 0.1 * (g(truth, xmax) - g_min) - g_min;
+  auto truth_at = [&](double v) { return truth == Growth::kConstant ? 1.0 : g(truth, v) + shift; };
+  const double scale = truth_at(xmax);
   VerdictRates r;
   std::vector<double> y(x.size());
   for (int t = 0; t < trials; ++t) {
@@ -318,7 +323,7 @@ VerdictRates simulate_verdicts(const std::vector<double>& x, Growth truth, Growt
       // Box-Muller: a standard normal from two uniforms.
       const double u1 = std::max(rng.uniform_double(), 1e-300), u2 = rng.uniform_double();
       const double z = std::sqrt(-2 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-      const double base = truth == Growth::kConstant ? 1 : g(truth, x[i]) / scale;
+      const double base = truth_at(x[i]) / scale;
       y[i] = (base + intercept) * std::exp(noise * z);
     }
     switch (fit_growth(x, y, claimed, "simulation").verdict) {

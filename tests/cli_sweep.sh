@@ -13,7 +13,7 @@ cat >"$dir/tiny.json" <<'JSON'
   "experiments": [
     {"name": "query", "kind": "render", "methods": ["reference_splat"], "structures": ["kd_tree", "grid"],
      "datasets": ["sphere"], "grid": {"N": [500, 1000, 2000, 4000, 8000], "M": [64], "B": [0]},
-     "fits": [{"claim": "{structure}/query", "variable": "N", "metric": "ops_nodes_visited", "per": "ops_rays_cast"}]},
+     "fits": [{"claim": "{structure}/query", "variable": "N", "metric": "ops_nodes_visited", "per": "ops_rays_cast", "free": ["K"]}]},
     {"name": "worst", "kind": "reconstruct", "reconstructions": ["delaunay"], "datasets": ["skew_lines"],
      "grid": {"N": [40, 80, 160, 320, 640]},
      "fits": [{"claim": "delaunay/worst", "variable": "N", "metric": "ops_cells"}]}
@@ -32,15 +32,16 @@ python3 - "$dir/a" <<'PY'
 import json, sys
 d = sys.argv[1]
 ctx = json.load(open(d + "/context.json"))
-assert {"machine", "compiler", "flags", "dependencies", "git_commit", "config"} <= set(ctx), ctx.keys()
+assert {"machine", "compiler", "flags", "dependencies", "git_commit", "git_dirty", "config"} <= set(ctx), ctx.keys()
 assert {"cpu", "cores", "memory", "governor"} <= set(ctx["machine"])
 fits = json.load(open(d + "/fits.json"))
 assert len(fits) == 3, len(fits)
 for f in fits:
-    assert {"claim", "method", "variable", "metric", "exponent", "ci_low", "ci_high", "best_model", "r2", "verdict"} <= set(f), f
-    assert f["verdict"] in ("consistent", "faster", "slower"), f
+    assert {"claim", "method", "variable", "metric", "exponent", "ci_low", "ci_high", "best_model", "r2", "verdict",
+            "reason", "detectable_exponent", "power_one_up", "false_exceeds", "akaike_weights"} <= set(f), f
+    assert f["verdict"] in ("within", "below", "exceeds", "inconclusive"), f
 worst = [f for f in fits if f["claim"] == "delaunay/worst"][0]
-assert worst["best_model"] == "x^2" and worst["verdict"] == "consistent", worst
+assert worst["best_model"] == "x^2" and worst["verdict"] == "within", worst
 PY
 # --resume skips what is done; a truncated last line (a killed sweep) is redone.
 head -c -20 "$dir/a/runs.jsonl" >"$dir/t" && mv "$dir/t" "$dir/a/runs.jsonl"
@@ -86,6 +87,10 @@ bad 'c["experiments"][0]["datasets"] = ["'"$dir"'/tiny.json"]'; expect_error "ti
 bad 'c["experiments"][1]["kind"] = "dance"';             expect_error "kind must be" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["variable"] = "Q"';  expect_error "variable 'Q'" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["claim"] = "{method}/frame"'; expect_error "unknown claim 'reference_splat/frame'" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["fits"][0]["metric"] = "ops_rays_cast"'; expect_error "counts rays only" sweep "$dir/bad.json"
+bad 'c["experiments"][1]["fits"][0]["claim"] = "gift_wrapping/worst"'; expect_error "is not tested: pcrt has no gift-wrapping" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["fits"][0]["free"] = ["Q"]';    expect_error "'Q' is not one of K, k, I_run" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["camera"] = "under"';           expect_error "camera must be" sweep "$dir/bad.json"
 printf '{"experiments": [' >"$dir/trunc.json";            expect_error "not valid JSON" sweep "$dir/trunc.json"
 expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
 echo '{"runs": 3}' >"$dir/notbase.json"; expect_error "notbase.json: not a baseline" check --config "$dir/tiny.json" --baseline "$dir/notbase.json"

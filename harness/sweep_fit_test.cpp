@@ -1,0 +1,103 @@
+// fit_runs on crafted run results: what is judged and what is not (identities, drifted groups,
+// duplicated points, too few distinct x), and the work metric.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "harness/sweep.hpp"
+
+using namespace pcrt;
+
+namespace {
+
+SweepConfig config(const json& fit) {
+  const json raw = {
+      {"name", "t"},
+      {"experiments",
+       {{{"name", "e"},
+         {"kind", "render"},
+         {"methods", {"hubo_2006"}},
+         {"datasets", {"sphere"}},
+         {"grid", {{"N", {1000, 2000, 4000, 8000, 16000, 32000}}, {"M", {64}}, {"B", {0}}}},
+         {"fits", {fit}}}}}};
+  return parse_sweep_config(raw, "test");
+}
+
+// One ok result of hubo_2006 at N with the given counters.
+json result(double n, const json& counters) {
+  return {{"experiment", "e"}, {"kind", "render"},   {"method", "hubo_2006"},
+          {"structure", "kd_tree"}, {"dataset", "sphere"}, {"N", n},
+          {"M", 64},           {"B", 0},            {"set", json::object()},
+          {"counters", counters}, {"status", "ok"}};
+}
+
+}  // namespace
+
+TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit]") {
+  const SweepConfig c = config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
+  std::vector<json> runs;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000})
+    runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
+                              {"items_visited", 800},
+                              {"leaves_visited", 100},
+                              {"weighted_plane_terms", 5000},
+                              {"rays_cast", 64}}));
+  const std::vector<json> fits = fit_runs(c, runs);
+  REQUIRE(fits.size() == 1);
+  REQUIRE(fits[0]["metric"].get<std::string>().find("ops_weighted_plane_terms") != std::string::npos);
+  const double y0 = fits[0]["y_values"][0];
+  REQUIRE(y0 == Approx(100 * std::log(1000.0) + 800 + 5000));
+  REQUIRE(fits[0]["verdict"] != "exceeds");
+}
+
+TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
+  const SweepConfig c = config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
+  std::vector<json> runs;
+  double k = 8;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
+    runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
+                              {"items_visited", 100 * k},
+                              {"leaves_visited", 100},
+                              {"weighted_plane_terms", 500 * k}}));
+    k *= 1.5;
+  }
+  const json f = fit_runs(c, runs)[0];
+  REQUIRE(f["verdict"] == "drifted");
+  REQUIRE(f["reason"].get<std::string>().find("K moved from 8 to") != std::string::npos);
+  REQUIRE(f["verdict_if_fixed"] == "exceeds");
+}
+
+TEST_CASE("fit_runs: y proportional to x by construction is an identity", "[sweep][fit]") {
+  const SweepConfig c = config({{"claim", "{method}/leaf"},
+                                {"variable", "I"},
+                                {"x", "I_run"},
+                                {"metric", "ops_newton_steps"},
+                                {"per", "ops_newton_runs"}});
+  std::vector<json> runs;
+  int i = 1;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000})
+    runs.push_back(result(n, {{"newton_steps", 100 * i++}, {"newton_runs", 100}}));
+  const json f = fit_runs(c, runs)[0];
+  INFO(f.dump());
+  REQUIRE(f["verdict"] == "identity");
+}
+
+TEST_CASE("fit_runs: identical points are merged, and fewer than 5 distinct x is an error",
+          "[sweep][fit]") {
+  const SweepConfig c = config({{"claim", "{method}/leaf"},
+                                {"variable", "I"},
+                                {"x", "I_run"},
+                                {"metric", "ops_weighted_plane_terms"},
+                                {"per", "ops_newton_runs"}});
+  std::vector<json> runs;
+  int i = 0;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
+    const int steps = std::min(++i, 3);  // the last four runs are one and the same point
+    runs.push_back(result(n, {{"newton_steps", 100 * steps},
+                              {"newton_runs", 100},
+                              {"weighted_plane_terms", 1000 * steps + 7}}));
+  }
+  const json f = fit_runs(c, runs)[0];
+  REQUIRE(f["verdict"] == "error");
+  REQUIRE(f["x_values"].size() == 3);
+  REQUIRE(f["error"].get<std::string>().find("5 distinct x") != std::string::npos);
+}
