@@ -1,0 +1,34 @@
+#!/usr/bin/env python3
+"""Contradictions between two sweeps' verdicts on the same claim and data: one says the bound holds
+(within, below) where the other says it fails (exceeds), or meets against misses. Inconclusive,
+identity, drifted and error contradict nothing. Time fits are left out (they depend on the machine).
+Usage: scripts/compare_verdicts.py DIR_A DIR_B   (exit 1 on any contradiction)"""
+import json
+import os
+import sys
+
+SIDE = {"within": "holds", "below": "holds", "exceeds": "fails", "meets": "holds", "misses": "fails"}
+
+
+def verdicts(d):
+    out = {}
+    for f in json.load(open(os.path.join(d, "fits.json"))):
+        if "time" in f["metric"] or "fps" in f["metric"] or f["verdict"] not in SIDE:
+            continue
+        out.setdefault((f["claim"], f.get("dataset", ""), f["variable"]), []).append(f["verdict"])
+    return out
+
+
+def main():
+    a, b = verdicts(sys.argv[1]), verdicts(sys.argv[2])
+    shared = sorted(set(a) & set(b))
+    bad = [(k, a[k], b[k]) for k in shared
+           if {SIDE[v] for v in a[k]} != {SIDE[v] for v in b[k]}]
+    for k, va, vb in bad:
+        print(f"contradiction: {k[0]} on {k[1]} in {k[2]}: {va} in {sys.argv[1]}, {vb} in {sys.argv[2]}")
+    print(f"{len(shared)} claims judged in both, {len(bad)} contradictions")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
