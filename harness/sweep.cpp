@@ -496,7 +496,8 @@ json execute_run(const json& spec) {
              std::map<std::string, std::optional<uint64_t>>{{"cells", rec.cells},
                                                             {"facets", rec.facets},
                                                             {"triangles", rec.triangles},
-                                                            {"boundary_edges", rec.boundary_edges}})
+                                                            {"boundary_edges", rec.boundary_edges},
+                                                            {"predicates", rec.predicates}})
           if (v) counts[k] = *v;
         counts["vertices"] = rec.vertices;
         extra["memory_bytes"] = rec.memory_bytes;

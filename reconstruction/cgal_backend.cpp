@@ -19,7 +19,29 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
+// The work of incremental Delaunay insertion, counted: every orientation and in-sphere predicate
+// the triangulation evaluates (point location walks on orientations, the conflict region on
+// in-sphere tests). Exact and machine independent, unlike its time.
+thread_local uint64_t g_predicates = 0;
+
+template <class Base>
+struct Counting : Base {
+  template <class... A>
+  auto operator()(const A&... a) const {
+    ++g_predicates;
+    return Base::operator()(a...);
+  }
+};
+
+struct CountingKernel : Kernel {
+  using Orientation_3 = Counting<Kernel::Orientation_3>;
+  using Side_of_oriented_sphere_3 = Counting<Kernel::Side_of_oriented_sphere_3>;
+  [[nodiscard]] Orientation_3 orientation_3_object() const { return {}; }
+  [[nodiscard]] Side_of_oriented_sphere_3 side_of_oriented_sphere_3_object() const { return {}; }
+};
+
 using Delaunay = CGAL::Delaunay_triangulation_3<Kernel>;
+using CountedDelaunay = CGAL::Delaunay_triangulation_3<CountingKernel>;
 
 std::vector<Point> cgal_points(const PointCloud& cloud) {
   std::vector<Point> pts;
@@ -40,10 +62,12 @@ void require_points(const PointCloud& cloud, const char* id) {
 ReconstructionReport run_delaunay(const PointCloud& cloud) {
   require_points(cloud, "delaunay");
   const std::vector<Point> pts = cgal_points(cloud);
+  g_predicates = 0;
   const auto start = std::chrono::steady_clock::now();
-  const Delaunay dt(pts.begin(), pts.end());  // range insertion sorts spatially (Hilbert)
+  const CountedDelaunay dt(pts.begin(), pts.end());  // range insertion sorts spatially (Hilbert)
   ReconstructionReport r;
   r.seconds = seconds_since(start);
+  r.predicates = g_predicates;
   r.method = "delaunay";
   r.points = cloud.size();
   r.vertices = dt.number_of_vertices();
@@ -52,8 +76,8 @@ ReconstructionReport run_delaunay(const PointCloud& cloud) {
                 cloud.size(), dt.dimension() == 2 ? "coplanar" : "collinear", dt.dimension());
   r.cells = dt.number_of_finite_cells();
   r.facets = dt.number_of_finite_facets();
-  r.memory_bytes = dt.number_of_cells() * sizeof(Delaunay::Cell) +
-                   dt.number_of_vertices() * sizeof(Delaunay::Vertex);
+  r.memory_bytes = dt.number_of_cells() * sizeof(CountedDelaunay::Cell) +
+                   dt.number_of_vertices() * sizeof(CountedDelaunay::Vertex);
   return r;
 }
 

@@ -42,6 +42,21 @@ TEST_CASE("Delaunay of uniform points: Euler's relation for a ball's tetrahedral
   REQUIRE(double(*r.cells) / 2000 == Approx(6.5).margin(1.0));
 }
 
+TEST_CASE("Delaunay's counted predicates: quadratic on skew lines, linear on a uniform ball",
+          "[reconstruction]") {
+  auto predicates = [](const std::string& spec) {
+    const ReconstructionReport r = reconstruction("delaunay").run(load_dataset(spec).cloud);
+    REQUIRE(r.predicates.has_value());
+    return double(*r.predicates);
+  };
+  // Each new point on a line conflicts with the cells of every point on the other: 4x per 2x N.
+  REQUIRE(predicates("skew_lines:n=800") / predicates("skew_lines:n=400") == Approx(4).margin(0.3));
+  // Spatially sorted insertion into uniform points touches O(1) cells per point.
+  REQUIRE(predicates("ball:n=16000") / predicates("ball:n=8000") == Approx(2).margin(0.2));
+  // Counts are exact: the same input gives the same count.
+  REQUIRE(predicates("ball:n=3000") == predicates("ball:n=3000"));
+}
+
 TEST_CASE("Degenerate input gives a clear error, not a crash", "[reconstruction]") {
   PointCloud three;
   three.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};

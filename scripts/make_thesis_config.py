@@ -122,11 +122,11 @@ E.append({"name": "tejada_2007_one_step", "kind": "render", "methods": ["tejada_
 E.append({"name": "delaunay_uniform", "kind": "reconstruct", "reconstructions": ["delaunay"],
           "description": "the thesis's precondition: points uniform in a ball",
           "datasets": ["ball"], "grid": {"N": geo(2000, 256000, 8)}, "repetitions": 5,
-          "fits": [fit("delaunay/uniform", "N", "time")]})
+          "fits": [fit("delaunay/uniform", "N", "time"), fit("delaunay/uniform", "N", "ops_predicates")]})
 E.append({"name": "delaunay_worst", "kind": "reconstruct", "reconstructions": ["delaunay"],
           "datasets": ["skew_lines"], "grid": {"N": [100, 141, 200, 283, 400, 566, 800, 1131, 1600, 2263, 3200]},
           "repetitions": 3,
-          "fits": [fit("delaunay/worst", "N", "time"), fit("delaunay/worst", "N", "ops_cells")]})
+          "fits": [fit("delaunay/worst", "N", "time"), fit("delaunay/worst", "N", "ops_predicates")]})
 E.append({"name": "afsr", "kind": "reconstruct", "reconstructions": ["afsr"], "datasets": ["sphere", SCAN],
           "grid": {"N": N_SCAN}, "repetitions": 3,
           "fits": [fit("afsr/reconstruct", "N", "time")]})
