@@ -4,6 +4,7 @@ README quotes is in the committed results.
 Usage: scripts/findings.py DIR            print the section
        scripts/findings.py DIR --check F  exit 1 unless F holds it between the markers
        scripts/findings.py DIR --write F  replace the section between the markers in F"""
+import csv
 import json
 import math
 import os
@@ -81,6 +82,24 @@ def section(d):
             out.append(f"{title}:")
             out.append("")
             out += [f"- {describe(f)}" for f in sorted(sel, key=lambda f: (f['claim'], data_name(f)))]
+    runs = list(csv.DictReader(open(os.path.join(d, "runs.csv"))))
+    cross = [r for r in runs if r["kind"] == "crossover" and r["status"] == "ok"]
+    if cross:
+        out += ["", "Reconstruct-then-trace against direct tracing (chapter 7; afsr mesh on pcrt's BVH, "
+                "times in seconds on this machine):", "",
+                "| method | data | N | direct setup | direct frame | mesh setup | mesh frame | reconstruction pays off after |",
+                "|---|---|---|---|---|---|---|---|"]
+        for r in cross:
+            f = r.get("crossover_frames", "")
+            out.append(f"| {r['method']} | {data_name(r)} | {r['N']} | {g(float(r['direct_setup_s']))} | "
+                       f"{g(float(r['direct_frame_s']))} | {g(float(r['mesh_setup_s']))} | {g(float(r['mesh_frame_s']))} | "
+                       f"{(f + ' frames') if f else 'never'} |")
+    fps = [r for r in runs if r["experiment"].startswith("real_time")]
+    if fps:
+        out += ["", "Frames per second at 512x512, 1 spp, 1 bounce, 2 threads (median of the repetitions):", ""]
+        out.append(", ".join(f"{r['method']} {g(1 / float(r['time_median_s']))} at N = {r['N']}"
+                             if r["status"] == "ok" and float(r["time_median_s"] or 0) > 0
+                             else f"{r['method']} {r['status']} at N = {r['N']}" for r in fps) + ".")
     out += ["", END]
     return "\n".join(out)
 
