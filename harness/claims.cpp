@@ -149,14 +149,25 @@ void structure_claims(std::vector<Claim>& c) {
   for (const StructureInfo& s : StructureRegistry::instance().all()) {
     // Table 5.4's row without a structure (Tejada 2006: "-", O(1)) is the brute-force oracle.
     const bool brute = s.id == "brute_force";
-    c.push_back({s.id + "/build", s.id, brute ? "no structure: nothing to build" : "construction cost in N",
-                 brute ? "O(1)" : s.build_claim, {"N"}, brute ? "Table 5.4 ([58])" : "Table 5.4"});
-    c.push_back({s.id + "/query", s.id, "traversal cost to a leaf in N", s.query_claim, {"N"},
+    c.push_back({s.id + "/build",
+                 s.id,
+                 brute ? "no structure: nothing to build" : "construction cost in N",
+                 brute ? "O(1)" : s.build_claim,
+                 {"N"},
+                 brute ? "Table 5.4 ([58])" : "Table 5.4"});
+    c.push_back({s.id + "/query",
+                 s.id,
+                 "traversal cost to a leaf in N",
+                 s.query_claim,
+                 {"N"},
                  brute ? "section 5.4 (brute force)" : "section 5.4"});
   }
-  c.push_back({"grid/occupancy", "grid",
+  c.push_back({"grid/occupancy",
+               "grid",
                "K = N/G points per cell: with G = N/c, K does not grow with N (uniform cloud)",
-               "O(1)", {"N"}, "section 5.4"});
+               "O(1)",
+               {"N"},
+               "section 5.4"});
 }
 
 void method_claims(std::vector<Claim>& c) {
@@ -168,52 +179,109 @@ void method_claims(std::vector<Claim>& c) {
       if (leaf) continue;
       // The reduced column keeps M and N only: O(MN) where the frame rasterizes every point.
       const bool raster = mc.complexity.find("log") == std::string::npos;
-      c.push_back({m.id + "/frame_reduced", m.id, "frame cost, reduced to M and N",
-                   raster ? "O(MN)" : "O(M log N)", {"M", "N"}, "Table 6.1 (reduced)"});
-      c.push_back({m.id + "/requery", m.id,
+      c.push_back({m.id + "/frame_reduced",
+                   m.id,
+                   "frame cost, reduced to M and N",
+                   raster ? "O(MN)" : "O(M log N)",
+                   {"M", "N"},
+                   "Table 6.1 (reduced)"});
+      c.push_back({m.id + "/requery",
+                   m.id,
                    "leaves a ray visits: O(1) re-queries (T4 = T_query + T_int; O(N) worst case)",
-                   "O(1)", {"N"}, "section 5.5.1"});
+                   "O(1)",
+                   {"N"},
+                   "section 5.5.1"});
     }
     if (kRealTime.count(m.thesis_ref))
-      c.push_back({m.id + "/real_time", m.id, "real time: at least 1 frame per second",
-                   ">= 1 fps", {}, "Table 5.1"});
+      c.push_back({m.id + "/real_time",
+                   m.id,
+                   "real time: at least 1 frame per second",
+                   ">= 1 fps",
+                   {},
+                   "Table 5.1"});
     if (kIterative.count(m.thesis_ref))
-      c.push_back({m.id + "/iterations", m.id,
-                   "iterations few enough not to matter (<= 3 per iterative run)", "I <= 3", {},
+      c.push_back({m.id + "/iterations",
+                   m.id,
+                   "iterations few enough not to matter (<= 3 per iterative run)",
+                   "I <= 3",
+                   {},
                    "chapter 6"});
     if (kOwnItems.count(m.id))
-      c.push_back({m.id + "/build", m.id, "structure built over the method's own items",
-                   "O(N log N)", {"N"}, "Table 5.4"});
+      c.push_back({m.id + "/build",
+                   m.id,
+                   "structure built over the method's own items",
+                   "O(N log N)",
+                   {"N"},
+                   "Table 5.4"});
   }
-  c.push_back({"tejada_2007/iterations", "tejada_2007", "one MLS step, no iteration (I = 1)",
-               "I <= 1", {}, "Table 6.1 (no I in O(MNK + SBNK))"});
-  c.push_back({"cai_2015/fan", "cai_2015", "(K-1)K/2 triangles of the k-NN fan per step",
-               "O(K^2)", {"K"}, "section 5.5.2"});
+  c.push_back({"tejada_2007/iterations",
+               "tejada_2007",
+               "one MLS step, no iteration (I = 1)",
+               "I <= 1",
+               {},
+               "Table 6.1 (no I in O(MNK + SBNK))"});
+  c.push_back({"cai_2015/fan",
+               "cai_2015",
+               "(K-1)K/2 triangles of the k-NN fan per step",
+               "O(K^2)",
+               {"K"},
+               "section 5.5.2"});
 }
 
 void reconstruction_claims(std::vector<Claim>& c) {
-  c.push_back({"delaunay/uniform", "delaunay",
-               "3D Delaunay (randomized incremental) of N points uniform in a ball", "O(N log N)",
-               {"N"}, "section 5.1.1"});
-  c.push_back({"delaunay/worst", "delaunay", "3D Delaunay worst case (two skew lines)", "O(N^2)",
-               {"N"}, "section 5.1.1"});
+  c.push_back({"delaunay/uniform",
+               "delaunay",
+               "3D Delaunay (randomized incremental) of N points uniform in a ball",
+               "O(N log N)",
+               {"N"},
+               "section 5.1.1"});
+  c.push_back({"delaunay/worst",
+               "delaunay",
+               "3D Delaunay worst case (two skew lines)",
+               "O(N^2)",
+               {"N"},
+               "section 5.1.1"});
   const std::string no_gift =
       "pcrt has no gift-wrapping triangulation (CGAL implements randomized incremental "
       "insertion only)";
-  c.push_back({"gift_wrapping/uniform", "gift_wrapping", "gift wrapping, uniform in a ball",
-               "O(N)", {"N"}, "section 5.1.1", no_gift});
-  c.push_back({"gift_wrapping/worst", "gift_wrapping", "gift wrapping worst case", "O(N^3)",
-               {"N"}, "section 5.1.1", no_gift});
-  c.push_back({"afsr/reconstruct", "afsr", "advancing front reconstruction (on its Delaunay)",
-               "O(N log N)", {"N"},
+  c.push_back({"gift_wrapping/uniform",
+               "gift_wrapping",
+               "gift wrapping, uniform in a ball",
+               "O(N)",
+               {"N"},
+               "section 5.1.1",
+               no_gift});
+  c.push_back({"gift_wrapping/worst",
+               "gift_wrapping",
+               "gift wrapping worst case",
+               "O(N^3)",
+               {"N"},
+               "section 5.1.1",
+               no_gift});
+  c.push_back({"afsr/reconstruct",
+               "afsr",
+               "advancing front reconstruction (on its Delaunay)",
+               "O(N log N)",
+               {"N"},
                "not a thesis claim: pcrt's expectation from the Delaunay it builds on"});
-  c.push_back({"direct/total", "*", "direct tracing: setup and a frame", "O((N + M) log N)",
-               {"N", "M"}, "chapter 7"});
-  c.push_back({"reconstruction/total", "*", "reconstruct, then trace a frame",
-               "O(N^2 + M log N)", {"N", "M"}, "chapter 7"});
-  c.push_back({"reconstruction/crossover", "*",
+  c.push_back({"direct/total",
+               "*",
+               "direct tracing: setup and a frame",
+               "O((N + M) log N)",
+               {"N", "M"},
+               "chapter 7"});
+  c.push_back({"reconstruction/total",
+               "*",
+               "reconstruct, then trace a frame",
+               "O(N^2 + M log N)",
+               {"N", "M"},
+               "chapter 7"});
+  c.push_back({"reconstruction/crossover",
+               "*",
                "direct tracing O((N + M) log N) beats reconstruct-then-trace O(N^2 + M log N)",
-               "crossover frames", {"N", "M"}, "chapter 7"});
+               "crossover frames",
+               {"N", "M"},
+               "chapter 7"});
 }
 
 }  // namespace
@@ -224,11 +292,19 @@ const std::vector<Claim>& all_claims() {
     structure_claims(c);
     method_claims(c);
     reconstruction_claims(c);
-    c.push_back({"mls/iterations", "*", "MLS iterations per ray: 2 or 3 suffice", "I <= 3", {},
+    c.push_back({"mls/iterations",
+                 "*",
+                 "MLS iterations per ray: 2 or 3 suffice",
+                 "I <= 3",
+                 {},
                  "section 5.5.2"});
     for (const WorkloadInfo& w : workloads())
-      c.push_back({"calibration/" + w.id, "*", "calibration workload " + w.id, w.complexity,
-                   {"N"}, "known complexity (validates the fitter)"});
+      c.push_back({"calibration/" + w.id,
+                   "*",
+                   "calibration workload " + w.id,
+                   w.complexity,
+                   {"N"},
+                   "known complexity (validates the fitter)"});
     return c;
   }();
   return claims;

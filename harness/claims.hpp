@@ -13,8 +13,8 @@ namespace pcrt {
 // x^0.5 is not a class the thesis claims, but it is the class between log x and x that a real
 // departure lands in (a surface fills G^(2/3) of a grid's cells; N^0.5 against log N).
 enum class Growth { kConstant, kLog, kSqrt, kLinear, kLinearLog, kQuadratic, kCubic };
-inline constexpr Growth kAllGrowths[] = {Growth::kConstant,  Growth::kLog,       Growth::kSqrt,
-                                         Growth::kLinear,    Growth::kLinearLog, Growth::kQuadratic,
+inline constexpr Growth kAllGrowths[] = {Growth::kConstant, Growth::kLog,       Growth::kSqrt,
+                                         Growth::kLinear,   Growth::kLinearLog, Growth::kQuadratic,
                                          Growth::kCubic};
 
 const char* growth_name(Growth g);  // "1", "log x", "x^0.5", "x", "x log x", "x^2", "x^3"
@@ -28,7 +28,7 @@ struct Claim {
   std::string statement;   // what is claimed, in words
   std::string complexity;  // as printed in the thesis, or a threshold ("I <= 3", ">= 1 fps")
   std::vector<std::string> variables;
-  std::string source;  // "Table 5.4", "section 5.5.2", ...
+  std::string source;           // "Table 5.4", "section 5.5.2", ...
   std::string not_tested = {};  // why pcrt cannot judge it (empty: it is judged)
 };
 

@@ -210,26 +210,30 @@ void decide(GrowthFit& f, Growth expected) {
   constexpr double kPowerSlack = 0.02;
   if (power > 0 && f.power_ci_low > power + kPowerSlack) {
     f.verdict = ClaimVerdict::kInconclusive;
-    f.reason = fmt::format("no faster model is preferred, but the exponent CI [{:.2f}, {:.2f}] "
-                           "of its growth term lies above the claimed power {}",
-                           f.power_ci_low, f.power_ci_high, power);
+    f.reason = fmt::format(
+        "no faster model is preferred, but the exponent CI [{:.2f}, {:.2f}] "
+        "of its growth term lies above the claimed power {}",
+        f.power_ci_low, f.power_ci_high, power);
     return;
   }
   if (f.weight_slower >= kDecisive || (power > 0 && f.power_ci_high < power - kPowerSlack)) {
     f.verdict = ClaimVerdict::kBelow;
     f.reason = f.weight_slower >= kDecisive
-                   ? fmt::format("{} is preferred to {} (Akaike weight {:.2f}): the bound holds, "
-                                 "loose here",
-                                 growth_name(heaviest(f, 0, c)), claimed, f.weight_slower)
-                   : fmt::format("exponent CI [{:.2f}, {:.2f}] of the growth term lies under "
-                                 "the claimed power {}",
-                                 f.power_ci_low, f.power_ci_high, power);
+                   ? fmt::format(
+                         "{} is preferred to {} (Akaike weight {:.2f}): the bound holds, "
+                         "loose here",
+                         growth_name(heaviest(f, 0, c)), claimed, f.weight_slower)
+                   : fmt::format(
+                         "exponent CI [{:.2f}, {:.2f}] of the growth term lies under "
+                         "the claimed power {}",
+                         f.power_ci_low, f.power_ci_high, power);
     return;
   }
   f.verdict = ClaimVerdict::kWithin;
-  f.reason = fmt::format("{} is not beaten by a faster model (weight {:.2f}) nor decisively by a "
-                         "slower one ({:.2f})",
-                         claimed, f.weight_faster, f.weight_slower);
+  f.reason = fmt::format(
+      "{} is not beaten by a faster model (weight {:.2f}) nor decisively by a "
+      "slower one ({:.2f})",
+      claimed, f.weight_faster, f.weight_slower);
 }
 
 }  // namespace
@@ -316,7 +320,8 @@ VerdictRates simulate_verdicts(const std::vector<double>& x, Growth truth, Growt
   const double xmin = *std::min_element(x.begin(), x.end());
   // log x and x log x are not positive at x <= 1: there the model is shifted to start at a
   // tenth of its range (a constant term, which the claimed class allows).
-  const double g_min = g(truth, xmin), shift = g_min > 0 ? 0 : 0.1 * (g(truth, xmax) - g_min) - g_min;
+  const double g_min = g(truth, xmin),
+               shift = g_min > 0 ? 0 : 0.1 * (g(truth, xmax) - g_min) - g_min;
   auto truth_at = [&](double v) { return truth == Growth::kConstant ? 1.0 : g(truth, v) + shift; };
   const double scale = truth_at(xmax);
   VerdictRates r;

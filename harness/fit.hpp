@@ -38,9 +38,9 @@ enum class ClaimVerdict {
   kError,         // too few distinct points, no runs, an unknown claim
 };
 inline constexpr ClaimVerdict kAllVerdicts[] = {
-    ClaimVerdict::kWithin, ClaimVerdict::kBelow,    ClaimVerdict::kExceeds,
-    ClaimVerdict::kInconclusive, ClaimVerdict::kMeets, ClaimVerdict::kMisses,
-    ClaimVerdict::kIdentity, ClaimVerdict::kDrifted, ClaimVerdict::kError};
+    ClaimVerdict::kWithin,       ClaimVerdict::kBelow,   ClaimVerdict::kExceeds,
+    ClaimVerdict::kInconclusive, ClaimVerdict::kMeets,   ClaimVerdict::kMisses,
+    ClaimVerdict::kIdentity,     ClaimVerdict::kDrifted, ClaimVerdict::kError};
 const char* verdict_name(ClaimVerdict v);  // "within", "below", ...
 // Growth verdicts and threshold verdicts are tallied apart; the rest are not tallied at all.
 enum class VerdictKind { kGrowth, kThreshold, kNotJudged };
@@ -56,15 +56,15 @@ struct GrowthFit {
   double detectable_exponent = 0;
   // The 95% CI of the exponent of y minus the claimed model's constant (its growth term).
   double power_ci_low = 0, power_ci_high = 0;
-  Growth best = Growth::kConstant;  // the lowest-AICc model (the constant when within 2)
-  double r2 = 0;                    // of `best` (weighted, relative residuals)
-  double noise = 0;                 // relative residual sd of `best`
+  Growth best = Growth::kConstant;       // the lowest-AICc model (the constant when within 2)
+  double r2 = 0;                         // of `best` (weighted, relative residuals)
+  double noise = 0;                      // relative residual sd of `best`
   std::array<double, kModels> aicc{};    // per model, kAllGrowths order; +inf where not fitted
   std::array<double, kModels> weight{};  // Akaike weights
   std::array<double, kModels> slope{};   // b of y = a + b g(x), g scaled to 1 at the largest x
-  double weight_faster = 0;  // pairwise: best faster model vs best at or below the claim
-  double weight_slower = 0;  // pairwise: best slower model vs the claimed one
-  double delta_aicc_expected = 0;               // AICc(claimed) - AICc(best)
+  double weight_faster = 0;        // pairwise: best faster model vs best at or below the claim
+  double weight_slower = 0;        // pairwise: best slower model vs the claimed one
+  double delta_aicc_expected = 0;  // AICc(claimed) - AICc(best)
   ClaimVerdict verdict = ClaimVerdict::kError;
   std::string reason;  // why, in words (which neighbour keeps weight, which CI ...)
 };

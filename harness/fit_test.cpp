@@ -117,7 +117,8 @@ TEST_CASE("verdict power on the thesis designs: false exceeds <= 5%, one class u
   }
 }
 
-TEST_CASE("verdicts with an intercept: a constant term does not make a claim fail", "[fit][power]") {
+TEST_CASE("verdicts with an intercept: a constant term does not make a claim fail",
+          "[fit][power]") {
   // y = 1 + log x / log x_max: half the range is fixed overhead.
   std::vector<double> x;
   for (int i = 0; i < 8; ++i) x.push_back(1000 * std::pow(2.0, i));
@@ -143,9 +144,9 @@ TEST_CASE("fit input errors", "[fit]") {
   REQUIRE_THROWS_AS(fit_growth({1, 1, 2, 2, 2}, {1, 1, 2, 2, 2}, Growth::kLinear, "two x"),
                     InputError);
   // Repetitions do not make up for distinct x: four x values are too few to tell classes apart.
-  REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4, 1, 2, 3, 4}, {1, 2, 3, 4, 1, 2, 3, 4},
-                               Growth::kLinear, "four x"),
-                    InputError);
+  REQUIRE_THROWS_AS(
+      fit_growth({1, 2, 3, 4, 1, 2, 3, 4}, {1, 2, 3, 4, 1, 2, 3, 4}, Growth::kLinear, "four x"),
+      InputError);
   REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4, 5}, {1, 0, 3, 4, 5}, Growth::kLinear, "zero"),
                     InputError);
 }

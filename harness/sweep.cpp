@@ -239,9 +239,10 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
                                       "ops_shadow_rays", "ops_ray_hits"};
   if (s.max < 0 && s.min < 0 &&
       std::all_of(s.metric.begin(), s.metric.end(), [&](auto& m) { return rays.count(m); }))
-    input_error("{}: metric counts rays only, which grow with S and M by construction; fit "
-                "'work' or a method's own counters",
-                where);
+    input_error(
+        "{}: metric counts rays only, which grow with S and M by construction; fit "
+        "'work' or a method's own counters",
+        where);
   return s;
 }
 
@@ -272,11 +273,11 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
   for (size_t i = 0; i < raw["experiments"].size(); ++i) {
     const json& e = raw["experiments"][i];
     const std::string where = fmt::format("{}: experiments[{}]", origin, i);
-    check_keys(e,
-               {"name", "description", "kind", "methods", "structures", "datasets", "grid",
-                "points", "reconstructions", "engine", "workloads", "fits", "repetitions",
-                "camera"},
-               where);
+    check_keys(
+        e,
+        {"name", "description", "kind", "methods", "structures", "datasets", "grid", "points",
+         "reconstructions", "engine", "workloads", "fits", "repetitions", "camera"},
+        where);
     const std::string name = e.value("name", fmt::format("experiment{}", i));
     if (!names.insert(name).second) input_error("{}: name '{}' used twice", where, name);
     const std::string kind = e.value("kind", std::string());
@@ -657,7 +658,8 @@ json run_row(const json& r) {
   for (const char* k : {"time_median_s", "time_min_s", "time_max_s", "time_spread"})
     row[k] = r.contains(k) ? r[k] : json(nullptr);
   // Flagged, never dropped: repetitions more than 20% apart.
-  row["time_noisy"] = r.value("times_s", json::array()).size() > 1 && r.value("time_spread", 0.0) > 0.2;
+  row["time_noisy"] =
+      r.value("times_s", json::array()).size() > 1 && r.value("time_spread", 0.0) > 0.2;
   const json extra = r.value("extra", json::object());
   for (const auto& [k, v] : extra.items()) row[k] = v;
   return row;
@@ -738,7 +740,8 @@ namespace {
 // tree cannot be reproduced from the commit alone). Asks git; "unknown" without it.
 std::pair<std::string, json> source_revision() {
   std::string quoted = "'";
-  for (char ch : std::string(PCRT_SOURCE_DIR)) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  for (char ch : std::string(PCRT_SOURCE_DIR))
+    quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
   quoted += "'";
   auto run = [](const std::string& cmd, bool& ok) {
     std::string out;
@@ -751,7 +754,8 @@ std::pair<std::string, json> source_revision() {
   };
   bool ok = false;
   std::string commit = run("git -C " + quoted + " rev-parse HEAD 2>/dev/null", ok);
-  while (!commit.empty() && std::isspace(static_cast<unsigned char>(commit.back()))) commit.pop_back();
+  while (!commit.empty() && std::isspace(static_cast<unsigned char>(commit.back())))
+    commit.pop_back();
   if (!ok || commit.empty()) return {"unknown", nullptr};
   const std::string status =
       run("git -C " + quoted + " status --porcelain --untracked-files=no 2>/dev/null", ok);
@@ -870,14 +874,15 @@ void fit_threshold(const FitSpec& f, const std::vector<FitPoint>& pts, json& out
                                             : ClaimVerdict::kMisses);
 }
 
-void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint> pts,
-                      json& out) {
+void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint> pts, json& out) {
   // Identical points (parameters that build the same structure) are one observation.
-  std::sort(pts.begin(), pts.end(),
-            [](const FitPoint& a, const FitPoint& b) { return std::tie(a.x, a.y) < std::tie(b.x, b.y); });
-  pts.erase(std::unique(pts.begin(), pts.end(),
-                        [](const FitPoint& a, const FitPoint& b) { return a.x == b.x && a.y == b.y; }),
-            pts.end());
+  std::sort(pts.begin(), pts.end(), [](const FitPoint& a, const FitPoint& b) {
+    return std::tie(a.x, a.y) < std::tie(b.x, b.y);
+  });
+  pts.erase(
+      std::unique(pts.begin(), pts.end(),
+                  [](const FitPoint& a, const FitPoint& b) { return a.x == b.x && a.y == b.y; }),
+      pts.end());
   std::vector<double> xs, ys;
   for (const FitPoint& p : pts) xs.push_back(p.x), ys.push_back(p.y);
   out["x_values"] = xs;
@@ -910,9 +915,10 @@ void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint
   out["false_exceeds"] = simulate_verdicts(xs, expected, expected, noise, 0, 200, 8).exceeds;
   if (is_identity(pts)) {
     out["verdict"] = verdict_name(ClaimVerdict::kIdentity);
-    out["reason"] = fmt::format("y / x = {:.6g} at every x: the metric counts x by construction "
-                                "(a loop-structure check, not a test of the claim)",
-                                pts.front().y / pts.front().x);
+    out["reason"] = fmt::format(
+        "y / x = {:.6g} at every x: the metric counts x by construction "
+        "(a loop-structure check, not a test of the claim)",
+        pts.front().y / pts.front().x);
   }
 }
 
@@ -972,13 +978,12 @@ json fit_group(const FitSpec& f, const std::string& key, const std::vector<json>
 std::string group_key(const FitSpec& f, const json& row) {
   json key = row;
   for (const auto& [k, v] : row.items())
-    if (k.rfind("ops_", 0) == 0 || k.rfind("time_", 0) == 0 || k == "K" || k == "k" ||
-        k == "I" || k == "I_run" || k == "error" || k == "status" || k == f.x ||
-        (f.x == "K" && k == "set_K"))
+    if (k.rfind("ops_", 0) == 0 || k.rfind("time_", 0) == 0 || k == "K" || k == "k" || k == "I" ||
+        k == "I_run" || k == "error" || k == "status" || k == f.x || (f.x == "K" && k == "set_K"))
       key.erase(k);
-  for (const char* k : {"prepare_s", "build_s", "structure_bytes", "memory_bytes",
-                        "direct_setup_s", "direct_frame_s", "mesh_setup_s", "mesh_frame_s",
-                        "reconstruct_s", "crossover_frames", "triangles"})
+  for (const char* k : {"prepare_s", "build_s", "structure_bytes", "memory_bytes", "direct_setup_s",
+                        "direct_frame_s", "mesh_setup_s", "mesh_frame_s", "reconstruct_s",
+                        "crossover_frames", "triangles"})
     key.erase(k);
   for (const std::string& k : f.swept)
     if (std::find(f.by.begin(), f.by.end(), k) == f.by.end()) key.erase(k);

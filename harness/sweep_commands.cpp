@@ -99,15 +99,36 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
 
 void write_fits(const std::string& dir, const std::vector<json>& fits) {
   write_json(dir + "/fits.json", json(fits));
-  const std::vector<std::string> cols = {
-      "claim",        "method",         "structure",     "dataset",
-      "variable",     "x",              "metric",        "points",
-      "exponent",     "ci_low",         "ci_high",       "detectable_exponent",
-      "best_model",   "expected_model", "r2",            "noise",
-      "weight_faster", "weight_slower", "delta_aicc_expected", "power_one_up",
-      "false_exceeds", "claimed",       "measured",      "threshold",
-      "verdict",      "verdict_if_fixed", "reason",      "source",
-      "failed_runs",  "error"};
+  const std::vector<std::string> cols = {"claim",
+                                         "method",
+                                         "structure",
+                                         "dataset",
+                                         "variable",
+                                         "x",
+                                         "metric",
+                                         "points",
+                                         "exponent",
+                                         "ci_low",
+                                         "ci_high",
+                                         "detectable_exponent",
+                                         "best_model",
+                                         "expected_model",
+                                         "r2",
+                                         "noise",
+                                         "weight_faster",
+                                         "weight_slower",
+                                         "delta_aicc_expected",
+                                         "power_one_up",
+                                         "false_exceeds",
+                                         "claimed",
+                                         "measured",
+                                         "threshold",
+                                         "verdict",
+                                         "verdict_if_fixed",
+                                         "reason",
+                                         "source",
+                                         "failed_runs",
+                                         "error"};
   write_file_atomically(dir + "/fits.csv", [&](std::ostream& o) {
     for (size_t i = 0; i < cols.size(); ++i) o << (i ? "," : "") << cols[i];
     o << '\n';

@@ -24,16 +24,24 @@ SweepConfig config(const json& fit) {
 
 // One ok result of hubo_2006 at N with the given counters.
 json result(double n, const json& counters) {
-  return {{"experiment", "e"}, {"kind", "render"},   {"method", "hubo_2006"},
-          {"structure", "kd_tree"}, {"dataset", "sphere"}, {"N", n},
-          {"M", 64},           {"B", 0},            {"set", json::object()},
-          {"counters", counters}, {"status", "ok"}};
+  return {{"experiment", "e"},
+          {"kind", "render"},
+          {"method", "hubo_2006"},
+          {"structure", "kd_tree"},
+          {"dataset", "sphere"},
+          {"N", n},
+          {"M", 64},
+          {"B", 0},
+          {"set", json::object()},
+          {"counters", counters},
+          {"status", "ok"}};
 }
 
 }  // namespace
 
 TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit]") {
-  const SweepConfig c = config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
+  const SweepConfig c =
+      config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
   std::vector<json> runs;
   for (double n : {1000, 2000, 4000, 8000, 16000, 32000})
     runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
@@ -43,14 +51,16 @@ TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit
                               {"rays_cast", 64}}));
   const std::vector<json> fits = fit_runs(c, runs);
   REQUIRE(fits.size() == 1);
-  REQUIRE(fits[0]["metric"].get<std::string>().find("ops_weighted_plane_terms") != std::string::npos);
+  REQUIRE(fits[0]["metric"].get<std::string>().find("ops_weighted_plane_terms") !=
+          std::string::npos);
   const double y0 = fits[0]["y_values"][0];
   REQUIRE(y0 == Approx(100 * std::log(1000.0) + 800 + 5000));
   REQUIRE(fits[0]["verdict"] != "exceeds");
 }
 
 TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
-  const SweepConfig c = config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
+  const SweepConfig c =
+      config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
   std::vector<json> runs;
   double k = 8;
   for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {

@@ -23,7 +23,7 @@ struct ReconstructionReport {
   size_t memory_bytes = 0;  // of the triangulation (estimated from its element counts)
   std::optional<uint64_t> cells, facets, triangles, boundary_edges;  // null where not applicable
   std::optional<uint64_t> predicates;  // Delaunay: orientation and in-sphere tests evaluated
-  TriangleMesh mesh;                                                 // empty for delaunay
+  TriangleMesh mesh;                   // empty for delaunay
 };
 
 struct ReconstructionInfo {

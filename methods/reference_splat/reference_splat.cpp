@@ -56,8 +56,8 @@ const RegisterMethod kRegister{
                splat_params(),
                {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
                [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); },
-    {},
-    {&kSplatTests}}};
+               {},
+               {&kSplatTests}}};
 
 }  // namespace
 }  // namespace pcrt

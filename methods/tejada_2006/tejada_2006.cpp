@@ -21,8 +21,8 @@ const RegisterMethod kRegister{
                {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
                 {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
                [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); },
-    {},
-    {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}}};
+               {},
+               {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}}};
 
 }  // namespace
 }  // namespace pcrt
