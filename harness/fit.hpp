@@ -10,7 +10,9 @@
 //                 stated as exact powers, the exponent CI lies above the power);
 //   below         a slower model is decisively preferred to the claimed one: the bound holds,
 //                 loose on this input;
-//   within        otherwise: the bound holds and is tight as far as the data can tell.
+//   within        otherwise: the bound holds and is tight as far as the data can tell (fit_runs
+//                 further requires the design to catch a violation one class up at least 90%
+//                 of the time at the fit's own noise, else it says inconclusive).
 // Pairwise, because summing over all faster models would count one extra coefficient several
 // times. The rule keeps false `exceeds` at or under 5% when the claim is exactly true and detects
 // a violation one class up at least 90% of the time at the noise our op counts show: checked by

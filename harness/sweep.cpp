@@ -913,6 +913,16 @@ void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint
     out["power_one_up"] =
         simulate_verdicts(xs, next_growth(expected), expected, noise, 0, 200, 7).exceeds;
   out["false_exceeds"] = simulate_verdicts(xs, expected, expected, noise, 0, 200, 8).exceeds;
+  // "Within" is a claim about what was not seen: it needs a design that would have seen a
+  // violation one class up at this noise at least 90% of the time.
+  const double power = out.value("power_one_up", 1.0);
+  if (g.verdict == ClaimVerdict::kWithin && power < 0.9) {
+    out["verdict"] = verdict_name(ClaimVerdict::kInconclusive);
+    out["reason"] = fmt::format(
+        "no faster model is preferred, but at this noise ({:.1f}%) the design would catch {} only "
+        "{:.0f}% of the time",
+        100 * g.noise, growth_name(next_growth(expected)), 100 * power);
+  }
   if (is_identity(pts)) {
     out["verdict"] = verdict_name(ClaimVerdict::kIdentity);
     out["reason"] = fmt::format(
