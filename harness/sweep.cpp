@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -626,6 +627,18 @@ json run_in_child(const json& spec, double time_limit_s) {
   return r;
 }
 
+namespace {
+
+// The default of a method's own K parameter (MLS neighbours, fan size, ...), if it declares one.
+std::optional<double> method_k_parameter(const std::string& method) {
+  if (!MethodRegistry::instance().contains(method)) return std::nullopt;
+  for (const ParamSpec& p : MethodRegistry::instance().get(method, "method").params)
+    if (p.name == "K") return p.default_value;
+  return std::nullopt;
+}
+
+}  // namespace
+
 json run_row(const json& r) {
   json row = json::object();
   for (const char* k : {"experiment", "kind", "method", "structure", "dataset", "reconstruction",
@@ -634,9 +647,13 @@ json run_row(const json& r) {
   for (const char* k : {"N", "M", "S", "B"}) row[k] = r.contains(k) ? r[k] : json(nullptr);
   const json set = r.value("set", json::object());
   const json counters = r.value("counters", json::object());
-  // K: the method's K when it has one, else the measured mean items per visited leaf.
+  // K: the method's K when it has one (given, or its default), else the measured mean items per
+  // visited leaf.
+  const std::optional<double> method_k = method_k_parameter(r.value("method", ""));
   if (set.contains("K"))
     row["K"] = set["K"];
+  else if (method_k)
+    row["K"] = *method_k;
   else if (counters.value("leaves_visited", 0.0) > 0)
     row["K"] = counters.value("items_visited", 0.0) / counters.value("leaves_visited", 1.0);
   else

@@ -55,7 +55,10 @@ E.append({"name": "grid_occupancy", "kind": "render", "methods": ["reference_spl
           "description": "points per visited cell at G = N/c: a volume (the thesis's uniform cloud) and a surface",
           "grid": {"N": N_SPHERE, "M": [1024], "B": [0]},
           "fits": [fit("grid/occupancy", "N", "ops_items_visited", "ops_leaves_visited", free=["K"])]})
-for name, ds, ns in [("frame_in_N_sphere", "sphere", N_SPHERE), ("frame_in_N_scan", SCAN, N_SCAN)]:
+# From 4000 points: below that the sphere's radius is under about 20 h, its curvature at the leaf
+# scale changes the points per leaf, and K would drift with N for reasons that are not N.
+N_FRAME = geo(4000, 512000, 8)
+for name, ds, ns in [("frame_in_N_sphere", "sphere", N_FRAME), ("frame_in_N_scan", SCAN, N_SCAN)]:
     E.append({"name": name, "kind": "render", "methods": ["surveyed"], "datasets": [ds],
               "grid": {"N": ns, "M": [1024], "B": [1]},
               "fits": [fit("{method}/frame_reduced", "N"),
