@@ -82,7 +82,7 @@ E.append({"name": "leaf_K_kd_tree", "kind": "render", "methods": ["hubo_2006", "
           "datasets": ["sphere"], "grid": {"N": [20000], "M": [1024], "B": [0], "set.leaf_size": [2, 4, 8, 16, 32, 64, 128, 256, 512]},
           "fits": [fit("{method}/leaf", "K", "ops_weighted_plane_terms", "ops_leaves_visited")]})
 E.append({"name": "leaf_K_mls", "kind": "render", "methods": ["adamson_alexa_2003", "tejada_2006", "tejada_2007"],
-          "datasets": ["sphere"], "grid": {"N": [5000], "M": [1024], "B": [0], "set.K": [8, 12, 16, 24, 32, 48, 64]},
+          "datasets": ["sphere"], "grid": {"N": [5000], "M": [1024], "B": [0], "set.K": [6, 8, 12, 16, 24, 32, 48, 64, 96, 128]},
           "fits": [fit("{method}/leaf", "K", "ops_mls_neighbours", "ops_mls_runs")]})
 E.append({"name": "leaf_K_adams", "kind": "render", "methods": ["adams_2005"], "datasets": ["sphere"],
           "grid": {"N": [5000], "M": [1024], "B": [0], "set.K": [4, 6, 8, 12, 16, 24, 32, 48, 64]},
