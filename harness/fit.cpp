@@ -115,6 +115,34 @@ void power_term_exponent(const std::vector<double>& x, const std::vector<double>
   }
 }
 
+// A model's pure form over a design, positive everywhere: where log x would fall under 1 (x_min
+// < e), its argument is rescaled so that it starts at 1 (log x -> 1 + log(x / x_min), x log x ->
+// x (1 + log(x / x_min))), which stays in the same class without a constant term.
+double pure(Growth m, double x, double xmin) {
+  const double lift = std::max(0.0, 1 - std::log(xmin));
+  switch (m) {
+    case Growth::kConstant:
+      return 1;
+    case Growth::kLog:
+      return std::log(x) + lift;
+    case Growth::kLinearLog:
+      return x * (std::log(x) + lift);
+    default:
+      return g(m, x);
+  }
+}
+
+// The log-log slope the pure model shows over the design x.
+double model_exponent(Growth m, const std::vector<double>& x) {
+  if (m == Growth::kConstant) return 0;
+  const double xmin = *std::min_element(x.begin(), x.end());
+  std::vector<double> y;
+  for (double v : x) y.push_back(pure(m, v, xmin));
+  GrowthFit t;
+  loglog_exponent(x, y, t);
+  return t.exponent;
+}
+
 struct ModelFit {
   double aicc = kInf, slope = 0, rss = 0, intercept = 0;
   int coefficients = 1;
@@ -190,10 +218,24 @@ void decide(GrowthFit& f, Growth expected) {
   const std::string claimed = growth_name(expected);
   pairwise_weights(f, c);
   const Growth faster = heaviest(f, c + 1, int(kModels));
-  if (f.weight_faster >= kDecisive) {
+  // Exceeding needs two independent witnesses: a faster model decisively preferred, and a
+  // log-log exponent whose CI lies above the exponent the claimed model itself shows over this
+  // range (with a constant term >= 0 it can only show less). A late upturn of a flat series can
+  // satisfy the first alone.
+  if (f.weight_faster >= kDecisive && f.ci_low > f.claimed_exponent) {
     f.verdict = ClaimVerdict::kExceeds;
-    f.reason = fmt::format("{} is preferred to every model at or below {} (Akaike weight {:.2f})",
-                           growth_name(faster), claimed, f.weight_faster);
+    f.reason = fmt::format("{} is preferred to every model at or below {} (Akaike weight {:.2f}), "
+                           "and the exponent CI [{:.3f}, {:.3f}] lies above {}'s {:.3f}",
+                           growth_name(faster), claimed, f.weight_faster, f.ci_low, f.ci_high,
+                           claimed, f.claimed_exponent);
+    return;
+  }
+  if (f.weight_faster >= kDecisive) {
+    f.verdict = ClaimVerdict::kInconclusive;
+    f.reason = fmt::format("{} is preferred (Akaike weight {:.2f}), but the exponent CI [{:.3f}, "
+                           "{:.3f}] reaches {}'s own {:.3f} over this range",
+                           growth_name(faster), f.weight_faster, f.ci_low, f.ci_high, claimed,
+                           f.claimed_exponent);
     return;
   }
   if (f.weight_faster > 0.5) {
@@ -227,6 +269,15 @@ void decide(GrowthFit& f, Growth expected) {
                          "exponent CI [{:.2f}, {:.2f}] of the growth term lies under "
                          "the claimed power {}",
                          f.power_ci_low, f.power_ci_high, power);
+    return;
+  }
+  // The second witness against the claim, alone: the exponent rises above what the claimed
+  // model can show here, though no faster model is decisively preferred.
+  if (f.ci_low > f.claimed_exponent) {
+    f.verdict = ClaimVerdict::kInconclusive;
+    f.reason = fmt::format("no faster model is decisively preferred (weight {:.2f}), but the "
+                           "exponent CI [{:.3f}, {:.3f}] lies above {}'s own {:.3f} here",
+                           f.weight_faster, f.ci_low, f.ci_high, claimed, f.claimed_exponent);
     return;
   }
   f.verdict = ClaimVerdict::kWithin;
@@ -309,6 +360,7 @@ GrowthFit fit_growth(const std::vector<double>& x, const std::vector<double>& y,
   f.noise = std::sqrt(b.rss / double(n - size_t(b.coefficients)));
   f.delta_aicc_expected = f.aicc[size_t(c)] - best;
   power_term_exponent(x, y, fits[size_t(c)].intercept, f);
+  f.claimed_exponent = model_exponent(expected, x);
   decide(f, expected);
   return f;
 }
@@ -318,11 +370,7 @@ VerdictRates simulate_verdicts(const std::vector<double>& x, Growth truth, Growt
   Rng rng(seed, 0x5eed);
   const double xmax = *std::max_element(x.begin(), x.end());
   const double xmin = *std::min_element(x.begin(), x.end());
-  // log x and x log x are not positive at x <= 1: there the model is shifted to start at a
-  // tenth of its range (a constant term, which the claimed class allows).
-  const double g_min = g(truth, xmin),
-               shift = g_min > 0 ? 0 : 0.1 * (g(truth, xmax) - g_min) - g_min;
-  auto truth_at = [&](double v) { return truth == Growth::kConstant ? 1.0 : g(truth, v) + shift; };
+  auto truth_at = [&](double v) { return pure(truth, v, xmin); };
   const double scale = truth_at(xmax);
   VerdictRates r;
   std::vector<double> y(x.size());

@@ -5,7 +5,9 @@
 // The thesis's O() are upper bounds on the worst case (Def. 5.1), so a verdict says where the
 // measured growth lies against the bound. With w the Akaike weight of the best model growing
 // faster than the claim, taken pairwise against the best model at or below it:
-//   exceeds       w >= 0.95: a faster model is decisively preferred; the claim fails;
+//   exceeds       w >= 0.95: a faster model is decisively preferred, and the exponent's CI
+//                 lies above the exponent the claimed model shows over the same x: the claim
+//                 fails (only one of the two: inconclusive);
 //   inconclusive  0.5 < w < 0.95: a faster model fits better, not decisively (or, for claims
 //                 stated as exact powers, the exponent CI lies above the power);
 //   below         a slower model is decisively preferred to the claimed one: the bound holds,
@@ -58,6 +60,7 @@ struct GrowthFit {
   double detectable_exponent = 0;
   // The 95% CI of the exponent of y minus the claimed model's constant (its growth term).
   double power_ci_low = 0, power_ci_high = 0;
+  double claimed_exponent = 0;  // the log-log slope of the pure claimed model over the same x
   Growth best = Growth::kConstant;       // the lowest-AICc model (the constant when within 2)
   double r2 = 0;                         // of `best` (weighted, relative residuals)
   double noise = 0;                      // relative residual sd of `best`

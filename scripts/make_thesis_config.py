@@ -67,12 +67,12 @@ E.append({"name": "frame_in_M", "kind": "render", "methods": ["surveyed"], "data
           "grid": {"N": [10000], "M": [256, 576, 1024, 2304, 4096, 9216, 16384], "B": [1]},
           "fits": [fit("{method}/frame_reduced", "M")]})
 E.append({"name": "frame_in_S", "kind": "render", "methods": ["surveyed"], "datasets": ["sphere"],
-          "grid": {"N": [5000], "M": [256], "S": [1, 2, 3, 4, 6, 8, 12], "B": [1]},
+          "grid": {"N": [5000], "M": [256], "S": [1, 2, 3, 4, 6, 8, 12, 16, 24, 32], "B": [1]},
           "fits": [fit("{method}/frame", "S")]})
 E.append({"name": "frame_in_B", "kind": "render", "methods": ["surveyed"], "datasets": ["sphere"],
           "camera": "inside",
           "description": "camera at the centre of a closed sphere: every bounce hits again",
-          "grid": {"N": [5000], "M": [256], "B": [1, 2, 3, 4, 5, 6, 8]},
+          "grid": {"N": [5000], "M": [256], "B": [1, 2, 3, 4, 6, 8, 12, 16, 24, 32]},
           "fits": [fit("{method}/frame", "B")]})
 E.append({"name": "leaf_K_octree", "kind": "render",
           "methods": ["goradia_2010", "linsen_2007", "kashyap_2010_splat", "schaufler_jensen_2000", "wand_strasser_2003"],
