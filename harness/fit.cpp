@@ -18,6 +18,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Akaike weight above which a group of models is taken as established, and at or under which
 // a group is ruled out ("material weight" is more than this complement).
 constexpr double kDecisive = 0.95;
+// Lower-order terms move a finite range's exponent by a few hundredths ((N/2 - 1)^2 Delaunay
+// cells give 2.004 over 50..800; a + b S with a < 0 gives 1.01): a CI within this of the claimed
+// exponent is taken to reach it.
+constexpr double kExponentSlack = 0.02;
 
 double g(Growth m, double x) {
   switch (m) {
@@ -222,7 +226,7 @@ void decide(GrowthFit& f, Growth expected) {
   // log-log exponent whose CI lies above the exponent the claimed model itself shows over this
   // range (with a constant term >= 0 it can only show less). A late upturn of a flat series can
   // satisfy the first alone.
-  if (f.weight_faster >= kDecisive && f.ci_low > f.claimed_exponent) {
+  if (f.weight_faster >= kDecisive && f.ci_low > f.claimed_exponent + kExponentSlack) {
     f.verdict = ClaimVerdict::kExceeds;
     f.reason = fmt::format("{} is preferred to every model at or below {} (Akaike weight {:.2f}), "
                            "and the exponent CI [{:.3f}, {:.3f}] lies above {}'s {:.3f}",
@@ -247,10 +251,7 @@ void decide(GrowthFit& f, Growth expected) {
   // Claims stated as exact powers must have the power inside the CI of their growth term's
   // exponent (the log-log slope of y minus the claimed model's constant) to be tight.
   const double power = expected == Growth::kQuadratic ? 2 : expected == Growth::kCubic ? 3 : 0;
-  // Lower-order terms move a finite range's exponent by a few hundredths ((N/2 - 1)^2 Delaunay
-  // cells give 2.004 over 50..800): a CI within kPowerSlack of the power covers it.
-  constexpr double kPowerSlack = 0.02;
-  if (power > 0 && f.power_ci_low > power + kPowerSlack) {
+  if (power > 0 && f.power_ci_low > power + kExponentSlack) {
     f.verdict = ClaimVerdict::kInconclusive;
     f.reason = fmt::format(
         "no faster model is preferred, but the exponent CI [{:.2f}, {:.2f}] "
@@ -258,7 +259,7 @@ void decide(GrowthFit& f, Growth expected) {
         f.power_ci_low, f.power_ci_high, power);
     return;
   }
-  if (f.weight_slower >= kDecisive || (power > 0 && f.power_ci_high < power - kPowerSlack)) {
+  if (f.weight_slower >= kDecisive || (power > 0 && f.power_ci_high < power - kExponentSlack)) {
     f.verdict = ClaimVerdict::kBelow;
     f.reason = f.weight_slower >= kDecisive
                    ? fmt::format(
@@ -273,7 +274,7 @@ void decide(GrowthFit& f, Growth expected) {
   }
   // The second witness against the claim, alone: the exponent rises above what the claimed
   // model can show here, though no faster model is decisively preferred.
-  if (f.ci_low > f.claimed_exponent) {
+  if (f.ci_low > f.claimed_exponent + kExponentSlack) {
     f.verdict = ClaimVerdict::kInconclusive;
     f.reason = fmt::format("no faster model is decisively preferred (weight {:.2f}), but the "
                            "exponent CI [{:.3f}, {:.3f}] lies above {}'s own {:.3f} here",

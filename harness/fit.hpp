@@ -3,13 +3,13 @@
 // relative errors (weights 1/y^2, so that small and large x count alike).
 //
 // The thesis's O() are upper bounds on the worst case (Def. 5.1), so a verdict says where the
-// measured growth lies against the bound. With w the Akaike weight of the best model growing
-// faster than the claim, taken pairwise against the best model at or below it:
-//   exceeds       w >= 0.95: a faster model is decisively preferred, and the exponent's CI
-//                 lies above the exponent the claimed model shows over the same x: the claim
-//                 fails (only one of the two: inconclusive);
-//   inconclusive  0.5 < w < 0.95: a faster model fits better, not decisively (or, for claims
-//                 stated as exact powers, the exponent CI lies above the power);
+// measured growth lies against the bound. Two witnesses can speak against a claim: w, the Akaike
+// weight of the best model growing faster than the claim, taken pairwise against the best model
+// at or below it, reaches 0.95; and the log-log exponent's CI lies above the exponent the claimed
+// model itself shows over the same x (slack 0.02 for lower-order terms; for claims stated as
+// exact powers, the exponent of y minus the fitted constant against the power).
+//   exceeds       both witnesses speak: the claim fails;
+//   inconclusive  one speaks, or 0.5 < w < 0.95 (a faster model fits better, not decisively);
 //   below         a slower model is decisively preferred to the claimed one: the bound holds,
 //                 loose on this input;
 //   within        otherwise: the bound holds and is tight as far as the data can tell (fit_runs
