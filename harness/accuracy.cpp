@@ -11,14 +11,41 @@
 namespace pcrt {
 namespace {
 
-enum class Verdict : uint8_t { kIgnored, kHole, kFalseHit, kGoodMiss, kGoodHit };
+// kSeeThrough, kEarly and kPhantom are false hits on rays the surface does hit; kMissPhantom is
+// a hit on a ray that passes the surface by more than 2h.
+enum class Verdict : uint8_t {
+  kIgnored,
+  kHole,
+  kSeeThrough,
+  kEarly,
+  kPhantom,
+  kMissPhantom,
+  kGoodMiss,
+  kGoodHit
+};
 
 struct RayOutcome {
   Verdict verdict = Verdict::kIgnored;
-  bool exact_hit = false;
+  bool normal_judged = false;
   float distance_h = 0;
-  float normal_deg = 0;
+  float normal_deg = 0;         // to the true normal (judged only where smooth)
+  float smooth_normal_deg = 0;  // to the smooth normal
+  float floor_deg = 0;          // true normal to smooth normal at the exact hit
 };
+
+// Unsigned angle by atan2(|a x b|, |a . b|): acos of a float dot product cannot resolve angles
+// below about 0.02 degrees.
+float unsigned_angle_deg(const Vec3& a, const Vec3& b) {
+  const Vec3d x = a.normalized().cast<double>(), y = b.normalized().cast<double>();
+  return float(std::atan2(x.cross(y).norm(), std::abs(x.dot(y))) * 180.0 / M_PI);
+}
+
+// Why a method's hit more than 5h from the exact first hit is wrong: behind it (the front surface
+// was missed), in front of it near the surface (fattened), or in empty space.
+Verdict false_hit_cause(const Surface& truth, const Hit& hit, float t_true, float h) {
+  if (hit.t > t_true) return Verdict::kSeeThrough;
+  return std::abs(truth.signed_distance(hit.p)) <= 2.0f * h ? Verdict::kEarly : Verdict::kPhantom;
+}
 
 // Smallest |signed distance| along the ray inside the surface's bounds: sphere tracing never
 // steps past the surface, and the minimum of the visited values bounds how close the ray passes.
@@ -71,36 +98,35 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
     float t_true = 0;
     Vec3 n_true;
     RayOutcome& o = out[i];
-    o.exact_hit = truth.intersect(ray, t_true, n_true);
-    if (o.exact_hit) {
+    if (truth.intersect(ray, t_true, n_true)) {
       if (std::abs(n_true.dot(ray.d)) < 0.1f) return;  // grazing: not judged
       if (!found) {
         o.verdict = Verdict::kHole;
         return;
       }
       if ((hit.p - ray.at(t_true)).norm() > 5.0f * hf) {
-        o.verdict = Verdict::kFalseHit;
+        o.verdict = false_hit_cause(truth, hit, t_true, hf);
         return;
       }
       o.verdict = Verdict::kGoodHit;
       o.distance_h = std::abs(truth.signed_distance(hit.p)) / hf;
-      // Unsigned angle by atan2(|a x b|, |a . b|): acos of a float dot product cannot resolve
-      // angles below about 0.02 degrees.
-      const Vec3d a = hit.n.normalized().cast<double>(), b = truth.normal(hit.p).cast<double>();
-      o.normal_deg = float(std::atan2(a.cross(b).norm(), std::abs(a.dot(b))) * 180.0 / M_PI);
+      const Vec3 p_true = ray.at(t_true);
+      o.normal_judged = truth.smooth_at(p_true, 2.0f * hf);
+      o.normal_deg = unsigned_angle_deg(hit.n, truth.normal(hit.p));
+      o.smooth_normal_deg = unsigned_angle_deg(hit.n, truth.smooth_normal(hit.p));
+      o.floor_deg = unsigned_angle_deg(n_true, truth.smooth_normal(p_true));
       return;
     }
     if (closest_approach(truth, ray, scale) <= 2.0f * hf) return;  // near miss: not judged
-    o.verdict = found ? Verdict::kFalseHit : Verdict::kGoodMiss;
+    o.verdict = found ? Verdict::kMissPhantom : Verdict::kGoodMiss;
   });
   per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
 
   AccuracyReport r;
   r.rays = rays.size();
   r.mean_spacing = h;
-  std::vector<float> dist, angle;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const RayOutcome& o = out[i];
+  std::vector<float> dist, angle, smooth_angle, floor;
+  for (const RayOutcome& o : out) {
     switch (o.verdict) {
       case Verdict::kIgnored:
         continue;
@@ -110,18 +136,28 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
       case Verdict::kGoodHit:
         ++r.judged_hits;
         dist.push_back(o.distance_h);
-        angle.push_back(o.normal_deg);
+        smooth_angle.push_back(o.smooth_normal_deg);
+        if (o.normal_judged) {
+          ++r.normal_judged;
+          angle.push_back(o.normal_deg);
+          floor.push_back(o.floor_deg);
+        }
         break;
       case Verdict::kGoodMiss:
         ++r.judged_misses;
         break;
-      case Verdict::kFalseHit:
-        ++r.false_hits;
-        // A false hit on a ray the surface does hit still counts among the judged hits.
-        if (o.exact_hit)
-          ++r.judged_hits;
-        else
-          ++r.judged_misses;
+      // A false hit on a ray the surface does hit still counts among the judged hits.
+      case Verdict::kSeeThrough:
+        ++r.judged_hits, ++r.false_hits, ++r.see_through;
+        break;
+      case Verdict::kEarly:
+        ++r.judged_hits, ++r.false_hits, ++r.early;
+        break;
+      case Verdict::kPhantom:
+        ++r.judged_hits, ++r.false_hits, ++r.phantom;
+        break;
+      case Verdict::kMissPhantom:
+        ++r.judged_misses, ++r.false_hits, ++r.phantom;
         break;
     }
   }
@@ -139,6 +175,8 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
   r.distance_p95_h = quantile(dist, 0.95);
   r.normal_median_deg = quantile(angle, 0.5);
   r.normal_p95_deg = quantile(angle, 0.95);
+  r.smooth_normal_median_deg = quantile(smooth_angle, 0.5);
+  r.faceting_floor_deg = quantile(floor, 0.5);
   return r;
 }
 

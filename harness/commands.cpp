@@ -21,10 +21,12 @@
 #include "harness/claims.hpp"
 #include "harness/cli_args.hpp"
 #include "harness/command_helpers.hpp"
+#include "harness/mesh_truth.hpp"
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
 #include "preprocess/point_attributes.hpp"
 #include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/mesh_surface.hpp"
 #include "reconstruction/reconstruction.hpp"
 #include "structures/knn_index.hpp"
 
@@ -329,22 +331,115 @@ int command_trace(const Args& args) {
   return 0;
 }
 
+namespace {
+
+// The truth an accuracy run judges against and the cloud a method is built on: a generator's
+// exact surface and its points, or a mesh and points sampled on it.
+struct AccuracyInput {
+  Dataset data;
+  std::shared_ptr<const Surface> truth;
+  double h = 0;  // the spacing tolerances are in
+  json describe;
+};
+
+AccuracyInput accuracy_input(const CliArgs& a, OpCounters& prep) {
+  AccuracyInput in;
+  if (!a.has("truth")) {
+    if (a.has("sample") || a.has("truth-engine"))
+      input_error("pcrt accuracy: --sample and --truth-engine apply only to --truth");
+    const std::string data = a.require("data");
+    in.data = load_dataset(data);
+    if (!in.data.truth)
+      input_error(
+          "pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface "
+          "or --truth MESH",
+          data);
+    in.truth = in.data.truth;
+    in.h = mean_spacing(in.data.cloud.positions, prep);
+    in.describe = {{"dataset", data}};
+    return in;
+  }
+  if (a.has("data")) input_error("pcrt accuracy: give --data or --truth, not both");
+  const std::string path = a.get("truth");
+  const MeshSampling sampling = parse_mesh_sampling(a.get("sample"));
+  const std::string engine = a.has("truth-engine") ? a.get("truth-engine") : "bvh";
+  (void)MeshEngineRegistry::instance().get(engine, "mesh engine");  // names before work
+  auto truth = std::make_shared<MeshSurface>(read_mesh(path), path, engine);
+  SampledCloud sampled = sample_cloud(*truth, sampling, path, prep);
+  in.data.cloud = std::move(sampled.cloud);
+  in.h = sampled.spacing;
+  in.describe = {{"truth", path},
+                 {"truth_engine", engine},
+                 {"triangles", truth->mesh().triangles.size()},
+                 {"sample", describe(sampling)},
+                 {"dataset", path + " sampled " + describe(sampling)}};
+  in.truth = std::move(truth);
+  return in;
+}
+
+json accuracy_json(const AccuracyReport& r) {
+  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  return {{"rays", r.rays},
+          {"judged_hits", r.judged_hits},
+          {"judged_misses", r.judged_misses},
+          {"holes", r.holes},
+          {"false_hits", r.false_hits},
+          {"see_through", r.see_through},
+          {"early", r.early},
+          {"phantom", r.phantom},
+          {"hole_rate", r.hole_rate},
+          {"false_hit_rate", r.false_hit_rate},
+          {"see_through_rate", r.see_through_rate()},
+          {"early_rate", r.early_rate()},
+          {"phantom_rate", r.phantom_rate()},
+          {"distance_median_h", num(r.distance_median_h)},
+          {"distance_p95_h", num(r.distance_p95_h)},
+          {"normal_judged", r.normal_judged},
+          {"normal_median_deg", num(r.normal_median_deg)},
+          {"normal_p95_deg", num(r.normal_p95_deg)},
+          {"smooth_normal_median_deg", num(r.smooth_normal_median_deg)},
+          {"faceting_floor_deg", num(r.faceting_floor_deg)},
+          {"meets_bounds", AccuracyBounds{}.met_by(r)}};
+}
+
+void print_accuracy(const std::string& label, const std::string& data, double h,
+                    const AccuracyReport& r) {
+  std::printf("%s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", label.c_str(),
+              data.c_str(), h, r.judged_hits, r.judged_misses);
+  std::printf(
+      "  holes %.3f%%  false hits %.3f%% (see-through %.3f%%, early %.3f%%, phantom %.3f%%)\n"
+      "  distance median %.4f h, p95 %.4f h  normal median %.3f deg (%zu smooth hits; faceting "
+      "floor %.3f deg)  -> %s\n",
+      100 * r.hole_rate, 100 * r.false_hit_rate, 100 * r.see_through_rate(), 100 * r.early_rate(),
+      100 * r.phantom_rate(), r.distance_median_h, r.distance_p95_h, r.normal_median_deg,
+      r.normal_judged, r.faceting_floor_deg,
+      AccuracyBounds{}.met_by(r) ? "meets the bounds" : "MISSES the bounds");
+}
+
+}  // namespace
+
 int command_accuracy(const Args& args) {
   auto opts = scene_options();
-  opts.insert(opts.end(), {{"rays", "N", "number of rays (default 20000)"},
-                           {"seed", "N", "ray seed (default 1)"},
-                           {"reconstruction", "ID",
-                            "reconstruct a mesh (delaunay's surface is not a mesh: afsr) and "
-                            "judge it on --engine instead of a point method"},
-                           {"json", "", "print JSON"}});
+  opts.insert(opts.end(),
+              {{"rays", "N", "number of rays (default 20000)"},
+               {"seed", "N", "ray seed (default 1)"},
+               {"reconstruction", "ID",
+                "reconstruct a mesh (delaunay's surface is not a mesh: afsr) and judge it on "
+                "--engine instead of a point method"},
+               {"truth", "MESH", "judge against this triangle mesh (.off/.ply), sampled by area"},
+               {"sample", "SPEC",
+                "sampling of --truth: n=..,seed=..,noise=.. (in h),density=..,"
+                "normals=exact|estimated|none (default n=100000,seed=1,normals=exact)"},
+               {"truth-engine", "ID", "triangle engine tracing --truth (default bvh)"},
+               {"json", "", "print JSON"}});
   CliArgs a("accuracy",
             "pcrt accuracy (--method ID [--structure ID] | --reconstruction ID [--engine ID]) "
-            "--data GENERATOR_SPEC [--rays N] [--json]",
+            "(--data GENERATOR_SPEC | --truth MESH [--sample SPEC]) [--rays N] [--json]",
             opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   if (a.has("mesh"))
-    input_error("pcrt accuracy: --mesh has no exact surface; use --reconstruction");
+    input_error("pcrt accuracy: --mesh has no exact surface; use --truth or --reconstruction");
   const bool reconstructing = a.has("reconstruction");
   if (reconstructing && a.has("method"))
     input_error("pcrt accuracy: give --method or --reconstruction, not both");
@@ -352,21 +447,17 @@ int command_accuracy(const Args& args) {
     input_error("pcrt accuracy: --engine applies only to --reconstruction");
   const auto n_rays = size_t(a.integer("rays", 20000, 1, 100000000));
   const auto seed = uint64_t(a.integer("seed", 1, 0, 1ll << 62));
-  const std::string data = a.require("data");
-  const Dataset d = load_dataset(data);
-  if (!d.truth)
-    input_error(
-        "pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface",
-        data);
   Timings timings;
   OpCounters prep, counters;
+  const AccuracyInput in = accuracy_input(a, prep);
+  const PointCloud& cloud = in.data.cloud;
   std::unique_ptr<SceneIntersector> scene_ptr;
   TriangleMesh mesh;
   std::string method, structure;
   if (reconstructing) {
     const auto& info =
         ReconstructionRegistry::instance().get(a.get("reconstruction"), "reconstruction");
-    ReconstructionReport rec = info.run(d.cloud);
+    ReconstructionReport rec = info.run(cloud);
     if (rec.mesh.triangles.empty())
       input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
     timings["reconstruct"] = rec.seconds;
@@ -375,51 +466,29 @@ int command_accuracy(const Args& args) {
     method = "reconstruction:" + info.id;
     scene_ptr = std::make_unique<MeshScene>(mesh, structure, prep, timings);
   } else {
-    auto ps = std::make_unique<PointScene>(d.cloud, scene_options_from(a), prep, timings);
+    auto ps = std::make_unique<PointScene>(cloud, scene_options_from(a), prep, timings);
     method = ps->method_info().id;
     structure = ps->structure_id();
     scene_ptr = std::move(ps);
   }
-  const SceneIntersector& scene = *scene_ptr;
-  const double h = mean_spacing(d.cloud.positions, prep);
-  const auto rays = accuracy_rays(*d.truth, h, n_rays, seed);
+  const auto rays = accuracy_rays(*in.truth, in.h, n_rays, seed);
   AccuracyReport r;
   {
     ScopedTimer t(timings, "trace");
-    r = evaluate_accuracy(scene, *d.truth, h, rays, counters);
+    r = evaluate_accuracy(*scene_ptr, *in.truth, in.h, rays, counters);
   }
-  const bool ok = AccuracyBounds{}.met_by(r);
-  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-  const json j = {{"method", method},
-                  {"structure", structure},
-                  {"dataset", data},
-                  {"N", d.cloud.size()},
-                  {"mean_spacing", h},
-                  {"rays", r.rays},
-                  {"judged_hits", r.judged_hits},
-                  {"judged_misses", r.judged_misses},
-                  {"holes", r.holes},
-                  {"false_hits", r.false_hits},
-                  {"hole_rate", r.hole_rate},
-                  {"false_hit_rate", r.false_hit_rate},
-                  {"distance_median_h", num(r.distance_median_h)},
-                  {"distance_p95_h", num(r.distance_p95_h)},
-                  {"normal_median_deg", num(r.normal_median_deg)},
-                  {"normal_p95_deg", num(r.normal_p95_deg)},
-                  {"meets_bounds", ok},
-                  {"counters", counters_json(counters)},
-                  {"timings", timings}};
-  if (a.has("json")) {
+  json j = {{"method", method},
+            {"structure", structure},
+            {"N", cloud.size()},
+            {"mean_spacing", in.h},
+            {"counters", counters_json(counters)},
+            {"timings", timings}};
+  j.update(in.describe);
+  j.update(accuracy_json(r));
+  if (a.has("json"))
     std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    std::printf("%s on %s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", method.c_str(),
-                structure.c_str(), data.c_str(), h, r.judged_hits, r.judged_misses);
-    std::printf(
-        "  holes %.3f%%  false hits %.3f%%  distance median %.4f h, p95 %.4f h  normal median %.3f "
-        "deg  -> %s\n",
-        100 * r.hole_rate, 100 * r.false_hit_rate, r.distance_median_h, r.distance_p95_h,
-        r.normal_median_deg, ok ? "meets the bounds" : "MISSES the bounds");
-  }
+  else
+    print_accuracy(method + " on " + structure, j["dataset"].get<std::string>(), in.h, r);
   return 0;
 }
 
