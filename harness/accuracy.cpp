@@ -26,7 +26,7 @@ enum class Verdict : uint8_t {
 
 struct RayOutcome {
   Verdict verdict = Verdict::kIgnored;
-  bool normal_judged = false;
+  bool normal_judged = false;  // the surface is smooth within 2h of the exact hit
   float distance_h = 0;
   float normal_deg = 0;         // to the true normal (judged only where smooth)
   float smooth_normal_deg = 0;  // to the smooth normal
@@ -106,6 +106,7 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
       }
       if ((hit.p - ray.at(t_true)).norm() > 5.0f * hf) {
         o.verdict = false_hit_cause(truth, hit, t_true, hf);
+        o.normal_judged = truth.smooth_at(ray.at(t_true), 2.0f * hf);  // smooth where missed?
         return;
       }
       o.verdict = Verdict::kGoodHit;
@@ -149,6 +150,7 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
       // A false hit on a ray the surface does hit still counts among the judged hits.
       case Verdict::kSeeThrough:
         ++r.judged_hits, ++r.false_hits, ++r.see_through;
+        r.see_through_smooth += o.normal_judged;
         break;
       case Verdict::kEarly:
         ++r.judged_hits, ++r.false_hits, ++r.early;

@@ -21,6 +21,9 @@ struct AccuracyReport {
   // hit), the surface fattened (> 5h in front of it but within 2h of the surface), or a hit in
   // empty space (more than 2h from any surface).
   size_t see_through = 0, early = 0, phantom = 0;
+  // See-through hits whose missed front surface is smooth within 2h (the rest pass within 2h of a
+  // crease or a feature thinner than the method's kernel).
+  size_t see_through_smooth = 0;
   size_t normal_judged = 0;      // good hits where the surface is smooth within 2h (normals judged)
   double mean_spacing = 0;       // h
   double hole_rate = 0;          // holes / judged_hits
@@ -37,6 +40,9 @@ struct AccuracyReport {
   double faceting_floor_deg = 0;
 
   [[nodiscard]] double see_through_rate() const { return rate(see_through, judged_hits); }
+  [[nodiscard]] double see_through_smooth_rate() const {
+    return rate(see_through_smooth, judged_hits);
+  }
   [[nodiscard]] double early_rate() const { return rate(early, judged_hits); }
   [[nodiscard]] double phantom_rate() const { return rate(phantom, judged_hits + judged_misses); }
 

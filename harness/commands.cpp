@@ -390,6 +390,8 @@ json accuracy_json(const AccuracyReport& r) {
           {"hole_rate", r.hole_rate},
           {"false_hit_rate", r.false_hit_rate},
           {"see_through_rate", r.see_through_rate()},
+          {"see_through_smooth", r.see_through_smooth},
+          {"see_through_smooth_rate", r.see_through_smooth_rate()},
           {"early_rate", r.early_rate()},
           {"phantom_rate", r.phantom_rate()},
           {"distance_median_h", num(r.distance_median_h)},
@@ -407,13 +409,14 @@ void print_accuracy(const std::string& label, const std::string& data, double h,
   std::printf("%s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", label.c_str(),
               data.c_str(), h, r.judged_hits, r.judged_misses);
   std::printf(
-      "  holes %.3f%%  false hits %.3f%% (see-through %.3f%%, early %.3f%%, phantom %.3f%%)\n"
+      "  holes %.3f%%  false hits %.3f%% (see-through %.3f%% of which %.3f%% on smooth surface, "
+      "early %.3f%%, phantom %.3f%%)\n"
       "  distance median %.4f h, p95 %.4f h  normal median %.3f deg (%zu smooth hits; faceting "
       "floor %.3f deg)  -> %s\n",
-      100 * r.hole_rate, 100 * r.false_hit_rate, 100 * r.see_through_rate(), 100 * r.early_rate(),
-      100 * r.phantom_rate(), r.distance_median_h, r.distance_p95_h, r.normal_median_deg,
-      r.normal_judged, r.faceting_floor_deg,
-      AccuracyBounds{}.met_by(r) ? "meets the bounds" : "MISSES the bounds");
+      100 * r.hole_rate, 100 * r.false_hit_rate, 100 * r.see_through_rate(),
+      100 * r.see_through_smooth_rate(), 100 * r.early_rate(), 100 * r.phantom_rate(),
+      r.distance_median_h, r.distance_p95_h, r.normal_median_deg, r.normal_judged,
+      r.faceting_floor_deg, AccuracyBounds{}.met_by(r) ? "meets the bounds" : "MISSES the bounds");
 }
 
 }  // namespace
