@@ -21,6 +21,7 @@
 #include "harness/claims.hpp"
 #include "harness/cli_args.hpp"
 #include "harness/command_helpers.hpp"
+#include "harness/compare.hpp"
 #include "harness/mesh_truth.hpp"
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
@@ -492,6 +493,99 @@ int command_accuracy(const Args& args) {
     std::printf("%s\n", j.dump(2).c_str());
   else
     print_accuracy(method + " on " + structure, j["dataset"].get<std::string>(), in.h, r);
+  return 0;
+}
+
+namespace {
+
+json comparison_json(const FrameComparison& c) {
+  return {{"pixels", c.pixels},
+          {"object_pixels", c.object_pixels},
+          {"missing", c.missing},
+          {"extra", c.extra},
+          {"normal_off", c.normal_off},
+          {"missing_rate", c.missing_rate()},
+          {"extra_rate", c.extra_rate()},
+          {"normal_off_rate", c.normal_off_rate()},
+          {"normal_off_deg", FrameComparison::kNormalOffDeg},
+          {"rmse", c.rmse}};
+}
+
+}  // namespace
+
+int command_compare(const Args& args) {
+  auto opts = scene_options();
+  opts.insert(opts.end(),
+              {{"truth", "MESH", "the mesh the cloud is sampled on and rendered as the truth"},
+               {"sample", "SPEC", "sampling of --truth, as for pcrt accuracy"},
+               {"truth-engine", "ID", "triangle engine rendering --truth (default bvh)"},
+               {"out", "DIFF.png", "difference picture (red missing, blue extra, yellow normal)"},
+               {"images", "PREFIX", "also write PREFIX.method.png and PREFIX.truth.png"},
+               {"width", "W", "image width (default 256)"},
+               {"height", "H", "image height (default 256)"},
+               {"seed", "N", "random seed (default 1)"},
+               {"view", "X,Y,Z", "direction from the centre to the camera"},
+               {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
+               {"json", "", "print JSON"}});
+  CliArgs a("compare",
+            "pcrt compare --method ID --truth MESH [--sample SPEC] --out DIFF.png [options]", opts,
+            0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  if (!a.has("truth")) input_error("pcrt compare: --truth MESH is required");
+  for (const char* o : {"data", "mesh", "engine"})
+    if (a.has(o))
+      input_error("pcrt compare: --{} does not apply (the cloud comes from --truth)", o);
+  const std::string out = a.require("out");
+  RenderSettings rs;
+  rs.width = int(a.integer("width", 256, 1, 16384));
+  rs.height = int(a.integer("height", 256, 1, 16384));
+  rs.seed = uint64_t(a.integer("seed", 1, 0, (1ll << 62)));
+  rs.threads = int(a.integer("threads", 0, 0, 1024));
+  rs.spp = 1;
+  rs.bounces = 0;  // direct light only: no sampling noise between the two frames
+  if (a.has("view")) rs.view = parse_vector(a.get("view"), "pcrt compare: --view");
+  if (a.has("up")) rs.up = parse_vector(a.get("up"), "pcrt compare: --up");
+  if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
+    input_error("pcrt compare: --view and --up must not be parallel");
+
+  OpCounters prep;
+  Timings timings;
+  const AccuracyInput in = accuracy_input(a, prep);
+  const auto& truth = static_cast<const MeshSurface&>(*in.truth);
+  PointScene method(in.data.cloud, scene_options_from(a), prep, timings);
+  const MeshScene mesh(truth.mesh(), a.has("truth-engine") ? a.get("truth-engine") : "bvh", prep,
+                       timings);
+  // One camera and one light for both frames: both framed on the mesh's vertices.
+  PointCloud frame;
+  frame.positions = truth.mesh().vertices;
+  rs.camera = Camera::framing(frame.bounds(), rs.width, rs.height, rs.view, rs.up);
+  const RenderResult t = render(mesh, frame, rs);
+  const RenderResult m = render(method, frame, rs);
+  const FrameComparison c = compare_frames(t, m);
+  write_png(out, difference_image(t, m));
+  if (a.has("images")) {
+    write_png(a.get("images") + ".method.png", m.image);
+    write_png(a.get("images") + ".truth.png", t.image);
+  }
+  json j = {{"method", method.method_info().id},
+            {"structure", method.structure_id()},
+            {"width", rs.width},
+            {"height", rs.height},
+            {"N", in.data.cloud.size()},
+            {"counters", counters_json(m.counters)}};
+  j.update(in.describe);
+  j.update(comparison_json(c));
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %s on %s vs %s, %dx%d, %zu object pixels\n", out.c_str(),
+              method.method_info().id.c_str(), method.structure_id().c_str(),
+              j["truth"].get<std::string>().c_str(), rs.width, rs.height, c.object_pixels);
+  std::printf("  missing %.3f%%  extra %.3f%%  normal > %.0f deg %.3f%%  RMSE %.4f\n",
+              100 * c.missing_rate(), 100 * c.extra_rate(), FrameComparison::kNormalOffDeg,
+              100 * c.normal_off_rate(), c.rmse);
   return 0;
 }
 

@@ -106,8 +106,9 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
   lighting.epsilon = s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag;
 
   RenderResult out{
-      Image(s.width, s.height), Image(s.width, s.height), Image(s.width, s.height), {}, 0};
+      Image(s.width, s.height), Image(s.width, s.height), Image(s.width, s.height), {}, 0, {}, {}};
   std::vector<float> depth(size_t(s.width) * s.height, kInfinity);
+  out.primary_n.assign(depth.size(), Vec3::Zero());
   const int tiles_x = (s.width + kTile - 1) / kTile;
   const int tiles_y = (s.height + kTile - 1) / kTile;
   tbb::combinable<OpCounters> per_thread;
@@ -146,6 +147,7 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                     depth[pixel] = hit.t;
                     const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
                     out.normals.at(x, y) = 0.5f * (n + Vec3::Ones());
+                    out.primary_n[pixel] = n;
                   }
                   sum +=
                       radiance(scene, cloud, ray, hit, found, s.bounces, lighting, rng, counters);
@@ -171,6 +173,7 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
           std::isfinite(d) ? 1.0f - 0.8f * (d - dmin) / std::max(dmax - dmin, 1e-30f) : 0.0f;
       out.depth.at(x, y) = Vec3::Constant(v);
     }
+  out.primary_t = std::move(depth);
   return out;
 }
 

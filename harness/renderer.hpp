@@ -5,6 +5,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "core/camera.hpp"
 #include "core/counters.hpp"
@@ -35,6 +36,10 @@ struct RenderResult {
   Image normals;  // primary-hit normal of the centre sample as (n + 1) / 2
   OpCounters counters;
   double seconds = 0;
+  // Per pixel (row-major) the centre sample's primary hit distance (+inf: no hit) and its normal
+  // facing the camera: what `pcrt compare` judges against a mesh rendered with the same camera.
+  std::vector<float> primary_t;
+  std::vector<Vec3> primary_n;
 };
 
 RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,

@@ -46,8 +46,19 @@ class ZBufferPass final : public PrimaryPass {
     const uint32_t i = index_[size_t(y) * size_t(width_) + size_t(x)];
     if (i == kNone) return false;
     if (method_.refine(ray, i, hit, counters)) return true;
-    counters.add(kRasterMisses);
-    return false;
+    // The MLS run from the pixel's point can find no root where the surface bends within the
+    // point's footprint (creases: the local polynomial curves away from the ray). The points
+    // of the neighbouring pixels are starts the z-buffer already holds; the nearest root wins.
+    bool found = false;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = x + dx, ny = y + dy;
+        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width_ || ny >= height_) continue;
+        const uint32_t j = index_[size_t(ny) * size_t(width_) + size_t(nx)];
+        if (j != kNone && j != i) found |= method_.refine(ray, j, hit, counters);
+      }
+    if (!found) counters.add(kRasterMisses);
+    return found;
   }
 
  private:
