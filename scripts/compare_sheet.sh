@@ -22,3 +22,4 @@ for s in "bunny|data/bunny/bunny.off" "cow|data/cgal/meshes/cow.off"; do
   done
   /usr/bin/python3 scripts/contact_sheet_diff.py "$out/$name" "$out/${name}_sheet.png"
 done
+/usr/bin/python3 scripts/compare_table.py "$out" >"$out/summary.md"

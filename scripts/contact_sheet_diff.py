@@ -22,7 +22,7 @@ def main():
         sys.exit(f"contact_sheet_diff.py: no results in {directory}")
     cols = 6
     rows = (len(tiles) + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(cols * 2.4, rows * 2.75))
+    fig, axes = plt.subplots(rows, cols, figsize=(cols * 2.4, rows * 3.0))
     for ax in axes.flat:
         ax.axis("off")
     for ax, f in zip(axes.flat, tiles):
