@@ -39,10 +39,12 @@ struct TentWeight {
 };
 
 // A start inside the leaf: the crossing of the tangent plane of the front-most leaf point within
-// `reach` of the ray axis, clamped to [t_lo, t_hi]; false if no point is that near. O(K). The
-// front-most, not the nearest to the axis: where a leaf holds two sheets of the surface (both
-// walls of a thin part), the point nearest the axis may lie on the back one, and Newton from its
-// plane converges there, behind the surface the ray meets first.
+// `reach` of the ray axis whose plane the ray crosses at or after t_lo, clamped to t_hi; false if
+// there is none. O(K). The front-most, not the nearest to the axis: where a leaf holds two sheets
+// of the surface (both walls of a thin part), the point nearest the axis may lie on the back one,
+// and Newton from its plane converges there, behind the surface the ray meets first. Planes
+// crossed before t_lo are skipped: they are surfaces the search has already left behind (the one
+// a secondary ray starts from), and a start clamped to t_lo would run Newton back to them.
 inline bool nearest_tangent_crossing(const Ray& ray, std::span<const uint32_t> items,
                                      std::span<const PackedSplat> points, float reach, float t_lo,
                                      float t_hi, float& t_start) {
@@ -55,8 +57,9 @@ inline bool nearest_tangent_crossing(const Ray& ray, std::span<const uint32_t> i
     if (along >= front || (v - along * ray.d).squaredNorm() >= reach2) continue;
     const float denom = p.n.dot(ray.d);
     const float t = std::abs(denom) > 1e-6f ? p.n.dot(v) / denom : along;
+    if (!(t >= t_lo)) continue;
     front = along;
-    t_start = std::clamp(t, t_lo, t_hi);
+    t_start = std::min(t, t_hi);
   }
   return front < kInfinity;
 }
