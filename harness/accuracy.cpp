@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/rng.hpp"
+#include "harness/renderer.hpp"
 
 namespace pcrt {
 namespace {
@@ -179,6 +180,64 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
   r.normal_p95_deg = quantile(angle, 0.95);
   r.smooth_normal_median_deg = quantile(smooth_angle, 0.5);
   r.faceting_floor_deg = quantile(floor, 0.5);
+  return r;
+}
+
+namespace {
+
+enum class SecondaryVerdict : uint8_t { kIgnored, kRight, kSelfHit, kMissedOccluder, kFalse };
+
+SecondaryVerdict judge_secondary(const Ray& ray, bool found, const Hit& hit, const Surface& truth,
+                                 float h) {
+  float t_true = kInfinity;
+  Vec3 n_true;
+  const bool exact = truth.intersect(ray, t_true, n_true);
+  if (exact && std::abs(n_true.dot(ray.d)) < 0.1f) return SecondaryVerdict::kIgnored;
+  if (!exact) t_true = kInfinity;
+  if (!found) return exact ? SecondaryVerdict::kMissedOccluder : SecondaryVerdict::kRight;
+  if (hit.t > t_true + 5.0f * h) return SecondaryVerdict::kMissedOccluder;
+  if (hit.t >= t_true - 5.0f * h) return SecondaryVerdict::kRight;
+  return hit.t < 3.0f * h ? SecondaryVerdict::kSelfHit : SecondaryVerdict::kFalse;
+}
+
+}  // namespace
+
+SecondaryReport evaluate_secondary(const SceneIntersector& scene, const Surface& truth, double h,
+                                   size_t count, uint64_t seed, OpCounters& counters) {
+  const auto hf = float(h);
+  std::vector<SecondaryVerdict> out(count);
+  tbb::combinable<OpCounters> per_thread;
+  tbb::parallel_for(size_t(0), count, [&](size_t i) {
+    Rng rng(seed ^ 0x5ec0d, i);
+    Vec3 n;
+    const Vec3 p = truth.sample(rng, n);
+    const Vec3 d = cosine_direction(i % 2 == 0 ? n : Vec3(-n), rng);
+    const Ray ray{p, d, hf, kInfinity};
+    Hit hit;
+    const bool found = scene.closest_hit(ray, hit, per_thread.local());
+    out[i] = judge_secondary(ray, found, hit, truth, hf);
+  });
+  per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
+  SecondaryReport r;
+  for (size_t i = 0; i < count; ++i) {
+    SecondaryReport::Side& side = i % 2 == 0 ? r.outward : r.inward;
+    switch (out[i]) {
+      case SecondaryVerdict::kIgnored:
+        continue;
+      case SecondaryVerdict::kRight:
+        break;
+      case SecondaryVerdict::kSelfHit:
+        ++side.self_hits;
+        break;
+      case SecondaryVerdict::kMissedOccluder:
+        ++side.missed_occluders;
+        break;
+      case SecondaryVerdict::kFalse:
+        ++side.false_occluders;
+        break;
+    }
+    ++side.rays;
+  }
   return r;
 }
 

@@ -68,4 +68,22 @@ std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uin
 AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& truth, double h,
                                  const std::vector<Ray>& rays, OpCounters& counters);
 
+// Secondary rays (shadow and bounce rays) against the truth: rays leave points drawn on the exact
+// surface in cosine-distributed directions, half around the outward normal and half around the
+// inward one, and start 1h out (about the renderer's lift). A *self-hit* is a method hit within
+// 3h of the origin where the truth's first hit is farther than 5h beyond it (or absent): the ray
+// hits the surface it leaves. A *missed occluder* is a truth hit the method passes (no hit, or a
+// hit more than 5h beyond it). A *false occluder* is any other method hit more than 5h before the
+// truth's. Rays whose exact hit is grazing (|cos| < 0.1) are not judged.
+struct SecondaryReport {
+  struct Side {
+    size_t rays = 0, self_hits = 0, missed_occluders = 0, false_occluders = 0;
+    [[nodiscard]] double rate(size_t n) const { return rays ? double(n) / double(rays) : 0.0; }
+  };
+  Side outward, inward;
+};
+
+SecondaryReport evaluate_secondary(const SceneIntersector& scene, const Surface& truth, double h,
+                                   size_t count, uint64_t seed, OpCounters& counters);
+
 }  // namespace pcrt

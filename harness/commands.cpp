@@ -405,6 +405,28 @@ json accuracy_json(const AccuracyReport& r) {
           {"meets_bounds", AccuracyBounds{}.met_by(r)}};
 }
 
+json secondary_json(const SecondaryReport& r) {
+  auto side = [](const SecondaryReport::Side& s) {
+    return json{{"rays", s.rays},
+                {"self_hits", s.self_hits},
+                {"missed_occluders", s.missed_occluders},
+                {"false_occluders", s.false_occluders},
+                {"self_hit_rate", s.rate(s.self_hits)},
+                {"missed_occluder_rate", s.rate(s.missed_occluders)},
+                {"false_occluder_rate", s.rate(s.false_occluders)}};
+  };
+  return {{"outward", side(r.outward)}, {"inward", side(r.inward)}};
+}
+
+void print_secondary(const SecondaryReport& r) {
+  for (const auto& [name, s] : {std::pair{"outward", &r.outward}, std::pair{"inward", &r.inward}})
+    std::printf(
+        "  secondary %-8s %zu rays: self-hits %.3f%%  missed occluders %.3f%%  false occluders "
+        "%.3f%%\n",
+        name, s->rays, 100 * s->rate(s->self_hits), 100 * s->rate(s->missed_occluders),
+        100 * s->rate(s->false_occluders));
+}
+
 void print_accuracy(const std::string& label, const std::string& data, double h,
                     const AccuracyReport& r) {
   std::printf("%s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", label.c_str(),
@@ -435,6 +457,9 @@ int command_accuracy(const Args& args) {
                 "sampling of --truth: n=..,seed=..,noise=.. (in h),density=..,"
                 "normals=exact|estimated|none (default n=100000,seed=1,normals=exact)"},
                {"truth-engine", "ID", "triangle engine tracing --truth (default bvh)"},
+               {"secondary", "N",
+                "also N secondary rays from true surface points, half outward, half inward "
+                "(default 0)"},
                {"json", "", "print JSON"}});
   CliArgs a("accuracy",
             "pcrt accuracy (--method ID [--structure ID] | --reconstruction ID [--engine ID]) "
@@ -481,6 +506,12 @@ int command_accuracy(const Args& args) {
     ScopedTimer t(timings, "trace");
     r = evaluate_accuracy(*scene_ptr, *in.truth, in.h, rays, counters);
   }
+  const auto n_secondary = size_t(a.integer("secondary", 0, 0, 100000000));
+  SecondaryReport sec;
+  if (n_secondary > 0) {
+    ScopedTimer t(timings, "secondary");
+    sec = evaluate_secondary(*scene_ptr, *in.truth, in.h, n_secondary, seed, counters);
+  }
   json j = {{"method", method},
             {"structure", structure},
             {"N", cloud.size()},
@@ -489,10 +520,13 @@ int command_accuracy(const Args& args) {
             {"timings", timings}};
   j.update(in.describe);
   j.update(accuracy_json(r));
-  if (a.has("json"))
+  if (n_secondary > 0) j["secondary"] = secondary_json(sec);
+  if (a.has("json")) {
     std::printf("%s\n", j.dump(2).c_str());
-  else
-    print_accuracy(method + " on " + structure, j["dataset"].get<std::string>(), in.h, r);
+    return 0;
+  }
+  print_accuracy(method + " on " + structure, j["dataset"].get<std::string>(), in.h, r);
+  if (n_secondary > 0) print_secondary(sec);
   return 0;
 }
 

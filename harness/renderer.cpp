@@ -37,16 +37,6 @@ Vec3 albedo(const PointCloud& cloud, uint32_t prim) {
   return Vec3(lin(c.r), lin(c.g), lin(c.b));
 }
 
-Vec3 cosine_direction(const Vec3& n, Rng& rng) {
-  const float u1 = rng.uniform();
-  const float phi = 2.0f * kPi * rng.uniform();
-  const float r = std::sqrt(u1);
-  Vec3 u, v;
-  orthonormal_basis(n, u, v);
-  return (r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0f, 1.0f - u1)) * n)
-      .normalized();
-}
-
 // Algorithm 2, unrolled: radiance along `ray` whose closest hit is `hit`.
 Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, Hit hit, bool found,
               int bounces, const Lighting& lighting, Rng& rng, OpCounters& counters) {
@@ -87,6 +77,16 @@ Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, H
 }
 
 }  // namespace
+
+Vec3 cosine_direction(const Vec3& n, Rng& rng) {
+  const float u1 = rng.uniform();
+  const float phi = 2.0f * kPi * rng.uniform();
+  const float r = std::sqrt(u1);
+  Vec3 u, v;
+  orthonormal_basis(n, u, v);
+  return (r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0f, 1.0f - u1)) * n)
+      .normalized();
+}
 
 RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                     const RenderSettings& s) {

@@ -11,6 +11,7 @@
 #include "core/counters.hpp"
 #include "core/image.hpp"
 #include "core/point_cloud.hpp"
+#include "core/rng.hpp"
 #include "harness/scene.hpp"
 
 namespace pcrt {
@@ -41,6 +42,9 @@ struct RenderResult {
   std::vector<float> primary_t;
   std::vector<Vec3> primary_n;
 };
+
+// A direction around the unit normal n with density cos/pi (the renderer's bounce rays).
+Vec3 cosine_direction(const Vec3& n, Rng& rng);
 
 RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                     const RenderSettings& settings);

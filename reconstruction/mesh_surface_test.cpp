@@ -121,3 +121,27 @@ TEST_CASE("The evaluator splits false hits into see-through, early and phantom",
   CHECK(r.phantom == 0);
   CHECK(r.early == 0);
 }
+
+TEST_CASE("Secondary rays: a mesh against itself is exact, a plate without its top misses it",
+          "[mesh_truth]") {
+  const auto truth = std::make_shared<MeshSurface>(box_mesh(Vec3(0, 0, 0), Vec3(10, 10, 1), false),
+                                                   "plate", "bvh");
+  OpCounters prep, c;
+  Timings timings;
+  const MeshScene exact(truth->mesh(), "bvh", prep, timings);
+  const SecondaryReport same = evaluate_secondary(exact, *truth, 0.02, 2000, 5, c);
+  CHECK(same.outward.rays + same.inward.rays > 1900);
+  CHECK(same.outward.self_hits + same.inward.self_hits == 0);
+  CHECK(same.outward.missed_occluders + same.inward.missed_occluders == 0);
+  CHECK(same.outward.false_occluders + same.inward.false_occluders == 0);
+
+  TriangleMesh bottom = truth->mesh();
+  std::erase_if(bottom.triangles, [&](const auto& t) {
+    return bottom.vertices[t[0]].z() + bottom.vertices[t[1]].z() + bottom.vertices[t[2]].z() > 0;
+  });
+  const MeshScene back(bottom, "bvh", prep, timings);
+  const SecondaryReport r = evaluate_secondary(back, *truth, 0.02, 2000, 5, c);
+  // Inward rays leaving the bottom face meet the missing top: missed occluders.
+  CHECK(r.inward.missed_occluders > 300);
+  CHECK(r.outward.self_hits == 0);
+}

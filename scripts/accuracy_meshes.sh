@@ -2,7 +2,8 @@
 # The README's real-shape accuracy table: every registered method (and the afsr reconstruction)
 # judged against CGAL demo meshes and the npm bunny by `pcrt accuracy --truth` (10^5 points
 # sampled by area, 20 000 rays), plus one scanner-like variant (noise 0.3 h, density falling by
-# half across the object, PCA normals). One JSON per (shape, method) under OUT.
+# half across the object, PCA normals), and 10 000 secondary rays leaving the true surface (half
+# outward, half inward). One JSON per (shape, method) under OUT.
 # Usage: scripts/accuracy_meshes.sh [build/bin/pcrt] [OUT=results/accuracy] [methods...]
 set -euo pipefail
 pcrt=${1:-build/bin/pcrt}
@@ -31,8 +32,8 @@ for s in "${shapes[@]}"; do
     # tejada_2006 traces non-camera rays by brute force (O(N) each): its paper's own choice.
     [ "$m" = tejada_2006 ] && structure=(--structure kd_tree)
     "$pcrt" accuracy --method "$m" "${structure[@]}" --truth "$mesh" --sample "$sampling" \
-      --rays 20000 --threads "$threads" --json >"$out/$name/$m.json"
+      --rays 20000 --secondary 10000 --threads "$threads" --json >"$out/$name/$m.json"
   done
   "$pcrt" accuracy --reconstruction afsr --engine bvh --truth "$mesh" --sample "$sampling" \
-    --rays 20000 --threads "$threads" --json >"$out/$name/reconstruction_afsr.json"
+    --rays 20000 --secondary 10000 --threads "$threads" --json >"$out/$name/reconstruction_afsr.json"
 done
