@@ -19,7 +19,11 @@ BOUND = 1.0  # percent: the bound on holes, see-through and phantom hits
 FIELDS = ["shape", "method", "structure", "N", "mean_spacing", "judged_hits", "judged_misses",
           "hole_rate", "see_through_rate", "see_through_smooth_rate", "early_rate", "phantom_rate", "false_hit_rate",
           "distance_median_h", "distance_p95_h", "normal_median_deg", "normal_judged",
-          "smooth_normal_median_deg", "faceting_floor_deg", "meets_bounds", "sample", "truth"]
+          "smooth_normal_median_deg", "faceting_floor_deg", "meets_bounds",
+          "secondary_outward_self_hit_rate", "secondary_outward_missed_occluder_rate",
+          "secondary_outward_false_occluder_rate", "secondary_inward_self_hit_rate",
+          "secondary_inward_missed_occluder_rate", "secondary_inward_false_occluder_rate",
+          "sample", "truth"]
 
 
 def load(directory):
@@ -27,6 +31,9 @@ def load(directory):
     for f in sorted(Path(directory).glob("*/*.json")):
         j = json.loads(f.read_text())
         j["shape"] = f.parent.name
+        for side, v in j.get("secondary", {}).items():  # flattened for the CSV and the table
+            for k in ("self_hit_rate", "missed_occluder_rate", "false_occluder_rate"):
+                j[f"secondary_{side}_{k}"] = v[k]
         rows.append(j)
     if not rows:
         sys.exit(f"accuracy_table.py: no results under {directory}")
@@ -62,8 +69,9 @@ def markdown(rows):
            "",
            "| method | see-through | of which on smooth surface | phantom | holes | "
            "early (fattened) | distance median | normal median | faceting floor | "
-           "shapes meeting every bound |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
+           "shapes meeting every bound | secondary self-hits out / in | "
+           "secondary missed occluders out / in |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in methods:
         rs = [r for r in rows if r["method"] == m]
 
@@ -75,7 +83,11 @@ def markdown(rows):
                    f"{worst(rs, 'see_through_smooth_rate')} | {worst(rs, 'phantom_rate')} | "
                    f"{worst(rs, 'hole_rate')} | {worst(rs, 'early_rate')} | "
                    f"{med('distance_median_h')} | {med('normal_median_deg')} | "
-                   f"{med('faceting_floor_deg')} | {meets}/{len(rs)} |")
+                   f"{med('faceting_floor_deg')} | {meets}/{len(rs)} | "
+                   f"{worst(rs, 'secondary_outward_self_hit_rate')} / "
+                   f"{worst(rs, 'secondary_inward_self_hit_rate')} | "
+                   f"{worst(rs, 'secondary_outward_missed_occluder_rate')} / "
+                   f"{worst(rs, 'secondary_inward_missed_occluder_rate')} |")
     return "\n".join(out) + "\n"
 
 
