@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
 
 #include "core/error.hpp"
@@ -65,12 +66,11 @@ Vec3 fibonacci_point(size_t i, size_t n) {
   return Vec3(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
 }
 
-PointCloud generate(const std::string& name, const ParamValues& p, const Surface& surface,
-                    const std::string& spec) {
-  const auto n = static_cast<size_t>(p.at("n"));
-  const auto seed = static_cast<uint64_t>(p.at("seed"));
-  const double noise = p.at("noise");
-  const double density = p.at("density");
+// Draws n points (by `place`, or uniformly by area from the surface, thinned by `density` along
+// x), each moved by isotropic Gaussian noise of standard deviation `noise`.
+PointCloud sample_points(const Surface& surface, size_t n, uint64_t seed, double noise,
+                         double density, const std::string& name,
+                         const std::function<Vec3(size_t, Vec3&)>& place) {
   Rng rng(seed, 0x5eed);
   std::mt19937_64 gauss_engine(mix64(seed));
   std::normal_distribution<double> gauss(0.0, noise);
@@ -78,18 +78,15 @@ PointCloud generate(const std::string& name, const ParamValues& p, const Surface
   const float span = std::max(box.extent().x(), 1e-30f);
 
   PointCloud cloud;
-  cloud.name = spec;
+  cloud.name = name;
   cloud.positions.reserve(n);
   cloud.normals.reserve(n);
-  const float radius = name == "fibonacci_sphere" ? static_cast<float>(p.at("radius")) : 0.0f;
   size_t tries = 0;
   while (cloud.positions.size() < n) {
     Vec3 normal;
     Vec3 x;
-    if (name == "fibonacci_sphere") {
-      // Density thinning would break the spiral's determinism; it is rejected at parse time.
-      normal = fibonacci_point(tries++, n);
-      x = radius * normal;
+    if (place) {
+      x = place(tries++, normal);
     } else {
       x = surface.sample(rng, normal);
       if (density > 0) {
@@ -103,6 +100,30 @@ PointCloud generate(const std::string& name, const ParamValues& p, const Surface
     cloud.normals.push_back(normal);
   }
   return cloud;
+}
+
+}  // namespace
+
+PointCloud sample_surface(const Surface& surface, size_t n, uint64_t seed, double noise,
+                          double density, const std::string& name) {
+  return sample_points(surface, n, seed, noise, density, name, nullptr);
+}
+
+namespace {
+
+PointCloud generate(const std::string& name, const ParamValues& p, const Surface& surface,
+                    const std::string& spec) {
+  const auto n = static_cast<size_t>(p.at("n"));
+  const auto seed = static_cast<uint64_t>(p.at("seed"));
+  const double noise = p.at("noise");
+  const double density = p.at("density");
+  if (name != "fibonacci_sphere") return sample_surface(surface, n, seed, noise, density, spec);
+  // Density thinning would break the spiral's determinism; it is rejected at parse time.
+  const auto radius = static_cast<float>(p.at("radius"));
+  return sample_points(surface, n, seed, noise, density, spec, [&](size_t i, Vec3& normal) {
+    normal = fibonacci_point(i, n);
+    return Vec3(radius * normal);
+  });
 }
 
 bool is_volume_generator(const std::string& name) {

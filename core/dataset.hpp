@@ -30,6 +30,12 @@ const std::vector<GeneratorInfo>& generators();
 // spec for unknown generators, unknown keys, malformed or out-of-range values.
 Dataset load_dataset(const std::string& spec);
 
+// n points drawn uniformly by area from `surface` with its exact normals, thinned so that density
+// falls linearly along x from 1 to 1 - density, moved by isotropic Gaussian noise of standard
+// deviation `noise` (absolute): what every surface generator does.
+PointCloud sample_surface(const Surface& surface, size_t n, uint64_t seed, double noise,
+                          double density, const std::string& name);
+
 // Parses `name:key=value,...` into the generator's full parameter set (defaults filled in).
 ParamValues parse_generator_spec(const std::string& spec, const GeneratorInfo** info);
 

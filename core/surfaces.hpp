@@ -26,6 +26,11 @@ class Surface {
   // First intersection in [ray.tmin, ray.tmax]. The default sphere-traces signed_distance (which
   // must be a lower bound on the true distance after division by lipschitz()) and bisects.
   virtual bool intersect(const Ray& ray, float& t, Vec3& n) const;
+  // Whether the surface is smooth within `radius` of its point nearest x, so that a normal there
+  // can be judged (a mesh's face normal jumps at every crease; analytic surfaces are smooth).
+  [[nodiscard]] virtual bool smooth_at(const Vec3& /*x*/, float /*radius*/) const { return true; }
+  // The normal of the smooth surface the samples stand for (a mesh: vertex normals interpolated).
+  [[nodiscard]] virtual Vec3 smooth_normal(const Vec3& x) const { return normal(x); }
 
  protected:
   [[nodiscard]] virtual float lipschitz() const { return 1.0f; }

@@ -7,18 +7,46 @@
 #include <cmath>
 
 #include "core/rng.hpp"
+#include "harness/renderer.hpp"
 
 namespace pcrt {
 namespace {
 
-enum class Verdict : uint8_t { kIgnored, kHole, kFalseHit, kGoodMiss, kGoodHit };
+// kSeeThrough, kEarly and kPhantom are false hits on rays the surface does hit; kMissPhantom is
+// a hit on a ray that passes the surface by more than 2h.
+enum class Verdict : uint8_t {
+  kIgnored,
+  kHole,
+  kSeeThrough,
+  kEarly,
+  kPhantom,
+  kMissPhantom,
+  kGoodMiss,
+  kGoodHit
+};
 
 struct RayOutcome {
   Verdict verdict = Verdict::kIgnored;
-  bool exact_hit = false;
+  bool normal_judged = false;  // the surface is smooth within 2h of the exact hit
   float distance_h = 0;
-  float normal_deg = 0;
+  float normal_deg = 0;         // to the true normal (judged only where smooth)
+  float smooth_normal_deg = 0;  // to the smooth normal
+  float floor_deg = 0;          // true normal to smooth normal at the exact hit
 };
+
+// Unsigned angle by atan2(|a x b|, |a . b|): acos of a float dot product cannot resolve angles
+// below about 0.02 degrees.
+float unsigned_angle_deg(const Vec3& a, const Vec3& b) {
+  const Vec3d x = a.normalized().cast<double>(), y = b.normalized().cast<double>();
+  return float(std::atan2(x.cross(y).norm(), std::abs(x.dot(y))) * 180.0 / M_PI);
+}
+
+// Why a method's hit more than 5h from the exact first hit is wrong: behind it (the front surface
+// was missed), in front of it near the surface (fattened), or in empty space.
+Verdict false_hit_cause(const Surface& truth, const Hit& hit, float t_true, float h) {
+  if (hit.t > t_true) return Verdict::kSeeThrough;
+  return std::abs(truth.signed_distance(hit.p)) <= 2.0f * h ? Verdict::kEarly : Verdict::kPhantom;
+}
 
 // Smallest |signed distance| along the ray inside the surface's bounds: sphere tracing never
 // steps past the surface, and the minimum of the visited values bounds how close the ray passes.
@@ -71,36 +99,36 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
     float t_true = 0;
     Vec3 n_true;
     RayOutcome& o = out[i];
-    o.exact_hit = truth.intersect(ray, t_true, n_true);
-    if (o.exact_hit) {
+    if (truth.intersect(ray, t_true, n_true)) {
       if (std::abs(n_true.dot(ray.d)) < 0.1f) return;  // grazing: not judged
       if (!found) {
         o.verdict = Verdict::kHole;
         return;
       }
       if ((hit.p - ray.at(t_true)).norm() > 5.0f * hf) {
-        o.verdict = Verdict::kFalseHit;
+        o.verdict = false_hit_cause(truth, hit, t_true, hf);
+        o.normal_judged = truth.smooth_at(ray.at(t_true), 2.0f * hf);  // smooth where missed?
         return;
       }
       o.verdict = Verdict::kGoodHit;
       o.distance_h = std::abs(truth.signed_distance(hit.p)) / hf;
-      // Unsigned angle by atan2(|a x b|, |a . b|): acos of a float dot product cannot resolve
-      // angles below about 0.02 degrees.
-      const Vec3d a = hit.n.normalized().cast<double>(), b = truth.normal(hit.p).cast<double>();
-      o.normal_deg = float(std::atan2(a.cross(b).norm(), std::abs(a.dot(b))) * 180.0 / M_PI);
+      const Vec3 p_true = ray.at(t_true);
+      o.normal_judged = truth.smooth_at(p_true, 2.0f * hf);
+      o.normal_deg = unsigned_angle_deg(hit.n, truth.normal(hit.p));
+      o.smooth_normal_deg = unsigned_angle_deg(hit.n, truth.smooth_normal(hit.p));
+      o.floor_deg = unsigned_angle_deg(n_true, truth.smooth_normal(p_true));
       return;
     }
     if (closest_approach(truth, ray, scale) <= 2.0f * hf) return;  // near miss: not judged
-    o.verdict = found ? Verdict::kFalseHit : Verdict::kGoodMiss;
+    o.verdict = found ? Verdict::kMissPhantom : Verdict::kGoodMiss;
   });
   per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
 
   AccuracyReport r;
   r.rays = rays.size();
   r.mean_spacing = h;
-  std::vector<float> dist, angle;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const RayOutcome& o = out[i];
+  std::vector<float> dist, angle, smooth_angle, floor;
+  for (const RayOutcome& o : out) {
     switch (o.verdict) {
       case Verdict::kIgnored:
         continue;
@@ -110,18 +138,29 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
       case Verdict::kGoodHit:
         ++r.judged_hits;
         dist.push_back(o.distance_h);
-        angle.push_back(o.normal_deg);
+        smooth_angle.push_back(o.smooth_normal_deg);
+        if (o.normal_judged) {
+          ++r.normal_judged;
+          angle.push_back(o.normal_deg);
+          floor.push_back(o.floor_deg);
+        }
         break;
       case Verdict::kGoodMiss:
         ++r.judged_misses;
         break;
-      case Verdict::kFalseHit:
-        ++r.false_hits;
-        // A false hit on a ray the surface does hit still counts among the judged hits.
-        if (o.exact_hit)
-          ++r.judged_hits;
-        else
-          ++r.judged_misses;
+      // A false hit on a ray the surface does hit still counts among the judged hits.
+      case Verdict::kSeeThrough:
+        ++r.judged_hits, ++r.false_hits, ++r.see_through;
+        r.see_through_smooth += o.normal_judged;
+        break;
+      case Verdict::kEarly:
+        ++r.judged_hits, ++r.false_hits, ++r.early;
+        break;
+      case Verdict::kPhantom:
+        ++r.judged_hits, ++r.false_hits, ++r.phantom;
+        break;
+      case Verdict::kMissPhantom:
+        ++r.judged_misses, ++r.false_hits, ++r.phantom;
         break;
     }
   }
@@ -139,6 +178,66 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
   r.distance_p95_h = quantile(dist, 0.95);
   r.normal_median_deg = quantile(angle, 0.5);
   r.normal_p95_deg = quantile(angle, 0.95);
+  r.smooth_normal_median_deg = quantile(smooth_angle, 0.5);
+  r.faceting_floor_deg = quantile(floor, 0.5);
+  return r;
+}
+
+namespace {
+
+enum class SecondaryVerdict : uint8_t { kIgnored, kRight, kSelfHit, kMissedOccluder, kFalse };
+
+SecondaryVerdict judge_secondary(const Ray& ray, bool found, const Hit& hit, const Surface& truth,
+                                 float h) {
+  float t_true = kInfinity;
+  Vec3 n_true;
+  const bool exact = truth.intersect(ray, t_true, n_true);
+  if (exact && std::abs(n_true.dot(ray.d)) < 0.1f) return SecondaryVerdict::kIgnored;
+  if (!exact) t_true = kInfinity;
+  if (!found) return exact ? SecondaryVerdict::kMissedOccluder : SecondaryVerdict::kRight;
+  if (hit.t > t_true + 5.0f * h) return SecondaryVerdict::kMissedOccluder;
+  if (hit.t >= t_true - 5.0f * h) return SecondaryVerdict::kRight;
+  return hit.t < 3.0f * h ? SecondaryVerdict::kSelfHit : SecondaryVerdict::kFalse;
+}
+
+}  // namespace
+
+SecondaryReport evaluate_secondary(const SceneIntersector& scene, const Surface& truth, double h,
+                                   size_t count, uint64_t seed, OpCounters& counters) {
+  const auto hf = float(h);
+  std::vector<SecondaryVerdict> out(count);
+  tbb::combinable<OpCounters> per_thread;
+  tbb::parallel_for(size_t(0), count, [&](size_t i) {
+    Rng rng(seed ^ 0x5ec0d, i);
+    Vec3 n;
+    const Vec3 p = truth.sample(rng, n);
+    const Vec3 d = cosine_direction(i % 2 == 0 ? n : Vec3(-n), rng);
+    const Ray ray{p, d, hf, kInfinity};
+    Hit hit;
+    const bool found = scene.closest_hit(ray, hit, per_thread.local());
+    out[i] = judge_secondary(ray, found, hit, truth, hf);
+  });
+  per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
+  SecondaryReport r;
+  for (size_t i = 0; i < count; ++i) {
+    SecondaryReport::Side& side = i % 2 == 0 ? r.outward : r.inward;
+    switch (out[i]) {
+      case SecondaryVerdict::kIgnored:
+        continue;
+      case SecondaryVerdict::kRight:
+        break;
+      case SecondaryVerdict::kSelfHit:
+        ++side.self_hits;
+        break;
+      case SecondaryVerdict::kMissedOccluder:
+        ++side.missed_occluders;
+        break;
+      case SecondaryVerdict::kFalse:
+        ++side.false_occluders;
+        break;
+    }
+    ++side.rays;
+  }
   return r;
 }
 

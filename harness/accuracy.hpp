@@ -13,17 +13,41 @@ namespace pcrt {
 
 struct AccuracyReport {
   size_t rays = 0;
-  size_t judged_hits = 0;        // exact ray hits, not grazing (|cos| >= 0.1)
-  size_t judged_misses = 0;      // exact ray passes the surface by more than 2h
-  size_t holes = 0;              // judged hits the method misses
-  size_t false_hits = 0;         // method hits on judged misses, or > 5h from the exact first hit
+  size_t judged_hits = 0;    // exact ray hits, not grazing (|cos| >= 0.1)
+  size_t judged_misses = 0;  // exact ray passes the surface by more than 2h
+  size_t holes = 0;          // judged hits the method misses
+  size_t false_hits = 0;     // method hits on judged misses, or > 5h from the exact first hit
+  // The false hits by cause: the front surface missed (the hit lands > 5h behind the exact first
+  // hit), the surface fattened (> 5h in front of it but within 2h of the surface), or a hit in
+  // empty space (more than 2h from any surface).
+  size_t see_through = 0, early = 0, phantom = 0;
+  // See-through hits whose missed front surface is smooth within 2h (the rest pass within 2h of a
+  // crease or a feature thinner than the method's kernel).
+  size_t see_through_smooth = 0;
+  size_t normal_judged = 0;      // good hits where the surface is smooth within 2h (normals judged)
   double mean_spacing = 0;       // h
   double hole_rate = 0;          // holes / judged_hits
   double false_hit_rate = 0;     // false_hits / (judged_hits + judged_misses)
   double distance_median_h = 0;  // |signed distance| of reported hit points / h
   double distance_p95_h = 0;
-  double normal_median_deg = 0;  // unsigned angle to the true normal
+  double normal_median_deg = 0;  // unsigned angle to the true normal, where it is smooth
   double normal_p95_deg = 0;
+  // The same against the smooth normal (a mesh: its vertex normals interpolated), at every good
+  // hit.
+  double smooth_normal_median_deg = 0;
+  // Median angle between the true and the smooth normal at the exact hits where normals are
+  // judged: how far a faceted mesh's own normals are from the smooth surface its samples suggest.
+  double faceting_floor_deg = 0;
+
+  [[nodiscard]] double see_through_rate() const { return rate(see_through, judged_hits); }
+  [[nodiscard]] double see_through_smooth_rate() const {
+    return rate(see_through_smooth, judged_hits);
+  }
+  [[nodiscard]] double early_rate() const { return rate(early, judged_hits); }
+  [[nodiscard]] double phantom_rate() const { return rate(phantom, judged_hits + judged_misses); }
+
+ private:
+  static double rate(size_t n, size_t of) { return of ? double(n) / double(of) : 0.0; }
 };
 
 // The accuracy bounds every method issue states.
@@ -43,5 +67,23 @@ std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uin
 
 AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& truth, double h,
                                  const std::vector<Ray>& rays, OpCounters& counters);
+
+// Secondary rays (shadow and bounce rays) against the truth: rays leave points drawn on the exact
+// surface in cosine-distributed directions, half around the outward normal and half around the
+// inward one, and start 1h out (about the renderer's lift). A *self-hit* is a method hit within
+// 3h of the origin where the truth's first hit is farther than 5h beyond it (or absent): the ray
+// hits the surface it leaves. A *missed occluder* is a truth hit the method passes (no hit, or a
+// hit more than 5h beyond it). A *false occluder* is any other method hit more than 5h before the
+// truth's. Rays whose exact hit is grazing (|cos| < 0.1) are not judged.
+struct SecondaryReport {
+  struct Side {
+    size_t rays = 0, self_hits = 0, missed_occluders = 0, false_occluders = 0;
+    [[nodiscard]] double rate(size_t n) const { return rays ? double(n) / double(rays) : 0.0; }
+  };
+  Side outward, inward;
+};
+
+SecondaryReport evaluate_secondary(const SceneIntersector& scene, const Surface& truth, double h,
+                                   size_t count, uint64_t seed, OpCounters& counters);
 
 }  // namespace pcrt

@@ -21,10 +21,13 @@
 #include "harness/claims.hpp"
 #include "harness/cli_args.hpp"
 #include "harness/command_helpers.hpp"
+#include "harness/compare.hpp"
+#include "harness/mesh_truth.hpp"
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
 #include "preprocess/point_attributes.hpp"
 #include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/mesh_surface.hpp"
 #include "reconstruction/reconstruction.hpp"
 #include "structures/knn_index.hpp"
 
@@ -329,22 +332,143 @@ int command_trace(const Args& args) {
   return 0;
 }
 
+namespace {
+
+// The truth an accuracy run judges against and the cloud a method is built on: a generator's
+// exact surface and its points, or a mesh and points sampled on it.
+struct AccuracyInput {
+  Dataset data;
+  std::shared_ptr<const Surface> truth;
+  double h = 0;  // the spacing tolerances are in
+  json describe;
+};
+
+AccuracyInput accuracy_input(const CliArgs& a, OpCounters& prep) {
+  AccuracyInput in;
+  if (!a.has("truth")) {
+    if (a.has("sample") || a.has("truth-engine"))
+      input_error("pcrt accuracy: --sample and --truth-engine apply only to --truth");
+    const std::string data = a.require("data");
+    in.data = load_dataset(data);
+    if (!in.data.truth)
+      input_error(
+          "pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface "
+          "or --truth MESH",
+          data);
+    in.truth = in.data.truth;
+    in.h = mean_spacing(in.data.cloud.positions, prep);
+    in.describe = {{"dataset", data}};
+    return in;
+  }
+  if (a.has("data")) input_error("pcrt accuracy: give --data or --truth, not both");
+  const std::string path = a.get("truth");
+  const MeshSampling sampling = parse_mesh_sampling(a.get("sample"));
+  const std::string engine = a.has("truth-engine") ? a.get("truth-engine") : "bvh";
+  (void)MeshEngineRegistry::instance().get(engine, "mesh engine");  // names before work
+  auto truth = std::make_shared<MeshSurface>(read_mesh(path), path, engine);
+  SampledCloud sampled = sample_cloud(*truth, sampling, path, prep);
+  in.data.cloud = std::move(sampled.cloud);
+  in.h = sampled.spacing;
+  in.describe = {{"truth", path},
+                 {"truth_engine", engine},
+                 {"triangles", truth->mesh().triangles.size()},
+                 {"sample", describe(sampling)},
+                 {"dataset", path + " sampled " + describe(sampling)}};
+  in.truth = std::move(truth);
+  return in;
+}
+
+json accuracy_json(const AccuracyReport& r) {
+  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  return {{"rays", r.rays},
+          {"judged_hits", r.judged_hits},
+          {"judged_misses", r.judged_misses},
+          {"holes", r.holes},
+          {"false_hits", r.false_hits},
+          {"see_through", r.see_through},
+          {"early", r.early},
+          {"phantom", r.phantom},
+          {"hole_rate", r.hole_rate},
+          {"false_hit_rate", r.false_hit_rate},
+          {"see_through_rate", r.see_through_rate()},
+          {"see_through_smooth", r.see_through_smooth},
+          {"see_through_smooth_rate", r.see_through_smooth_rate()},
+          {"early_rate", r.early_rate()},
+          {"phantom_rate", r.phantom_rate()},
+          {"distance_median_h", num(r.distance_median_h)},
+          {"distance_p95_h", num(r.distance_p95_h)},
+          {"normal_judged", r.normal_judged},
+          {"normal_median_deg", num(r.normal_median_deg)},
+          {"normal_p95_deg", num(r.normal_p95_deg)},
+          {"smooth_normal_median_deg", num(r.smooth_normal_median_deg)},
+          {"faceting_floor_deg", num(r.faceting_floor_deg)},
+          {"meets_bounds", AccuracyBounds{}.met_by(r)}};
+}
+
+json secondary_json(const SecondaryReport& r) {
+  auto side = [](const SecondaryReport::Side& s) {
+    return json{{"rays", s.rays},
+                {"self_hits", s.self_hits},
+                {"missed_occluders", s.missed_occluders},
+                {"false_occluders", s.false_occluders},
+                {"self_hit_rate", s.rate(s.self_hits)},
+                {"missed_occluder_rate", s.rate(s.missed_occluders)},
+                {"false_occluder_rate", s.rate(s.false_occluders)}};
+  };
+  return {{"outward", side(r.outward)}, {"inward", side(r.inward)}};
+}
+
+void print_secondary(const SecondaryReport& r) {
+  for (const auto& [name, s] : {std::pair{"outward", &r.outward}, std::pair{"inward", &r.inward}})
+    std::printf(
+        "  secondary %-8s %zu rays: self-hits %.3f%%  missed occluders %.3f%%  false occluders "
+        "%.3f%%\n",
+        name, s->rays, 100 * s->rate(s->self_hits), 100 * s->rate(s->missed_occluders),
+        100 * s->rate(s->false_occluders));
+}
+
+void print_accuracy(const std::string& label, const std::string& data, double h,
+                    const AccuracyReport& r) {
+  std::printf("%s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", label.c_str(),
+              data.c_str(), h, r.judged_hits, r.judged_misses);
+  std::printf(
+      "  holes %.3f%%  false hits %.3f%% (see-through %.3f%% of which %.3f%% on smooth surface, "
+      "early %.3f%%, phantom %.3f%%)\n"
+      "  distance median %.4f h, p95 %.4f h  normal median %.3f deg (%zu smooth hits; faceting "
+      "floor %.3f deg)  -> %s\n",
+      100 * r.hole_rate, 100 * r.false_hit_rate, 100 * r.see_through_rate(),
+      100 * r.see_through_smooth_rate(), 100 * r.early_rate(), 100 * r.phantom_rate(),
+      r.distance_median_h, r.distance_p95_h, r.normal_median_deg, r.normal_judged,
+      r.faceting_floor_deg, AccuracyBounds{}.met_by(r) ? "meets the bounds" : "MISSES the bounds");
+}
+
+}  // namespace
+
 int command_accuracy(const Args& args) {
   auto opts = scene_options();
-  opts.insert(opts.end(), {{"rays", "N", "number of rays (default 20000)"},
-                           {"seed", "N", "ray seed (default 1)"},
-                           {"reconstruction", "ID",
-                            "reconstruct a mesh (delaunay's surface is not a mesh: afsr) and "
-                            "judge it on --engine instead of a point method"},
-                           {"json", "", "print JSON"}});
+  opts.insert(opts.end(),
+              {{"rays", "N", "number of rays (default 20000)"},
+               {"seed", "N", "ray seed (default 1)"},
+               {"reconstruction", "ID",
+                "reconstruct a mesh (delaunay's surface is not a mesh: afsr) and judge it on "
+                "--engine instead of a point method"},
+               {"truth", "MESH", "judge against this triangle mesh (.off/.ply), sampled by area"},
+               {"sample", "SPEC",
+                "sampling of --truth: n=..,seed=..,noise=.. (in h),density=..,"
+                "normals=exact|estimated|none (default n=100000,seed=1,normals=exact)"},
+               {"truth-engine", "ID", "triangle engine tracing --truth (default bvh)"},
+               {"secondary", "N",
+                "also N secondary rays from true surface points, half outward, half inward "
+                "(default 0)"},
+               {"json", "", "print JSON"}});
   CliArgs a("accuracy",
             "pcrt accuracy (--method ID [--structure ID] | --reconstruction ID [--engine ID]) "
-            "--data GENERATOR_SPEC [--rays N] [--json]",
+            "(--data GENERATOR_SPEC | --truth MESH [--sample SPEC]) [--rays N] [--json]",
             opts, 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   if (a.has("mesh"))
-    input_error("pcrt accuracy: --mesh has no exact surface; use --reconstruction");
+    input_error("pcrt accuracy: --mesh has no exact surface; use --truth or --reconstruction");
   const bool reconstructing = a.has("reconstruction");
   if (reconstructing && a.has("method"))
     input_error("pcrt accuracy: give --method or --reconstruction, not both");
@@ -352,21 +476,17 @@ int command_accuracy(const Args& args) {
     input_error("pcrt accuracy: --engine applies only to --reconstruction");
   const auto n_rays = size_t(a.integer("rays", 20000, 1, 100000000));
   const auto seed = uint64_t(a.integer("seed", 1, 0, 1ll << 62));
-  const std::string data = a.require("data");
-  const Dataset d = load_dataset(data);
-  if (!d.truth)
-    input_error(
-        "pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface",
-        data);
   Timings timings;
   OpCounters prep, counters;
+  const AccuracyInput in = accuracy_input(a, prep);
+  const PointCloud& cloud = in.data.cloud;
   std::unique_ptr<SceneIntersector> scene_ptr;
   TriangleMesh mesh;
   std::string method, structure;
   if (reconstructing) {
     const auto& info =
         ReconstructionRegistry::instance().get(a.get("reconstruction"), "reconstruction");
-    ReconstructionReport rec = info.run(d.cloud);
+    ReconstructionReport rec = info.run(cloud);
     if (rec.mesh.triangles.empty())
       input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
     timings["reconstruct"] = rec.seconds;
@@ -375,51 +495,131 @@ int command_accuracy(const Args& args) {
     method = "reconstruction:" + info.id;
     scene_ptr = std::make_unique<MeshScene>(mesh, structure, prep, timings);
   } else {
-    auto ps = std::make_unique<PointScene>(d.cloud, scene_options_from(a), prep, timings);
+    auto ps = std::make_unique<PointScene>(cloud, scene_options_from(a), prep, timings);
     method = ps->method_info().id;
     structure = ps->structure_id();
     scene_ptr = std::move(ps);
   }
-  const SceneIntersector& scene = *scene_ptr;
-  const double h = mean_spacing(d.cloud.positions, prep);
-  const auto rays = accuracy_rays(*d.truth, h, n_rays, seed);
+  const auto rays = accuracy_rays(*in.truth, in.h, n_rays, seed);
   AccuracyReport r;
   {
     ScopedTimer t(timings, "trace");
-    r = evaluate_accuracy(scene, *d.truth, h, rays, counters);
+    r = evaluate_accuracy(*scene_ptr, *in.truth, in.h, rays, counters);
   }
-  const bool ok = AccuracyBounds{}.met_by(r);
-  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-  const json j = {{"method", method},
-                  {"structure", structure},
-                  {"dataset", data},
-                  {"N", d.cloud.size()},
-                  {"mean_spacing", h},
-                  {"rays", r.rays},
-                  {"judged_hits", r.judged_hits},
-                  {"judged_misses", r.judged_misses},
-                  {"holes", r.holes},
-                  {"false_hits", r.false_hits},
-                  {"hole_rate", r.hole_rate},
-                  {"false_hit_rate", r.false_hit_rate},
-                  {"distance_median_h", num(r.distance_median_h)},
-                  {"distance_p95_h", num(r.distance_p95_h)},
-                  {"normal_median_deg", num(r.normal_median_deg)},
-                  {"normal_p95_deg", num(r.normal_p95_deg)},
-                  {"meets_bounds", ok},
-                  {"counters", counters_json(counters)},
-                  {"timings", timings}};
+  const auto n_secondary = size_t(a.integer("secondary", 0, 0, 100000000));
+  SecondaryReport sec;
+  if (n_secondary > 0) {
+    ScopedTimer t(timings, "secondary");
+    sec = evaluate_secondary(*scene_ptr, *in.truth, in.h, n_secondary, seed, counters);
+  }
+  json j = {{"method", method},
+            {"structure", structure},
+            {"N", cloud.size()},
+            {"mean_spacing", in.h},
+            {"counters", counters_json(counters)},
+            {"timings", timings}};
+  j.update(in.describe);
+  j.update(accuracy_json(r));
+  if (n_secondary > 0) j["secondary"] = secondary_json(sec);
   if (a.has("json")) {
     std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    std::printf("%s on %s, %s (h = %.4g): %zu judged hits, %zu judged misses\n", method.c_str(),
-                structure.c_str(), data.c_str(), h, r.judged_hits, r.judged_misses);
-    std::printf(
-        "  holes %.3f%%  false hits %.3f%%  distance median %.4f h, p95 %.4f h  normal median %.3f "
-        "deg  -> %s\n",
-        100 * r.hole_rate, 100 * r.false_hit_rate, r.distance_median_h, r.distance_p95_h,
-        r.normal_median_deg, ok ? "meets the bounds" : "MISSES the bounds");
+    return 0;
   }
+  print_accuracy(method + " on " + structure, j["dataset"].get<std::string>(), in.h, r);
+  if (n_secondary > 0) print_secondary(sec);
+  return 0;
+}
+
+namespace {
+
+json comparison_json(const FrameComparison& c) {
+  return {{"pixels", c.pixels},
+          {"object_pixels", c.object_pixels},
+          {"missing", c.missing},
+          {"extra", c.extra},
+          {"normal_off", c.normal_off},
+          {"missing_rate", c.missing_rate()},
+          {"extra_rate", c.extra_rate()},
+          {"normal_off_rate", c.normal_off_rate()},
+          {"normal_off_deg", FrameComparison::kNormalOffDeg},
+          {"rmse", c.rmse}};
+}
+
+}  // namespace
+
+int command_compare(const Args& args) {
+  auto opts = scene_options();
+  opts.insert(opts.end(),
+              {{"truth", "MESH", "the mesh the cloud is sampled on and rendered as the truth"},
+               {"sample", "SPEC", "sampling of --truth, as for pcrt accuracy"},
+               {"truth-engine", "ID", "triangle engine rendering --truth (default bvh)"},
+               {"out", "DIFF.png", "difference picture (red missing, blue extra, yellow normal)"},
+               {"images", "PREFIX", "also write PREFIX.method.png and PREFIX.truth.png"},
+               {"width", "W", "image width (default 256)"},
+               {"height", "H", "image height (default 256)"},
+               {"seed", "N", "random seed (default 1)"},
+               {"view", "X,Y,Z", "direction from the centre to the camera"},
+               {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
+               {"json", "", "print JSON"}});
+  CliArgs a("compare",
+            "pcrt compare --method ID --truth MESH [--sample SPEC] --out DIFF.png [options]", opts,
+            0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  if (!a.has("truth")) input_error("pcrt compare: --truth MESH is required");
+  for (const char* o : {"data", "mesh", "engine"})
+    if (a.has(o))
+      input_error("pcrt compare: --{} does not apply (the cloud comes from --truth)", o);
+  const std::string out = a.require("out");
+  RenderSettings rs;
+  rs.width = int(a.integer("width", 256, 1, 16384));
+  rs.height = int(a.integer("height", 256, 1, 16384));
+  rs.seed = uint64_t(a.integer("seed", 1, 0, (1ll << 62)));
+  rs.threads = int(a.integer("threads", 0, 0, 1024));
+  rs.spp = 1;
+  rs.bounces = 0;  // direct light only: no sampling noise between the two frames
+  if (a.has("view")) rs.view = parse_vector(a.get("view"), "pcrt compare: --view");
+  if (a.has("up")) rs.up = parse_vector(a.get("up"), "pcrt compare: --up");
+  if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
+    input_error("pcrt compare: --view and --up must not be parallel");
+
+  OpCounters prep;
+  Timings timings;
+  const AccuracyInput in = accuracy_input(a, prep);
+  const auto& truth = static_cast<const MeshSurface&>(*in.truth);
+  PointScene method(in.data.cloud, scene_options_from(a), prep, timings);
+  const MeshScene mesh(truth.mesh(), a.has("truth-engine") ? a.get("truth-engine") : "bvh", prep,
+                       timings);
+  // One camera and one light for both frames: both framed on the mesh's vertices.
+  PointCloud frame;
+  frame.positions = truth.mesh().vertices;
+  rs.camera = Camera::framing(frame.bounds(), rs.width, rs.height, rs.view, rs.up);
+  const RenderResult t = render(mesh, frame, rs);
+  const RenderResult m = render(method, frame, rs);
+  const FrameComparison c = compare_frames(t, m);
+  write_png(out, difference_image(t, m));
+  if (a.has("images")) {
+    write_png(a.get("images") + ".method.png", m.image);
+    write_png(a.get("images") + ".truth.png", t.image);
+  }
+  json j = {{"method", method.method_info().id},
+            {"structure", method.structure_id()},
+            {"width", rs.width},
+            {"height", rs.height},
+            {"N", in.data.cloud.size()},
+            {"counters", counters_json(m.counters)}};
+  j.update(in.describe);
+  j.update(comparison_json(c));
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %s on %s vs %s, %dx%d, %zu object pixels\n", out.c_str(),
+              method.method_info().id.c_str(), method.structure_id().c_str(),
+              j["truth"].get<std::string>().c_str(), rs.width, rs.height, c.object_pixels);
+  std::printf("  missing %.3f%%  extra %.3f%%  normal > %.0f deg %.3f%%  RMSE %.4f\n",
+              100 * c.missing_rate(), 100 * c.extra_rate(), FrameComparison::kNormalOffDeg,
+              100 * c.normal_off_rate(), c.rmse);
   return 0;
 }
 

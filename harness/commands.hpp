@@ -14,6 +14,7 @@ int command_trace(const Args& args);
 int command_list(const Args& args);
 int command_convert(const Args& args);
 int command_accuracy(const Args& args);
+int command_compare(const Args& args);
 int command_anchor(const Args& args);
 int command_reconstruct(const Args& args);
 int command_crossover(const Args& args);

@@ -18,8 +18,10 @@ constexpr const char* kUsage =
     "image (Algorithms 1-2)\n"
     "  trace (--method ID --data DATA | --mesh FILE --engine ID) --rays RAYS.csv --out HITS.csv "
     "...   closest hits of given rays\n"
-    "  accuracy --method ID --data GENERATOR ...   holes, false hits, distance and normal error vs "
-    "the exact surface\n"
+    "  accuracy --method ID (--data GENERATOR | --truth MESH) ...   holes, see-through, early and "
+    "phantom hits, distance and normal error vs the exact surface\n"
+    "  compare --method ID --truth MESH --out DIFF.png ...   the method's frame vs the mesh's "
+    "(same camera, B=0): missing, extra, normal-off pixels, RMSE\n"
     "  anchor --data DATA [--json]   our fastest splat method against Embree's oriented discs, "
     "same rays\n"
     "  reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]   global "
@@ -54,6 +56,7 @@ int main(int argc, char** argv) {
     if (cmd == "list") return pcrt::command_list(args);
     if (cmd == "convert") return pcrt::command_convert(args);
     if (cmd == "accuracy") return pcrt::command_accuracy(args);
+    if (cmd == "compare") return pcrt::command_compare(args);
     if (cmd == "anchor") return pcrt::command_anchor(args);
     if (cmd == "reconstruct") return pcrt::command_reconstruct(args);
     if (cmd == "crossover") return pcrt::command_crossover(args);

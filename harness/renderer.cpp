@@ -37,16 +37,6 @@ Vec3 albedo(const PointCloud& cloud, uint32_t prim) {
   return Vec3(lin(c.r), lin(c.g), lin(c.b));
 }
 
-Vec3 cosine_direction(const Vec3& n, Rng& rng) {
-  const float u1 = rng.uniform();
-  const float phi = 2.0f * kPi * rng.uniform();
-  const float r = std::sqrt(u1);
-  Vec3 u, v;
-  orthonormal_basis(n, u, v);
-  return (r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0f, 1.0f - u1)) * n)
-      .normalized();
-}
-
 // Algorithm 2, unrolled: radiance along `ray` whose closest hit is `hit`.
 Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, Hit hit, bool found,
               int bounces, const Lighting& lighting, Rng& rng, OpCounters& counters) {
@@ -88,6 +78,16 @@ Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, H
 
 }  // namespace
 
+Vec3 cosine_direction(const Vec3& n, Rng& rng) {
+  const float u1 = rng.uniform();
+  const float phi = 2.0f * kPi * rng.uniform();
+  const float r = std::sqrt(u1);
+  Vec3 u, v;
+  orthonormal_basis(n, u, v);
+  return (r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0f, 1.0f - u1)) * n)
+      .normalized();
+}
+
 RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                     const RenderSettings& s) {
   const Aabb bounds = cloud.bounds();
@@ -106,8 +106,9 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
   lighting.epsilon = s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag;
 
   RenderResult out{
-      Image(s.width, s.height), Image(s.width, s.height), Image(s.width, s.height), {}, 0};
+      Image(s.width, s.height), Image(s.width, s.height), Image(s.width, s.height), {}, 0, {}, {}};
   std::vector<float> depth(size_t(s.width) * s.height, kInfinity);
+  out.primary_n.assign(depth.size(), Vec3::Zero());
   const int tiles_x = (s.width + kTile - 1) / kTile;
   const int tiles_y = (s.height + kTile - 1) / kTile;
   tbb::combinable<OpCounters> per_thread;
@@ -146,6 +147,7 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                     depth[pixel] = hit.t;
                     const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
                     out.normals.at(x, y) = 0.5f * (n + Vec3::Ones());
+                    out.primary_n[pixel] = n;
                   }
                   sum +=
                       radiance(scene, cloud, ray, hit, found, s.bounces, lighting, rng, counters);
@@ -171,6 +173,7 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
           std::isfinite(d) ? 1.0f - 0.8f * (d - dmin) / std::max(dmax - dmin, 1e-30f) : 0.0f;
       out.depth.at(x, y) = Vec3::Constant(v);
     }
+  out.primary_t = std::move(depth);
   return out;
 }
 

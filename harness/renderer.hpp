@@ -5,11 +5,13 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "core/camera.hpp"
 #include "core/counters.hpp"
 #include "core/image.hpp"
 #include "core/point_cloud.hpp"
+#include "core/rng.hpp"
 #include "harness/scene.hpp"
 
 namespace pcrt {
@@ -35,7 +37,14 @@ struct RenderResult {
   Image normals;  // primary-hit normal of the centre sample as (n + 1) / 2
   OpCounters counters;
   double seconds = 0;
+  // Per pixel (row-major) the centre sample's primary hit distance (+inf: no hit) and its normal
+  // facing the camera: what `pcrt compare` judges against a mesh rendered with the same camera.
+  std::vector<float> primary_t;
+  std::vector<Vec3> primary_n;
 };
+
+// A direction around the unit normal n with density cos/pi (the renderer's bounce rays).
+Vec3 cosine_direction(const Vec3& n, Rng& rng);
 
 RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                     const RenderSettings& settings);

@@ -107,6 +107,26 @@ def growth_table(d, fits, plot_them):
     return "\n".join(rows)
 
 
+def real_shape_sections(report_dir):
+    """Accuracy on real meshes and the image comparison (issue 13), from the committed results of
+    scripts/accuracy_meshes.sh and scripts/compare_sheet.sh, with the contact sheets linked."""
+    results = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "results")
+    out = []
+    summary = os.path.join(results, "accuracy", "summary.md")
+    if os.path.exists(summary):
+        out.append("\n## Accuracy on real shapes (results/accuracy/summary.md)\n")
+        out.append(open(summary).read())
+    compare = os.path.join(results, "compare", "summary.md")
+    if os.path.exists(compare):
+        out.append("\n## Frames against the mesh (results/compare/summary.md)\n")
+        out.append(open(compare).read())
+        for shape in ("bunny", "cow"):
+            sheet = os.path.join(results, "compare", f"{shape}_sheet.png")
+            if os.path.exists(sheet):
+                out.append(f"![{shape}: difference pictures]({os.path.relpath(sheet, report_dir)})\n")
+    return out
+
+
 def main():
     d = sys.argv[1]
     fits = json.load(open(os.path.join(d, "fits.json")))
@@ -202,6 +222,7 @@ def main():
     if os.path.exists(table):
         out.append("\n## Accuracy against exact surfaces (results/method_table.md)\n")
         out.append(open(table).read())
+    out.extend(real_shape_sections(d))
     bad = [r for r in runs if r["status"] != "ok"]
     if bad:
         out.append("\n## Failed and timed-out runs (kept, not dropped)\n")

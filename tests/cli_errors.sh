@@ -68,6 +68,17 @@ expect_error "density does not apply to skew_lines" info skew_lines:n=10,density
 echo "precious" >"$dir/keep.png"
 "$pcrt" render --method reference_splat --data "$dir/trunc.ply" --out "$dir/keep.png" 2>/dev/null
 if [ "$(cat "$dir/keep.png")" != "precious" ]; then echo "FAIL: a failed render changed its output"; fails=$((fails + 1)); fi
+# Mesh ground truth and frame comparison: bad meshes, sampling specs and option mixes.
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$dir/tri.off"
+expect_error "no_mesh.off" accuracy --method reference_splat --truth "$dir/no_mesh.off"
+expect_error "trunc.ply" accuracy --method reference_splat --truth "$dir/trunc.ply"
+expect_error "normals must be exact, estimated or none" accuracy --method hubo_2006 --truth "$dir/tri.off" --sample normals=guess
+expect_error "--sample 'n=3'" accuracy --method hubo_2006 --truth "$dir/tri.off" --sample n=3
+expect_error "give --data or --truth, not both" accuracy --method hubo_2006 --truth "$dir/tri.off" --data sphere:n=100
+expect_error "apply only to --truth" accuracy --method hubo_2006 --data sphere:n=100 --sample n=100
+expect_error "mesh engine" accuracy --method hubo_2006 --truth "$dir/tri.off" --truth-engine nope
+expect_error "--truth MESH is required" compare --method hubo_2006 --out "$dir/d.png"
+expect_error "does not apply" compare --method hubo_2006 --truth "$dir/tri.off" --data sphere:n=100 --out "$dir/d.png"
 # Unknown command and no arguments: usage, non-zero.
 if "$pcrt" frobnicate >/dev/null 2>&1; then echo "FAIL: unknown command exited 0"; fails=$((fails + 1)); fi
 if "$pcrt" >/dev/null 2>&1; then echo "FAIL: no command exited 0"; fails=$((fails + 1)); fi

@@ -50,6 +50,7 @@ class Cai2011 final : public Method {
       return q < 1.0f ? 1.0f - q : 0.0f;
     };
     float t = 0.5f * (t0 + t1);
+    NewtonBracket bracket;  // the steps' slope ignores how the average moves: see implicit_newton
     for (int i = 0; i < max_iterations_; ++i) {
       counters.add(kHeightSteps);
       const WeightedPlane w =
@@ -61,7 +62,8 @@ class Cai2011 final : public Method {
         counters.add(kHeightConverged);
         return t;
       }
-      t -= w.height / slope;
+      if (w.height != 0) bracket.add(t, w.height);
+      t = bracket.safeguard(t - w.height / slope);
       if (!(t >= t0 && t <= t1)) return kInfinity;
     }
     return tolerance_ > 0 ? kInfinity : t;  // tolerance 0: exactly I steps, then the last point

@@ -5,7 +5,10 @@
 // averages K points.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -39,19 +42,54 @@ inline NewtonSettings newton_settings(const ParamValues& p, float unit) {
   return {float(p.at("tolerance")) * unit, int(p.at("max_iterations"))};
 }
 
+// The sign-change interval of f seen so far along the ray, once Newton has stood on both sides of
+// the surface. The plane's slope n . d ignores how the weighted average p(x) moves with x, so on a
+// tilted or curved surface a full step can overshoot back and forth forever (a 2-cycle around the
+// root, then the cap reports a hole and the ray goes on to the surface behind). A step that leaves
+// the bracket is replaced by the bracket's secant (false position), which cannot cycle.
+class NewtonBracket {
+ public:
+  void add(float t, float f) {
+    (f > 0 ? pos_ : neg_) = t;
+    (f > 0 ? f_pos_ : f_neg_) = f;
+  }
+  // The Newton step `next` if it falls strictly inside the bracket (or there is none yet), else
+  // the secant root of the bracket.
+  [[nodiscard]] float safeguard(float next) const {
+    if (pos_ == kInfinity || neg_ == kInfinity) return next;
+    if (next > std::min(pos_, neg_) && next < std::max(pos_, neg_)) return next;
+    return pos_ + (neg_ - pos_) * f_pos_ / (f_pos_ - f_neg_);
+  }
+
+ private:
+  float pos_ = kInfinity, neg_ = kInfinity, f_pos_ = 0, f_neg_ = 0;
+};
+
 // Eval(x) returns the WeightedPlane at x. Returns the hit t in [t_lo, t_hi] (and the unit normal)
-// or +inf: when no point reaches the current point, the plane is parallel to the ray, a step
-// leaves the interval (Algorithm 6, lines 11-14), or the cap is reached before the tolerance.
+// or +inf: when no point reaches the start, the plane is parallel to the ray, a step leaves the
+// interval from its bound (Algorithm 6, lines 11-14), or the cap is reached before the tolerance.
+// Two safeguards keep a step that overshoots from ending the search (the plane's slope ignores
+// how p(x) moves with x, so near grazing angles one step can jump over the surface): a step out
+// of the interval stops at its bound first, and a step to where no point reaches (behind the
+// surface, beyond the weights' support) is halved back toward the last point that had a plane.
+// Inside a sign change, steps are held by NewtonBracket.
 template <typename Eval>
 float newton_on_weighted_plane(const Ray& ray, float t, float t_lo, float t_hi, Eval&& eval,
                                const NewtonSettings& s, Vec3& normal, OpCounters& counters) {
   counters.add(kNewtonRuns);
+  NewtonBracket bracket;
+  float t_valid = kInfinity;  // the last t where some point had weight
   for (int i = 0; i < s.max_iterations; ++i) {
     counters.add(kNewtonSteps);
     const Vec3 x = ray.at(t);
     const WeightedPlane w = eval(x);
     const float len = w.n.norm();
-    if (!(w.weight > 0) || !(len > 0)) return kInfinity;
+    if (!(w.weight > 0) || !(len > 0)) {
+      if (t_valid == kInfinity) return kInfinity;
+      t = 0.5f * (t_valid + t);
+      continue;
+    }
+    t_valid = t;
     normal = w.n / len;
     const float f = normal.dot(x - w.p);
     if (s.tolerance > 0 && std::abs(f) <= s.tolerance) {
@@ -60,8 +98,15 @@ float newton_on_weighted_plane(const Ray& ray, float t, float t_lo, float t_hi, 
     }
     const float slope = normal.dot(ray.d);
     if (std::abs(slope) < 1e-6f) return kInfinity;
-    t -= f / slope;
-    if (!(t >= t_lo && t <= t_hi)) return kInfinity;
+    if (f != 0) bracket.add(t, f);
+    const float next = bracket.safeguard(t - f / slope);
+    if (next >= t_lo && next <= t_hi) {
+      t = next;
+      continue;
+    }
+    const float bound = next < t_lo ? t_lo : t_hi;
+    if (t == bound || !(next == next)) return kInfinity;
+    t = bound;
   }
   counters.add(kNewtonCapped);
   return s.tolerance > 0 ? kInfinity : t;

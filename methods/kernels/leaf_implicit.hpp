@@ -38,26 +38,30 @@ struct TentWeight {
   }
 };
 
-// A start inside the leaf: the crossing of the tangent plane of the leaf point nearest the ray
-// axis (within `reach`), clamped to [t_lo, t_hi]; false if no point is that near. O(K).
+// A start inside the leaf: the crossing of the tangent plane of the front-most leaf point within
+// `reach` of the ray axis whose plane the ray crosses at or after t_lo, clamped to t_hi; false if
+// there is none. O(K). The front-most, not the nearest to the axis: where a leaf holds two sheets
+// of the surface (both walls of a thin part), the point nearest the axis may lie on the back one,
+// and Newton from its plane converges there, behind the surface the ray meets first. Planes
+// crossed before t_lo are skipped: they are surfaces the search has already left behind (the one
+// a secondary ray starts from), and a start clamped to t_lo would run Newton back to them.
 inline bool nearest_tangent_crossing(const Ray& ray, std::span<const uint32_t> items,
                                      std::span<const PackedSplat> points, float reach, float t_lo,
                                      float t_hi, float& t_start) {
-  float best = reach * reach;
-  bool found = false;
+  const float reach2 = reach * reach;
+  float front = kInfinity;
   for (uint32_t k : items) {
     const PackedSplat& p = points[k];
     const Vec3 v = p.c - ray.o;
     const float along = v.dot(ray.d);
-    const float lateral2 = (v - along * ray.d).squaredNorm();
-    if (lateral2 >= best) continue;
+    if (along >= front || (v - along * ray.d).squaredNorm() >= reach2) continue;
     const float denom = p.n.dot(ray.d);
     const float t = std::abs(denom) > 1e-6f ? p.n.dot(v) / denom : along;
-    best = lateral2;
-    t_start = std::clamp(t, t_lo, t_hi);
-    found = true;
+    if (!(t >= t_lo)) continue;
+    front = along;
+    t_start = std::min(t, t_hi);
   }
-  return found;
+  return front < kInfinity;
 }
 
 // The cloud index of the leaf point nearest x (a blended hit's colour comes from it). O(K).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "methods/kernels/ball_runs.hpp"
 #include "methods/kernels/mls_method_params.hpp"
 #include "preprocess/point_attributes.hpp"
 
@@ -45,13 +46,34 @@ class ZBufferPass final : public PrimaryPass {
     const int x = std::clamp(int(px), 0, width_ - 1), y = std::clamp(int(py), 0, height_ - 1);
     const uint32_t i = index_[size_t(y) * size_t(width_) + size_t(x)];
     if (i == kNone) return false;
-    if (method_.refine(ray, i, hit, counters)) return true;
+    // Runs searching the chord of the start's ball first, then the whole ray (silhouettes: the
+    // ray runs along the surface and may cross it outside every ball it was rasterized from).
+    // Each from the pixel's point, then from the points of the 8 neighbouring pixels: starts the
+    // z-buffer already holds, for where the surface bends within a footprint and the run from
+    // one point finds no root. The nearest root wins.
+    for (Reach reach : {Reach::kBall, Reach::kWholeRay}) {
+      if (method_.refine(ray, i, reach, hit, counters)) return true;
+      if (refine_from_neighbours(ray, x, y, i, reach, hit, counters)) return true;
+    }
     counters.add(kRasterMisses);
     return false;
   }
 
  private:
+  using Reach = RasterMlsMethod::Reach;
   static constexpr uint32_t kNone = 0xffffffffu;
+
+  bool refine_from_neighbours(const Ray& ray, int x, int y, uint32_t own, Reach reach, Hit& hit,
+                              OpCounters& counters) const {
+    bool found = false;
+    for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, height_ - 1); ++ny)
+      for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, width_ - 1); ++nx) {
+        const uint32_t j = index_[size_t(ny) * size_t(width_) + size_t(nx)];
+        if (j != kNone && j != own) found |= method_.refine(ray, j, reach, hit, counters);
+      }
+    return found;
+  }
+
   const RasterMlsMethod& method_;
   int width_, height_;
   std::vector<float> depth_;
@@ -77,14 +99,19 @@ std::unique_ptr<PrimaryPass> RasterMlsMethod::primary_pass(const Camera& camera,
   return std::make_unique<ZBufferPass>(*this, camera, mls_.positions, footprint_, counters);
 }
 
-bool RasterMlsMethod::refine(const Ray& ray, uint32_t i, Hit& hit, OpCounters& counters) const {
-  // The z-buffer gives a depth: the guess is the ray's point nearest the rasterized point. Near
-  // a silhouette the ray runs almost along the surface, so the crossing may lie far from the
-  // guess: the root is searched along the whole ray, and kept only if it lies within a ball
-  // radius of a sample (an MLS root far from every sample is extrapolation, not surface).
-  const float guess = std::max((mls_.positions[i] - ray.o).dot(ray.d), ray.tmin);
+bool RasterMlsMethod::refine(const Ray& ray, uint32_t i, Reach reach, Hit& hit,
+                             OpCounters& counters) const {
+  // The z-buffer gives a depth: the guess is the ray's point nearest the rasterized point. The
+  // search stays on the chord of the point's ball, as a traced ray's run does: over the whole
+  // ray, the local polynomial's other root (far along the ray) can be taken, and the next fit
+  // there finds nothing. kWholeRay is for silhouettes (see ZBufferPass). A root is kept only if
+  // it lies within a ball radius of a sample (far from every sample is extrapolation).
+  float t0 = ray.tmin, t1 = hit.t;
+  if (reach == Reach::kBall && !ball_chord(ray, mls_.positions[i], mls_.ball, hit.t, t0, t1))
+    return false;
+  const float guess = std::clamp((mls_.positions[i] - ray.o).dot(ray.d), t0, t1);
   Vec3 n = Vec3::Zero();
-  const float t = mls_.surface->intersect_ray(ray, ray.at(guess), ray.tmin, hit.t, n, counters);
+  const float t = mls_.surface->intersect_ray(ray, ray.at(guess), t0, t1, n, counters);
   if (t == kInfinity) return false;
   uint32_t nearest = 0;
   float d2 = 0;

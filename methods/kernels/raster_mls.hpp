@@ -5,6 +5,7 @@
 // structure, which are parameters and defaults of their modules.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 
@@ -32,8 +33,10 @@ class RasterMlsMethod final : public Method {
   [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
                                                           OpCounters& counters) const override;
 
+  // Where an MLS run from point i searches the ray: the chord of i's ball, or the whole ray.
+  enum class Reach : uint8_t { kBall, kWholeRay };
   // An MLS run from point i for the ray: the primary pass's refinement.
-  bool refine(const Ray& ray, uint32_t i, Hit& hit, OpCounters& counters) const;
+  bool refine(const Ray& ray, uint32_t i, Reach reach, Hit& hit, OpCounters& counters) const;
 
  private:
   ParamValues params_;

@@ -13,8 +13,8 @@
 
 namespace pcrt {
 
-inline const Counter kProjectionTests{"projection_tests",
-                                      "points projected onto a ray (2 per leaf item)"};
+inline const Counter kProjectionTests{
+    "projection_tests", "points projected onto a ray (2 per leaf item and group tried)"};
 inline const Counter kProjectionCandidates{"projection_candidates",
                                            "points inside the ray's cylinder or cone"};
 
@@ -28,7 +28,7 @@ struct ProjectionSettings {
 // Weight(ray, splat, t, lateral) returns the weight of a point whose tangent plane the ray crosses
 // at t, with `lateral` its offset from the ray axis, and 0 if it is no candidate. NormalAt(k, x)
 // is item k's normal at the crossing x (its own normal, or a normal field's value there).
-// Allocation-free, two passes over the leaf: O(K).
+// Allocation-free, two passes over the leaf per group tried: O(K) per group.
 template <typename Weight, typename NormalAt>
 bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
                             std::span<const PackedSplat> splats, const ProjectionSettings& s,
@@ -43,28 +43,42 @@ bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
     w = weight(ray, p, t, lateral);
     return w > 0;
   };
-  counters.add(kProjectionTests, 2 * leaf.items.size());
-  float front = kInfinity;
-  uint64_t candidates = 0;
-  for (uint32_t k : leaf.items) {
-    float t = 0, w = 0;
-    if (project(splats[k], t, w)) ++candidates, front = std::min(front, t);
-  }
-  counters.add(kProjectionCandidates, candidates);
-  if (front == kInfinity) return false;
-  float wsum = 0, tsum = 0, best_w = -1;
+  // Groups front to back: the front-most candidate starts a group of the candidates within
+  // `depth` behind it. A group below the coverage threshold is no surface (a stray tangent plane
+  // crossing the ray early); the next group is tried rather than the leaf giving up, since the
+  // surface behind the stray crossing may then lie before the next leaf's reach and be lost.
+  float floor_t = -kInfinity, wsum = 0, tsum = 0;
   Vec3 nsum = Vec3::Zero();
   const PackedSplat* best = nullptr;
-  for (uint32_t k : leaf.items) {
-    float t = 0, w = 0;
-    const PackedSplat& p = splats[k];
-    if (!project(p, t, w) || t > front + s.depth) continue;
-    wsum += w;
-    tsum += w * t;
-    nsum += w * normal_at(k, ray.at(t));
-    if (w > best_w || (w == best_w && p.index < best->index)) best_w = w, best = &p;
+  uint64_t candidates = 0;
+  bool first_pass = true;
+  while (true) {
+    counters.add(kProjectionTests, leaf.items.size());
+    float front = kInfinity;
+    for (uint32_t k : leaf.items) {
+      float t = 0, w = 0;
+      if (project(splats[k], t, w) && t > floor_t)
+        candidates += first_pass, front = std::min(front, t);
+    }
+    first_pass = false;
+    if (front == kInfinity) break;
+    counters.add(kProjectionTests, leaf.items.size());
+    wsum = 0, tsum = 0, nsum = Vec3::Zero(), best = nullptr;
+    float best_w = -1;
+    for (uint32_t k : leaf.items) {
+      float t = 0, w = 0;
+      const PackedSplat& p = splats[k];
+      if (!project(p, t, w) || t < front || t > front + s.depth) continue;
+      wsum += w;
+      tsum += w * t;
+      nsum += w * normal_at(k, ray.at(t));
+      if (w > best_w || (w == best_w && p.index < best->index)) best_w = w, best = &p;
+    }
+    if (wsum > 0 && wsum >= s.min_weight) break;
+    floor_t = front + s.depth;
   }
-  if (!(wsum > 0) || wsum < s.min_weight) return false;
+  counters.add(kProjectionCandidates, candidates);
+  if (!best || !(wsum > 0) || wsum < s.min_weight) return false;
   const float t_hit = tsum / wsum;
   // The cell rule: a hit belongs to the leaf whose span holds it; later leaves blend their own.
   if (t_hit > leaf.t_exit || t_hit < leaf.t_enter - s.early_margin || t_hit < ray.tmin ||

@@ -4,6 +4,8 @@
 // points; the interval of a sign change is sampled again at k points, until |f| < epsilon or I
 // refinements. O(kIK). See README.md.
 #include <algorithm>
+#include <cmath>
+#include <span>
 
 #include "methods/kernels/ball_runs.hpp"
 #include "methods/kernels/leaf_implicit.hpp"
@@ -37,55 +39,18 @@ class WaldSeidel final : public Method {
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    float lo = std::max(leaf.t_enter, ray.tmin), hi = std::min(leaf.t_exit, hit.t);
+    float lo = std::max(leaf.t_enter, ray.tmin);
+    const float hi = std::min(leaf.t_exit, hit.t);
     if (!(lo <= hi) || leaf.items.empty()) return false;
-    // Sample only where some point's support meets the ray: over a whole leaf, k samples can
-    // all fall outside the thin band around the surface where f is defined.
-    float s_lo = kInfinity, s_hi = -kInfinity;
-    for (uint32_t k : leaf.items) {
-      float t0 = 0, t1 = 0;
-      if (ball_chord(ray, splats_.packed[k].c, radius_, hi, t0, t1))
-        s_lo = std::min(s_lo, t0), s_hi = std::max(s_hi, t1);
-    }
-    counters.add(kSupportTests, leaf.items.size());
-    lo = std::max(lo, s_lo), hi = std::min(hi, s_hi);
-    if (!(lo <= hi)) return false;
-    const TentWeight theta(radius_);
-    float t_hit = kInfinity;
+    // Sample only where the points' supports meet the ray, one gap-free run of supports at a
+    // time, front to back: k samples spread over the whole leaf (or over the span from the
+    // first support to the last) step over the thin band around the front surface and find the
+    // sign change of the surface behind it.
+    float run_lo = 0, run_hi = 0, t_hit = kInfinity;
     Vec3 n_hit = Vec3::Zero();
-    for (int pass = 0; pass < max_refinements_ && t_hit == kInfinity; ++pass) {
-      counters.add(kSampleRefinements);
-      const float step = (hi - lo) / float(samples_);
-      bool have_prev = false, bracketed = false;
-      float t_prev = lo, f_prev = 0;
-      Vec3 n_prev = Vec3::Zero();
-      for (int i = 0; i <= samples_; ++i) {
-        const float t = i == samples_ ? hi : lo + step * float(i);
-        const Vec3 x = ray.at(t);
-        counters.add(kSampleEvaluations);
-        const WeightedPlane w = weighted_plane(x, leaf.items, splats_.packed, theta, counters);
-        if (!(w.weight > 0) || !(w.n.norm() > 0)) {
-          have_prev = false;  // no point reaches x: no surface value, no bracket across it
-          continue;
-        }
-        const float f = w.implicit(x);
-        const Vec3 n = w.n.normalized();
-        if (tolerance_ > 0 && std::abs(f) < tolerance_) {  // lines 12-15
-          t_hit = t, n_hit = n;
-          break;
-        }
-        if (have_prev && f * f_prev < 0) {     // lines 16-19: refine [t_prev, t]
-          if (pass + 1 == max_refinements_) {  // the cap: the linear root of the last bracket
-            t_hit = t_prev + (t - t_prev) * f_prev / (f_prev - f);
-            n_hit = (n_prev + n).normalized();
-          }
-          lo = t_prev, hi = t;
-          bracketed = true;
-          break;
-        }
-        have_prev = true, t_prev = t, f_prev = f, n_prev = n;
-      }
-      if (!bracketed && t_hit == kInfinity) return false;  // lines 20-23: no sign change
+    while (t_hit == kInfinity && support_run(ray, leaf.items, lo, hi, run_lo, run_hi, counters)) {
+      t_hit = first_root(ray, leaf.items, run_lo, run_hi, n_hit, counters);
+      lo = std::nextafter(run_hi, kInfinity);
     }
     if (t_hit == kInfinity) return false;
     const uint32_t prim = nearest_point(ray.at(t_hit), leaf.items, splats_.packed);
@@ -95,6 +60,75 @@ class WaldSeidel final : public Method {
   }
 
  private:
+  // The first stretch [run_lo, run_hi] of [lo, hi] that the items' supports cover without a gap;
+  // false if no support meets [lo, hi]. Grows the run by passes over the items (each counted).
+  bool support_run(const Ray& ray, std::span<const uint32_t> items, float lo, float hi,
+                   float& run_lo, float& run_hi, OpCounters& counters) const {
+    run_lo = kInfinity;
+    for (uint32_t k : items) {
+      float t0 = 0, t1 = 0;
+      if (ball_chord(ray, splats_.packed[k].c, radius_, hi, t0, t1) && t1 >= lo)
+        run_lo = std::min(run_lo, std::max(t0, lo));
+    }
+    counters.add(kSupportTests, items.size());
+    if (run_lo == kInfinity) return false;
+    run_hi = run_lo;
+    for (bool grown = true; grown;) {
+      grown = false;
+      for (uint32_t k : items) {
+        float t0 = 0, t1 = 0;
+        if (ball_chord(ray, splats_.packed[k].c, radius_, hi, t0, t1) && t0 <= run_hi &&
+            t1 > run_hi)
+          run_hi = t1, grown = true;
+      }
+      counters.add(kSupportTests, items.size());
+    }
+    return true;
+  }
+
+  // Algorithm 5 on [lo, hi]: k regular samples, the first sign-change interval sampled again,
+  // until |f| < epsilon or the cap (then the linear root of the last bracket). The hit t and its
+  // normal, or +inf when no pass finds a sign change.
+  float first_root(const Ray& ray, std::span<const uint32_t> items, float lo, float hi, Vec3& n_hit,
+                   OpCounters& counters) const {
+    const TentWeight theta(radius_);
+    for (int pass = 0; pass < max_refinements_; ++pass) {
+      counters.add(kSampleRefinements);
+      const float step = (hi - lo) / float(samples_);
+      bool have_prev = false, bracketed = false;
+      float t_prev = lo, f_prev = 0;
+      Vec3 n_prev = Vec3::Zero();
+      for (int i = 0; i <= samples_; ++i) {
+        const float t = i == samples_ ? hi : lo + step * float(i);
+        const Vec3 x = ray.at(t);
+        counters.add(kSampleEvaluations);
+        const WeightedPlane w = weighted_plane(x, items, splats_.packed, theta, counters);
+        if (!(w.weight > 0) || !(w.n.norm() > 0)) {
+          have_prev = false;  // no point reaches x: no surface value, no bracket across it
+          continue;
+        }
+        const float f = w.implicit(x);
+        const Vec3 n = w.n.normalized();
+        if (tolerance_ > 0 && std::abs(f) < tolerance_) {  // lines 12-15
+          n_hit = n;
+          return t;
+        }
+        if (have_prev && f * f_prev < 0) {     // lines 16-19: refine [t_prev, t]
+          if (pass + 1 == max_refinements_) {  // the cap: the linear root of the last bracket
+            n_hit = (n_prev + n).normalized();
+            return t_prev + (t - t_prev) * f_prev / (f_prev - f);
+          }
+          lo = t_prev, hi = t;
+          bracketed = true;
+          break;
+        }
+        have_prev = true, t_prev = t, f_prev = f, n_prev = n;
+      }
+      if (!bracketed) return kInfinity;  // lines 20-23: no sign change
+    }
+    return kInfinity;
+  }
+
   ParamValues params_;
   SplatSet splats_;
   float radius_ = 0, tolerance_ = 0;

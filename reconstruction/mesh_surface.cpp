@@ -1,0 +1,156 @@
+#include "reconstruction/mesh_surface.hpp"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace pcrt {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using CgalTriangle = Kernel::Triangle_3;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<CgalTriangle>::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Point to_cgal(const Vec3& x) { return Point(x.x(), x.y(), x.z()); }
+Vec3 from_cgal(const Point& p) { return Vec3(float(p.x()), float(p.y()), float(p.z())); }
+
+// Six times the signed volume enclosed (positive when the triangles face outward).
+double signed_volume6(const TriangleMesh& m) {
+  double v = 0;
+  for (const auto& t : m.triangles) {
+    const Vec3d a = m.vertices[t[0]].cast<double>(), b = m.vertices[t[1]].cast<double>(),
+                c = m.vertices[t[2]].cast<double>();
+    v += a.dot(b.cross(c));
+  }
+  return v;
+}
+
+double triangle_area(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
+  const Vec3d a = m.vertices[t[0]].cast<double>();
+  return 0.5 *
+         (m.vertices[t[1]].cast<double>() - a).cross(m.vertices[t[2]].cast<double>() - a).norm();
+}
+
+float angle_deg(const Vec3& a, const Vec3& b) {
+  return float(std::atan2(double(a.cross(b).norm()), double(a.dot(b))) * 180.0 / M_PI);
+}
+
+}  // namespace
+
+struct MeshSurface::DistanceTree {
+  std::vector<CgalTriangle> triangles;
+  Tree tree;
+};
+
+MeshSurface::MeshSurface(TriangleMesh mesh, std::string name, const std::string& engine)
+    : mesh_(std::move(mesh)), name_(std::move(name)) {
+  // Sampled points take their normals from the faces: an inward-facing mesh would hand every
+  // method normals pointing in.
+  if (signed_volume6(mesh_) < 0)
+    for (auto& t : mesh_.triangles) std::swap(t[1], t[2]);
+  bounds_ = mesh_.bounds();
+  cumulative_area_.reserve(mesh_.triangles.size());
+  vertex_normals_.assign(mesh_.vertices.size(), Vec3::Zero());
+  double total = 0;
+  for (uint32_t i = 0; i < mesh_.triangles.size(); ++i) {
+    const double a = triangle_area(mesh_, mesh_.triangles[i]);
+    total += a;
+    cumulative_area_.push_back(total);
+    for (uint32_t v : mesh_.triangles[i]) vertex_normals_[v] += float(a) * mesh_.normal(i);
+  }
+  if (!(total > 0)) input_error("{}: the mesh has zero area", name_);
+  for (Vec3& n : vertex_normals_) n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitZ();
+
+  tree_ = std::make_unique<DistanceTree>();
+  tree_->triangles.reserve(mesh_.triangles.size());
+  for (const auto& t : mesh_.triangles)
+    tree_->triangles.emplace_back(to_cgal(mesh_.vertices[t[0]]), to_cgal(mesh_.vertices[t[1]]),
+                                  to_cgal(mesh_.vertices[t[2]]));
+  tree_->tree.insert(tree_->triangles.begin(), tree_->triangles.end());
+  tree_->tree.build();
+  // Built now: CGAL builds its distance search tree lazily, which would race between threads.
+  tree_->tree.accelerate_distance_queries();
+
+  OpCounters build_counters;
+  Timings build_timings;
+  engine_ = MeshEngineRegistry::instance()
+                .get(engine, "mesh engine")
+                .create(mesh_, build_counters, build_timings);
+}
+
+MeshSurface::~MeshSurface() = default;
+
+std::string MeshSurface::describe() const {
+  return fmt::format("mesh {} ({} triangles, area {:.6g})", name_, mesh_.triangles.size(), area());
+}
+
+MeshSurface::Closest MeshSurface::closest(const Vec3& x) const {
+  const auto [p, id] = tree_->tree.closest_point_and_primitive(to_cgal(x));
+  return {from_cgal(p), uint32_t(id - tree_->triangles.begin())};
+}
+
+float MeshSurface::signed_distance(const Vec3& x) const {
+  const Closest c = closest(x);
+  const float d = (x - c.point).norm();
+  return mesh_.normal(c.triangle).dot(x - c.point) < 0 ? -d : d;
+}
+
+Vec3 MeshSurface::normal(const Vec3& x) const { return mesh_.normal(closest(x).triangle); }
+
+Vec3 MeshSurface::sample(Rng& rng, Vec3& normal) const {
+  const double u = rng.uniform_double() * area();
+  const auto it = std::upper_bound(cumulative_area_.begin(), cumulative_area_.end(), u);
+  const auto i = uint32_t(
+      std::min<size_t>(size_t(it - cumulative_area_.begin()), cumulative_area_.size() - 1));
+  const auto& t = mesh_.triangles[i];
+  // Uniform in the triangle: the square root keeps the density flat (Osada et al. 2002).
+  const float r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
+  normal = mesh_.normal(i);
+  return (1 - r1) * mesh_.vertices[t[0]] + r1 * (1 - r2) * mesh_.vertices[t[1]] +
+         r1 * r2 * mesh_.vertices[t[2]];
+}
+
+bool MeshSurface::intersect(const Ray& ray, float& t, Vec3& n) const {
+  OpCounters uncounted;  // the truth's work is not a method's work
+  Hit hit;
+  if (!engine_->closest_hit(ray, hit, uncounted)) return false;
+  t = hit.t;
+  n = hit.n;
+  return true;
+}
+
+bool MeshSurface::smooth_at(const Vec3& x, float radius) const {
+  const Vec3 n = normal(x);
+  const CGAL::Bbox_3 box(x.x() - radius, x.y() - radius, x.z() - radius, x.x() + radius,
+                         x.y() + radius, x.z() + radius);
+  std::vector<Primitive::Id> near;
+  tree_->tree.all_intersected_primitives(box, std::back_inserter(near));
+  for (const auto id : near)
+    if (angle_deg(n, mesh_.normal(uint32_t(id - tree_->triangles.begin()))) > kSmoothAngleDeg)
+      return false;
+  return true;
+}
+
+Vec3 MeshSurface::smooth_normal(const Vec3& x) const {
+  const Closest c = closest(x);
+  const auto& t = mesh_.triangles[c.triangle];
+  const Vec3 a = mesh_.vertices[t[0]], b = mesh_.vertices[t[1]], d = mesh_.vertices[t[2]];
+  // Barycentric coordinates of the closest point, by sub-triangle areas.
+  const Vec3 full = (b - a).cross(d - a);
+  const float inv = 1.0f / std::max(full.squaredNorm(), 1e-30f);
+  const float wb = (c.point - a).cross(d - a).dot(full) * inv;
+  const float wd = (b - a).cross(c.point - a).dot(full) * inv;
+  const Vec3 n = (1 - wb - wd) * vertex_normals_[t[0]] + wb * vertex_normals_[t[1]] +
+                 wd * vertex_normals_[t[2]];
+  return n.norm() > 0 ? Vec3(n.normalized()) : mesh_.normal(c.triangle);
+}
+
+}  // namespace pcrt

@@ -1,0 +1,147 @@
+// The mesh ground truth: distances, normals, sampling, first hits and smoothness on a box whose
+// answers are known, and the evaluator's false-hit causes on a plate with one face removed.
+#include "reconstruction/mesh_surface.hpp"
+
+#include <catch2/catch.hpp>
+
+#include "core/error.hpp"
+#include "harness/accuracy.hpp"
+#include "harness/mesh_truth.hpp"
+
+using namespace pcrt;
+
+namespace {
+
+// An axis-aligned box [lo, hi] as 12 triangles facing inward when `inward` (the surface must
+// orient it outward itself).
+TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, bool inward) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(),
+                            i & 4 ? hi.z() : lo.z());
+  // Outward quads (counter-clockwise seen from outside), each as two triangles.
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[1]), uint32_t(q[2])});
+    m.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[3])});
+  }
+  if (inward)
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("A mesh surface answers distances, normals, samples and hits of a box", "[mesh_truth]") {
+  const MeshSurface s(box_mesh(Vec3(0, 0, 0), Vec3(2, 1, 1), true), "box", "bvh");
+  CHECK(s.area() == Approx(2 * (2 + 2 + 1)));
+  CHECK(s.signed_distance(Vec3(1, 0.5f, 1.5f)) == Approx(0.5f));
+  CHECK(s.signed_distance(Vec3(1, 0.5f, 0.8f)) == Approx(-0.2f));
+  CHECK(s.normal(Vec3(1, 0.5f, 1.5f)).isApprox(Vec3::UnitZ()));  // flipped outward
+  Rng rng(7);
+  for (int i = 0; i < 200; ++i) {
+    Vec3 n;
+    const Vec3 x = s.sample(rng, n);
+    REQUIRE(std::abs(s.signed_distance(x)) < 1e-5f);
+    REQUIRE(n.isApprox(s.normal(x)));
+  }
+  float t = 0;
+  Vec3 n;
+  REQUIRE(s.intersect(Ray{Vec3(1, 0.5f, 5), Vec3(0, 0, -1)}, t, n));
+  CHECK(t == Approx(4.0f));
+  CHECK(std::abs(n.z()) == Approx(1.0f));
+  CHECK_FALSE(s.intersect(Ray{Vec3(1, 0.5f, 5), Vec3(0, 0, 1)}, t, n));
+  CHECK(s.smooth_at(Vec3(1, 0.5f, 1), 0.1f));            // a face's middle
+  CHECK_FALSE(s.smooth_at(Vec3(1.95f, 0.5f, 1), 0.1f));  // 0.05 from an edge
+}
+
+TEST_CASE("A mesh of zero area is refused naming it", "[mesh_truth]") {
+  TriangleMesh m;
+  m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  m.triangles = {{0, 1, 2}};
+  REQUIRE_THROWS_WITH(MeshSurface(m, "flat.off", "bvh"), Catch::Contains("flat.off"));
+}
+
+TEST_CASE("Sampling specs parse and bad ones name the spec", "[mesh_truth]") {
+  const MeshSampling s = parse_mesh_sampling("n=500,noise=0.5,normals=none,density=0.3");
+  CHECK(s.n == 500);
+  CHECK(s.noise_h == 0.5);
+  CHECK(s.density == 0.3);
+  CHECK(s.normals == NormalSource::kNone);
+  CHECK(parse_mesh_sampling("").n == 100000);
+  for (const char* bad : {"n=5", "normals=maybe", "noise=-1", "colour=2", "n=100,n=200", "n"})
+    REQUIRE_THROWS_WITH(parse_mesh_sampling(bad), Catch::Contains(bad));
+}
+
+TEST_CASE("Sampled clouds: noise in units of h, estimated or absent normals", "[mesh_truth]") {
+  const MeshSurface s(box_mesh(Vec3(0, 0, 0), Vec3(2, 1, 1), false), "box", "bvh");
+  OpCounters c;
+  MeshSampling spec = parse_mesh_sampling("n=4000,noise=0.5");
+  const SampledCloud noisy = sample_cloud(s, spec, "box", c);
+  double sq = 0;
+  for (const Vec3& x : noisy.cloud.positions) sq += std::pow(s.signed_distance(x), 2);
+  // Away from edges the distance is the noise's normal component: standard deviation 0.5 h.
+  CHECK(std::sqrt(sq / 4000) / noisy.spacing == Approx(0.5).epsilon(0.15));
+  spec.normals = NormalSource::kEstimated;
+  spec.noise_h = 0;
+  const SampledCloud est = sample_cloud(s, spec, "box", c);
+  size_t aligned = 0;
+  for (size_t i = 0; i < est.cloud.size(); ++i)
+    aligned += std::abs(est.cloud.normals[i].dot(s.normal(est.cloud.positions[i]))) > 0.95f;
+  CHECK(aligned > 3200);  // PCA normals agree except within a few spacings of the 12 edges
+  spec.normals = NormalSource::kNone;
+  CHECK_FALSE(sample_cloud(s, spec, "box", c).cloud.has_normals());
+}
+
+TEST_CASE("The evaluator splits false hits into see-through, early and phantom", "[mesh_truth]") {
+  // Truth: a plate 1 thick. Judged: the same plate traced exactly (perfect), then only its back
+  // half-space's face (every front hit becomes see-through).
+  const auto truth = std::make_shared<MeshSurface>(box_mesh(Vec3(0, 0, 0), Vec3(10, 10, 1), false),
+                                                   "plate", "bvh");
+  const double h = 0.02;
+  const auto rays = accuracy_rays(*truth, h, 2000, 3);
+  OpCounters prep, c;
+  Timings timings;
+  const MeshScene exact(truth->mesh(), "bvh", prep, timings);
+  const AccuracyReport perfect = evaluate_accuracy(exact, *truth, h, rays, c);
+  CHECK(perfect.false_hits == 0);
+  CHECK(perfect.holes == 0);
+  CHECK(perfect.distance_median_h < 1e-3);
+
+  // A scene that sees only the bottom face z = 0: rays from above pass the top face.
+  TriangleMesh bottom = truth->mesh();
+  std::erase_if(bottom.triangles, [&](const auto& t) {
+    return bottom.vertices[t[0]].z() + bottom.vertices[t[1]].z() + bottom.vertices[t[2]].z() > 0;
+  });
+  const MeshScene back(bottom, "bvh", prep, timings);
+  const AccuracyReport r = evaluate_accuracy(back, *truth, h, rays, c);
+  CHECK(r.see_through > 100);
+  CHECK(r.see_through_smooth > 0);
+  CHECK(r.phantom == 0);
+  CHECK(r.early == 0);
+}
+
+TEST_CASE("Secondary rays: a mesh against itself is exact, a plate without its top misses it",
+          "[mesh_truth]") {
+  const auto truth = std::make_shared<MeshSurface>(box_mesh(Vec3(0, 0, 0), Vec3(10, 10, 1), false),
+                                                   "plate", "bvh");
+  OpCounters prep, c;
+  Timings timings;
+  const MeshScene exact(truth->mesh(), "bvh", prep, timings);
+  const SecondaryReport same = evaluate_secondary(exact, *truth, 0.02, 2000, 5, c);
+  CHECK(same.outward.rays + same.inward.rays > 1900);
+  CHECK(same.outward.self_hits + same.inward.self_hits == 0);
+  CHECK(same.outward.missed_occluders + same.inward.missed_occluders == 0);
+  CHECK(same.outward.false_occluders + same.inward.false_occluders == 0);
+
+  TriangleMesh bottom = truth->mesh();
+  std::erase_if(bottom.triangles, [&](const auto& t) {
+    return bottom.vertices[t[0]].z() + bottom.vertices[t[1]].z() + bottom.vertices[t[2]].z() > 0;
+  });
+  const MeshScene back(bottom, "bvh", prep, timings);
+  const SecondaryReport r = evaluate_secondary(back, *truth, 0.02, 2000, 5, c);
+  // Inward rays leaving the bottom face meet the missing top: missed occluders.
+  CHECK(r.inward.missed_occluders > 300);
+  CHECK(r.outward.self_hits == 0);
+}

@@ -1,0 +1,115 @@
+#!/usr/bin/python3
+"""The real-shape accuracy table from `scripts/accuracy_meshes.sh` output.
+
+Usage: scripts/accuracy_table.py [DIR=results/accuracy] [--csv FILE] [--markdown FILE]
+                                 [--before DIR2]
+
+Reads DIR/<shape>/<method>.json (one `pcrt accuracy --truth ... --json` each), writes every figure
+as CSV and a markdown summary: per method the worst rate over the shapes (and which shape), the
+median distance and normal error, and how many shapes meet all bounds. Rates are in percent.
+With --before, a second table gives each method's worst rates in DIR2 (an earlier build's results)
+beside DIR's.
+"""
+import csv
+import json
+import sys
+from pathlib import Path
+
+BOUND = 1.0  # percent: the bound on holes, see-through and phantom hits
+FIELDS = ["shape", "method", "structure", "N", "mean_spacing", "judged_hits", "judged_misses",
+          "hole_rate", "see_through_rate", "see_through_smooth_rate", "early_rate", "phantom_rate", "false_hit_rate",
+          "distance_median_h", "distance_p95_h", "normal_median_deg", "normal_judged",
+          "smooth_normal_median_deg", "faceting_floor_deg", "meets_bounds",
+          "secondary_outward_self_hit_rate", "secondary_outward_missed_occluder_rate",
+          "secondary_outward_false_occluder_rate", "secondary_inward_self_hit_rate",
+          "secondary_inward_missed_occluder_rate", "secondary_inward_false_occluder_rate",
+          "sample", "truth"]
+
+
+def load(directory):
+    rows = []
+    for f in sorted(Path(directory).glob("*/*.json")):
+        j = json.loads(f.read_text())
+        j["shape"] = f.parent.name
+        for side, v in j.get("secondary", {}).items():  # flattened for the CSV and the table
+            for k in ("self_hit_rate", "missed_occluder_rate", "false_occluder_rate"):
+                j[f"secondary_{side}_{k}"] = v[k]
+        rows.append(j)
+    if not rows:
+        sys.exit(f"accuracy_table.py: no results under {directory}")
+    return rows
+
+
+def pct(v):
+    return 100.0 * v
+
+
+def worst(rows, key):
+    r = max(rows, key=lambda r: r.get(key, 0))
+    return f"{pct(r[key]):.2f} ({r['shape']})" if r.get(key, 0) > 0 else "0"
+
+
+def before_after(before, after):
+    out = ["| method | see-through before -> after | phantom before -> after | "
+           "holes before -> after |", "|---|---|---|---|"]
+    for m in sorted({r["method"] for r in after}):
+        b = [r for r in before if r["method"] == m]
+        a = [r for r in after if r["method"] == m]
+        cells = [f"{worst(b, k)} -> {worst(a, k)}"
+                 for k in ("see_through_rate", "phantom_rate", "hole_rate")]
+        out.append(f"| {m} | " + " | ".join(cells) + " |")
+    return "\n".join(out) + "\n"
+
+
+def markdown(rows):
+    shapes = sorted({r["shape"] for r in rows})
+    methods = sorted({r["method"] for r in rows})
+    out = [f"Worst over {len(shapes)} shapes ({', '.join(shapes)}); rates in % of judged rays, "
+           f"distances in h, normals in degrees (median over shapes of the per-shape median).",
+           "",
+           "| method | see-through | of which on smooth surface | phantom | holes | "
+           "early (fattened) | distance median | normal median | faceting floor | "
+           "shapes meeting every bound | secondary self-hits out / in | "
+           "secondary missed occluders out / in |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for m in methods:
+        rs = [r for r in rows if r["method"] == m]
+
+        def med(key):
+            v = sorted(r[key] for r in rs if r[key] is not None)
+            return f"{v[len(v) // 2]:.3f}" if v else "-"
+        meets = sum(1 for r in rs if r["meets_bounds"])
+        out.append(f"| {m} | {worst(rs, 'see_through_rate')} | "
+                   f"{worst(rs, 'see_through_smooth_rate')} | {worst(rs, 'phantom_rate')} | "
+                   f"{worst(rs, 'hole_rate')} | {worst(rs, 'early_rate')} | "
+                   f"{med('distance_median_h')} | {med('normal_median_deg')} | "
+                   f"{med('faceting_floor_deg')} | {meets}/{len(rs)} | "
+                   f"{worst(rs, 'secondary_outward_self_hit_rate')} / "
+                   f"{worst(rs, 'secondary_inward_self_hit_rate')} | "
+                   f"{worst(rs, 'secondary_outward_missed_occluder_rate')} / "
+                   f"{worst(rs, 'secondary_inward_missed_occluder_rate')} |")
+    return "\n".join(out) + "\n"
+
+
+def main():
+    args = sys.argv[1:]
+    directory = args[0] if args and not args[0].startswith("--") else "results/accuracy"
+    rows = load(directory)
+    if "--csv" in args:
+        with open(args[args.index("--csv") + 1], "w", newline="") as f:
+            w = csv.DictWriter(f, FIELDS, extrasaction="ignore")
+            w.writeheader()
+            for r in rows:
+                w.writerow({k: r.get(k) for k in FIELDS})
+    text = markdown(rows)
+    if "--before" in args:
+        text += "\nWorst over the shapes, before -> after:\n\n"
+        text += before_after(load(args[args.index("--before") + 1]), rows)
+    if "--markdown" in args:
+        Path(args[args.index("--markdown") + 1]).write_text(text)
+    else:
+        sys.stdout.write(text)
+
+
+if __name__ == "__main__":
+    main()

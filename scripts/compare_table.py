@@ -1,0 +1,26 @@
+#!/usr/bin/python3
+"""The image-comparison table from `scripts/compare_sheet.sh` output (DIR/<shape>/<method>.json):
+per method and shape the missing, extra and normal-off (> 30 deg) pixels in % of the mesh's object
+pixels, and the RMSE. Usage: scripts/compare_table.py [DIR=results/compare] > DIR/summary.md
+"""
+import json
+import sys
+from pathlib import Path
+
+directory = Path(sys.argv[1] if len(sys.argv) > 1 else "results/compare")
+rows = [json.loads(f.read_text()) | {"shape": f.parent.name}
+        for f in sorted(directory.glob("*/*.json"))]
+if not rows:
+    sys.exit(f"compare_table.py: no results under {directory}")
+shapes = sorted({r["shape"] for r in rows})
+print("| method | " + " | ".join(f"{s}: missing / extra / normal > 30 deg / RMSE" for s in shapes)
+      + " |")
+print("|---|" + "---|" * len(shapes))
+for m in sorted({r["method"] for r in rows}):
+    cells = []
+    for s in shapes:
+        r = next((r for r in rows if r["method"] == m and r["shape"] == s), None)
+        cells.append("-" if r is None else
+                     f"{100 * r['missing_rate']:.2f} / {100 * r['extra_rate']:.2f} / "
+                     f"{100 * r['normal_off_rate']:.2f} / {r['rmse']:.4f}")
+    print(f"| {m} | " + " | ".join(cells) + " |")
