@@ -9,7 +9,9 @@
 // model itself shows over the same x (slack 0.02 for lower-order terms; for claims stated as
 // exact powers, the exponent of y minus the fitted constant against the power).
 //   exceeds       both witnesses speak: the claim fails;
-//   inconclusive  one speaks, or 0.5 < w < 0.95 (a faster model fits better, not decisively);
+//   inconclusive  w >= 0.95 without the exponent (a late upturn of a flat series), or
+//                 0.5 < w < 0.95 (a faster model fits better, not decisively), or an exact power
+//                 whose growth term's exponent CI lies above it;
 //   below         a slower model is decisively preferred to the claimed one: the bound holds,
 //                 loose on this input;
 //   within        otherwise: the bound holds and is tight as far as the data can tell (fit_runs
@@ -60,10 +62,10 @@ struct GrowthFit {
   double detectable_exponent = 0;
   // The 95% CI of the exponent of y minus the claimed model's constant (its growth term).
   double power_ci_low = 0, power_ci_high = 0;
-  double claimed_exponent = 0;  // the log-log slope of the pure claimed model over the same x
-  Growth best = Growth::kConstant;       // the lowest-AICc model (the constant when within 2)
-  double r2 = 0;                         // of `best` (weighted, relative residuals)
-  double noise = 0;                      // relative residual sd of `best`
+  double claimed_exponent = 0;      // the log-log slope of the pure claimed model over the same x
+  Growth best = Growth::kConstant;  // the lowest-AICc model (the constant when within 2)
+  double r2 = 0;                    // of `best` (weighted, relative residuals)
+  double noise = 0;                 // relative residual sd of `best`
   std::array<double, kModels> aicc{};    // per model, kAllGrowths order; +inf where not fitted
   std::array<double, kModels> weight{};  // Akaike weights
   std::array<double, kModels> slope{};   // b of y = a + b g(x), g scaled to 1 at the largest x

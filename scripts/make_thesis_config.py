@@ -134,7 +134,7 @@ E.append({"name": "afsr", "kind": "reconstruct", "reconstructions": ["afsr"], "d
           "grid": {"N": N_SCAN}, "repetitions": 5,
           "fits": [fit("afsr/reconstruct", "N", "time")]})
 E.append({"name": "crossover", "kind": "crossover", "methods": ["goradia_2010", "hubo_2006"], "repetitions": 5,
-          "datasets": ["sphere"], "grid": {"N": [6250, 12500, 25000, 50000, 100000], "M": [65536], "B": [1]},
+          "datasets": ["sphere"], "grid": {"N": geo(3125, 200000, 7), "M": [65536], "B": [1]},
           "fits": [fit("direct/total", "N", ["direct_setup_s", "direct_frame_s"]),
                    fit("reconstruction/total", "N", ["mesh_setup_s", "mesh_frame_s"])]})
 E.append({"name": "real_time_brute_force", "kind": "render", "methods": ["tejada_2006"], "datasets": ["sphere"],
