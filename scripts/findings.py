@@ -46,7 +46,7 @@ def describe(f):
     what = f"{f['claim']} on {data_name(f)}"
     if f["verdict"] in THRESHOLD:
         return f"{what}: {g(f.get('measured'))} ({f['metric']}; claimed {f['threshold']})"
-    return (f"{what}: exponent {g(f.get('exponent'), 2)} [{g(f.get('ci_low'), 2)}, "
+    return (f"{what} ({f['metric']}): exponent {g(f.get('exponent'), 2)} [{g(f.get('ci_low'), 2)}, "
             f"{g(f.get('ci_high'), 2)}] in {f['variable']}, best {f.get('best_model')} "
             f"(claimed {f.get('expected_model')}; {f.get('reason', '')})")
 
