@@ -56,7 +56,9 @@ def section(d):
     ctx = json.load(open(os.path.join(d, "context.json")))
     counts = {v: sum(f["verdict"] == v for f in fits) for v in ORDER}
     out = [BEGIN, ""]
-    out.append(f"`{d}` ({len(fits)} fits, commit `{str(ctx.get('git_commit', '?'))[:12]}`"
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    name = os.path.relpath(os.path.abspath(d), os.path.abspath(root))
+    out.append(f"`{name}` ({len(fits)} fits, commit `{str(ctx.get('git_commit', '?'))[:12]}`"
                f"{', uncommitted changes' if ctx.get('git_dirty') else ''}): growth claims "
                + ", ".join(f"{counts[v]} {v}" for v in GROWTH) + "; threshold claims "
                + ", ".join(f"{counts[v]} {v}" for v in THRESHOLD) + "; not judged "
