@@ -146,16 +146,21 @@ def main():
     out.append(tally_text(fits) + "\n")
     out.append(
         "The thesis's O() are upper bounds on the worst case (Def. 5.1), so a growth verdict places the "
-        "measured growth against the bound: **within** (the bound holds and is tight), **below** (it "
-        "holds, loose on this input), **exceeds** (a faster model is decisively preferred: Akaike weight "
-        ">= 0.95 against the best model at or below the claim), or **inconclusive** (a faster model fits "
-        "better but not decisively). Threshold claims **meet** or **miss**. Not judged, outside the "
-        "tallies: **identity** (y/x is constant by construction: a loop-structure check), **drifted** (a "
-        "variable that should be fixed moved by more than 20%) and **error** (fewer than 5 distinct x, "
-        "...). Each fit gives the smallest exponent departure its design detects (90% power, 5% level), "
-        "the simulated rate of detecting a violation one class up (`power`) and of calling an exactly "
-        "true claim `exceeds` (`false`), both at the fit's own noise. Operation counts are exact and "
-        "machine independent; times are medians over the repetitions on this machine.\n")
+        "measured growth against the bound. **exceeds**: a faster model is decisively preferred (pairwise "
+        "Akaike weight >= 0.95 against the best model at or below the claim) and the exponent's CI lies "
+        "above the exponent the claimed model shows over the same x; the claim fails. **inconclusive**: "
+        "only the first of those holds, a faster model fits better without being decisive, an exact "
+        "power's growth term rises above it, or the design could not have caught a violation one class "
+        "up 90% of the time at this noise. **below**: a slower model is decisively preferred (the bound "
+        "holds, loose here). **within**: otherwise (the bound holds and is tight as far as the data can "
+        "tell). Threshold claims **meet** or **miss**. Not judged, outside the tallies: **identity** (y/x "
+        "is constant by construction: a loop-structure check), **drifted** (K, k or the measured "
+        "iterations per run moved by more than 20% while they should be fixed) and **error** (fewer than "
+        "5 distinct x, ...). Each fit gives the smallest exponent departure its design detects (90% "
+        "power, 5% level), the simulated rate of detecting a violation one class up (`power`) and of "
+        "calling an exactly true claim `exceeds` (`false`), both at the fit's own noise. Operation "
+        "counts are exact and machine independent; times are medians over the repetitions on this "
+        "machine.\n")
     judged = [f for f in fits if f["verdict"] in GROWTH]
     out.append("## Growth claims\n")
     out.append("Plots are in `plots/` next to this file (`pcrt report DIR` draws them again).\n")
