@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/reconstruction.hpp"
+#include "reconstruction/triangle_distance.hpp"
 
 namespace pcrt {
 namespace {
@@ -119,30 +120,39 @@ const RegisterReconstruction kAfsr{ReconstructionInfo{
     "builds a full 3D Delaunay first",
     "O(N log N) expected, O(N^2) worst case (its Delaunay, thesis 5.1.1)", run_afsr}};
 
-// CGAL's AABB tree over the triangles, queried with first_intersection.
-class CgalAabbEngine final : public MeshEngine {
- public:
+// A mesh's triangles in CGAL's kernel and the AABB tree over them: the cgal_aabb engine's and the
+// distance tree's.
+struct TriangleTree {
   using Triangle = Kernel::Triangle_3;
   using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
-  explicit CgalAabbEngine(const TriangleMesh& mesh) : mesh_(mesh) {
-    triangles_.reserve(mesh.triangles.size());
+  explicit TriangleTree(const TriangleMesh& mesh) {
     auto p = [&](uint32_t v) {
       const Vec3& x = mesh.vertices[v];
       return Point(x.x(), x.y(), x.z());
     };
-    for (const auto& t : mesh.triangles) triangles_.emplace_back(p(t[0]), p(t[1]), p(t[2]));
-    tree_.insert(triangles_.begin(), triangles_.end());
-    tree_.build();
+    triangles.reserve(mesh.triangles.size());
+    for (const auto& t : mesh.triangles) triangles.emplace_back(p(t[0]), p(t[1]), p(t[2]));
+    tree.insert(triangles.begin(), triangles.end());
+    tree.build();
   }
+  [[nodiscard]] uint32_t index(Primitive::Id id) const { return uint32_t(id - triangles.begin()); }
+
+  std::vector<Triangle> triangles;
+  CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree;
+};
+
+// CGAL's AABB tree over the triangles, queried with first_intersection.
+class CgalAabbEngine final : public MeshEngine {
+ public:
+  explicit CgalAabbEngine(const TriangleMesh& mesh) : mesh_(mesh), tris_(mesh) {}
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
     counters.add(kCgalRays);
     const Vec3 o = ray.at(ray.tmin);
     const Kernel::Ray_3 r(Point(o.x(), o.y(), o.z()),
                           Kernel::Direction_3(ray.d.x(), ray.d.y(), ray.d.z()));
-    const auto found = tree_.first_intersection(r);
+    const auto found = tris_.tree.first_intersection(r);
     if (!found) return false;
     const Point* x = boost::get<Point>(&found->first);
     if (!x) return false;  // the ray runs inside a triangle's plane: a segment, no single point
@@ -150,7 +160,7 @@ class CgalAabbEngine final : public MeshEngine {
         ray.tmin + float((Vec3(float(x->x()), float(x->y()), float(x->z())) - o).dot(ray.d));
     if (!(t < std::min(ray.tmax, hit.t))) return false;
     hit.t = t;
-    hit.prim = uint32_t(found->second - triangles_.begin());
+    hit.prim = tris_.index(found->second);
     hit.p = ray.at(t);
     hit.n = mesh_.normal(hit.prim);
     hit.footprint = 0;
@@ -159,15 +169,15 @@ class CgalAabbEngine final : public MeshEngine {
   [[nodiscard]] size_t memory_bytes() const override {
     // An estimate from element sizes (CGAL reports none): our CGAL triangle copy, the primitive,
     // and a tree node per primitive (a box of 6 doubles, 48 bytes, and two child pointers).
-    return triangles_.size() * (sizeof(Triangle) + sizeof(Primitive) + 2 * sizeof(void*) + 48);
+    return tris_.triangles.size() * (sizeof(TriangleTree::Triangle) +
+                                     sizeof(TriangleTree::Primitive) + 2 * sizeof(void*) + 48);
   }
 
  private:
   static inline const Counter kCgalRays{
       "cgal_aabb_rays", "rays traced by CGAL's AABB tree (internal work uncounted)"};
   const TriangleMesh& mesh_;
-  std::vector<Triangle> triangles_;
-  Tree tree_;
+  TriangleTree tris_;
 };
 
 const RegisterMeshEngine kCgalEngine{
@@ -178,4 +188,29 @@ const RegisterMeshEngine kCgalEngine{
                    }}};
 
 }  // namespace
+// TriangleDistanceTree: the same tree, for nearest points and box queries.
+struct TriangleDistanceTree::Impl : TriangleTree {
+  using TriangleTree::TriangleTree;
+};
+
+TriangleDistanceTree::TriangleDistanceTree(const TriangleMesh& mesh)
+    : impl_(std::make_unique<Impl>(mesh)) {
+  impl_->tree.accelerate_distance_queries();
+}
+
+TriangleDistanceTree::~TriangleDistanceTree() = default;
+
+TriangleDistanceTree::Closest TriangleDistanceTree::closest(const Vec3& x) const {
+  const auto [p, id] = impl_->tree.closest_point_and_primitive(Point(x.x(), x.y(), x.z()));
+  return {Vec3(float(p.x()), float(p.y()), float(p.z())), impl_->index(id)};
+}
+
+void TriangleDistanceTree::triangles_near(const Vec3& x, float r,
+                                          std::vector<uint32_t>& out) const {
+  const CGAL::Bbox_3 box(x.x() - r, x.y() - r, x.z() - r, x.x() + r, x.y() + r, x.z() + r);
+  std::vector<TriangleTree::Primitive::Id> ids;
+  impl_->tree.all_intersected_primitives(box, std::back_inserter(ids));
+  for (const auto id : ids) out.push_back(impl_->index(id));
+}
+
 }  // namespace pcrt

@@ -1,10 +1,5 @@
 #include "reconstruction/mesh_surface.hpp"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -12,15 +7,6 @@
 
 namespace pcrt {
 namespace {
-
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
-using CgalTriangle = Kernel::Triangle_3;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<CgalTriangle>::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-
-Point to_cgal(const Vec3& x) { return Point(x.x(), x.y(), x.z()); }
-Vec3 from_cgal(const Point& p) { return Vec3(float(p.x()), float(p.y()), float(p.z())); }
 
 // Six times the signed volume enclosed (positive when the triangles face outward).
 double signed_volume6(const TriangleMesh& m) {
@@ -45,11 +31,6 @@ float angle_deg(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-struct MeshSurface::DistanceTree {
-  std::vector<CgalTriangle> triangles;
-  Tree tree;
-};
-
 MeshSurface::MeshSurface(TriangleMesh mesh, std::string name, const std::string& engine)
     : mesh_(std::move(mesh)), name_(std::move(name)) {
   // Sampled points take their normals from the faces: an inward-facing mesh would hand every
@@ -69,15 +50,7 @@ MeshSurface::MeshSurface(TriangleMesh mesh, std::string name, const std::string&
   if (!(total > 0)) input_error("{}: the mesh has zero area", name_);
   for (Vec3& n : vertex_normals_) n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitZ();
 
-  tree_ = std::make_unique<DistanceTree>();
-  tree_->triangles.reserve(mesh_.triangles.size());
-  for (const auto& t : mesh_.triangles)
-    tree_->triangles.emplace_back(to_cgal(mesh_.vertices[t[0]]), to_cgal(mesh_.vertices[t[1]]),
-                                  to_cgal(mesh_.vertices[t[2]]));
-  tree_->tree.insert(tree_->triangles.begin(), tree_->triangles.end());
-  tree_->tree.build();
-  // Built now: CGAL builds its distance search tree lazily, which would race between threads.
-  tree_->tree.accelerate_distance_queries();
+  tree_ = std::make_unique<TriangleDistanceTree>(mesh_);
 
   OpCounters build_counters;
   Timings build_timings;
@@ -92,13 +65,12 @@ std::string MeshSurface::describe() const {
   return fmt::format("mesh {} ({} triangles, area {:.6g})", name_, mesh_.triangles.size(), area());
 }
 
-MeshSurface::Closest MeshSurface::closest(const Vec3& x) const {
-  const auto [p, id] = tree_->tree.closest_point_and_primitive(to_cgal(x));
-  return {from_cgal(p), uint32_t(id - tree_->triangles.begin())};
+TriangleDistanceTree::Closest MeshSurface::closest(const Vec3& x) const {
+  return tree_->closest(x);
 }
 
 float MeshSurface::signed_distance(const Vec3& x) const {
-  const Closest c = closest(x);
+  const TriangleDistanceTree::Closest c = closest(x);
   const float d = (x - c.point).norm();
   return mesh_.normal(c.triangle).dot(x - c.point) < 0 ? -d : d;
 }
@@ -129,18 +101,15 @@ bool MeshSurface::intersect(const Ray& ray, float& t, Vec3& n) const {
 
 bool MeshSurface::smooth_at(const Vec3& x, float radius) const {
   const Vec3 n = normal(x);
-  const CGAL::Bbox_3 box(x.x() - radius, x.y() - radius, x.z() - radius, x.x() + radius,
-                         x.y() + radius, x.z() + radius);
-  std::vector<Primitive::Id> near;
-  tree_->tree.all_intersected_primitives(box, std::back_inserter(near));
-  for (const auto id : near)
-    if (angle_deg(n, mesh_.normal(uint32_t(id - tree_->triangles.begin()))) > kSmoothAngleDeg)
-      return false;
+  std::vector<uint32_t> near;
+  tree_->triangles_near(x, radius, near);
+  for (const uint32_t i : near)
+    if (angle_deg(n, mesh_.normal(i)) > kSmoothAngleDeg) return false;
   return true;
 }
 
 Vec3 MeshSurface::smooth_normal(const Vec3& x) const {
-  const Closest c = closest(x);
+  const TriangleDistanceTree::Closest c = closest(x);
   const auto& t = mesh_.triangles[c.triangle];
   const Vec3 a = mesh_.vertices[t[0]], b = mesh_.vertices[t[1]], d = mesh_.vertices[t[2]];
   // Barycentric coordinates of the closest point, by sub-triangle areas.

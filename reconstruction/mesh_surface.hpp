@@ -11,6 +11,7 @@
 
 #include "core/surfaces.hpp"
 #include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/triangle_distance.hpp"
 #include "reconstruction/triangle_mesh.hpp"
 
 namespace pcrt {
@@ -42,19 +43,14 @@ class MeshSurface final : public Surface {
   static constexpr float kSmoothAngleDeg = 15.0f;
 
  private:
-  struct Closest {
-    Vec3 point;
-    uint32_t triangle;
-  };
-  [[nodiscard]] Closest closest(const Vec3& x) const;
+  [[nodiscard]] TriangleDistanceTree::Closest closest(const Vec3& x) const;
 
-  struct DistanceTree;  // CGAL's, kept out of this header (it is only compiled in one file)
   TriangleMesh mesh_;
   std::string name_;
   Aabb bounds_;
   std::vector<double> cumulative_area_;
   std::vector<Vec3> vertex_normals_;  // area-weighted, for smooth_normal
-  std::unique_ptr<DistanceTree> tree_;
+  std::unique_ptr<TriangleDistanceTree> tree_;
   std::unique_ptr<MeshEngine> engine_;
 };
 
