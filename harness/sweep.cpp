@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -848,27 +849,27 @@ std::vector<std::string> metric_columns(const std::vector<std::string>& metric, 
   return cols;
 }
 
+// The variables a run must hold while another is swept, as run columns.
+constexpr std::array<const char*, 3> kHeldColumns = {"K", "k", "I_run"};
+
 struct FitPoint {
   double x, y;
-  json fixed;  // the K, k, I of the run, which must not drift
+  std::array<double, 3> held;  // kHeldColumns of the run; NaN where the run has none
 };
 
 // Variables that the claim does not sweep must stay put: K (the method's K or the measured
 // items per leaf), k, and I (the measured iterations per run).
 std::string drift_of(const std::vector<FitPoint>& pts, const FitSpec& f) {
-  for (const char* v : {"K", "k", "I_run"}) {
-    if (f.variable == v || (f.variable == "I" && std::string(v) == "I_run")) continue;
+  for (size_t i = 0; i < kHeldColumns.size(); ++i) {
+    const std::string v = kHeldColumns[i];
+    if (f.variable == v || (f.variable == "I" && v == "I_run")) continue;
     if (std::find(f.free.begin(), f.free.end(), v) != f.free.end()) continue;
     double lo = std::numeric_limits<double>::infinity(), hi = 0;
-    for (const FitPoint& p : pts) {
-      const json val = p.fixed.value(v, json(nullptr));
-      if (!val.is_number()) continue;
-      lo = std::min(lo, val.get<double>()), hi = std::max(hi, val.get<double>());
-    }
+    for (const FitPoint& p : pts)
+      if (std::isfinite(p.held[i])) lo = std::min(lo, p.held[i]), hi = std::max(hi, p.held[i]);
     if (hi > 0 && lo < hi && (hi - lo) > 0.2 * lo)
       return fmt::format("{} moved from {:.3g} to {:.3g} (+{:.0f}%) while it should be fixed",
-                         std::string(v) == "I_run" ? "I (iterations per run)" : v, lo, hi,
-                         100 * (hi - lo) / lo);
+                         v == "I_run" ? "I (iterations per run)" : v, lo, hi, 100 * (hi - lo) / lo);
   }
   return {};
 }
@@ -891,7 +892,9 @@ void fit_threshold(const FitSpec& f, const std::vector<FitPoint>& pts, json& out
                                             : ClaimVerdict::kMisses);
 }
 
-void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint> pts, json& out) {
+// Fits one group and writes its numbers into `out`; returns its verdict (also written).
+ClaimVerdict fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint> pts,
+                              json& out) {
   // Identical points (parameters that build the same structure) are one observation.
   std::sort(pts.begin(), pts.end(), [](const FitPoint& a, const FitPoint& b) {
     return std::tie(a.x, a.y) < std::tie(b.x, b.y);
@@ -920,9 +923,9 @@ void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint
               {"akaike_weights", weights},
               {"weight_faster", g.weight_faster},
               {"weight_slower", g.weight_slower},
-              {"delta_aicc_expected", g.delta_aicc_expected},
-              {"verdict", verdict_name(g.verdict)},
-              {"reason", g.reason}});
+              {"delta_aicc_expected", g.delta_aicc_expected}});
+  ClaimVerdict verdict = g.verdict;
+  std::string reason = g.reason;
   // What this design could detect at the noise it shows (floor 0.5%): a violation one class up,
   // and how often an exactly true claim would be called `exceeds`.
   const double noise = std::max(g.noise, 0.005);
@@ -933,20 +936,23 @@ void fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint
   // "Within" is a claim about what was not seen: it needs a design that would have seen a
   // violation one class up at this noise at least 90% of the time.
   const double power = out.value("power_one_up", 1.0);
-  if (g.verdict == ClaimVerdict::kWithin && power < 0.9) {
-    out["verdict"] = verdict_name(ClaimVerdict::kInconclusive);
-    out["reason"] = fmt::format(
+  if (verdict == ClaimVerdict::kWithin && power < 0.9) {
+    verdict = ClaimVerdict::kInconclusive;
+    reason = fmt::format(
         "no faster model is preferred, but at this noise ({:.1f}%) the design would catch {} only "
         "{:.0f}% of the time",
         100 * g.noise, growth_name(next_growth(expected)), 100 * power);
   }
   if (is_identity(pts)) {
-    out["verdict"] = verdict_name(ClaimVerdict::kIdentity);
-    out["reason"] = fmt::format(
+    verdict = ClaimVerdict::kIdentity;
+    reason = fmt::format(
         "y / x = {:.6g} at every x: the metric counts x by construction "
         "(a loop-structure check, not a test of the claim)",
         pts.front().y / pts.front().x);
   }
+  out["verdict"] = verdict_name(verdict);
+  out["reason"] = reason;
+  return verdict;
 }
 
 json fit_group(const FitSpec& f, const std::string& key, const std::vector<json>& rows) {
@@ -973,9 +979,12 @@ json fit_group(const FitSpec& f, const std::string& key, const std::vector<json>
     double y = 0;
     for (const std::string& m : cols) y += column(row, m);
     if (!f.per.empty()) y /= column(row, f.per);
-    json fixed = json::object();
-    for (const char* v : {"K", "k", "I_run"}) fixed[v] = row.value(v, json(nullptr));
-    pts.push_back({f.x.empty() ? 0.0 : column(row, f.x), y, fixed});
+    std::array<double, 3> held{};
+    for (size_t i = 0; i < kHeldColumns.size(); ++i) {
+      const json v = row.value(kHeldColumns[i], json(nullptr));
+      held[i] = v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+    }
+    pts.push_back({f.x.empty() ? 0.0 : column(row, f.x), y, held});
   }
   out["runs"] = rows.size();
   out["failed_runs"] = failed;
@@ -987,9 +996,9 @@ json fit_group(const FitSpec& f, const std::string& key, const std::vector<json>
       fit_threshold(f, pts, out);
       return out;
     }
-    fit_growth_group(f, claim, pts, out);
     const std::string drift = drift_of(pts, f);
-    if (!drift.empty() && out["verdict"] != verdict_name(ClaimVerdict::kIdentity)) {
+    const ClaimVerdict verdict = fit_growth_group(f, claim, pts, out);
+    if (!drift.empty() && verdict != ClaimVerdict::kIdentity) {
       out["verdict_if_fixed"] = out["verdict"];
       out["verdict"] = verdict_name(ClaimVerdict::kDrifted);
       out["reason"] = drift;
