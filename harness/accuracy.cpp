@@ -25,8 +25,12 @@ enum class Verdict : uint8_t {
   kGoodHit
 };
 
+enum class Feature : uint8_t { kOpen, kThin, kCrease };
+
 struct RayOutcome {
   Verdict verdict = Verdict::kIgnored;
+  Feature feature = Feature::kOpen;  // of the shape at the exact first hit
+  bool phantom_near_crease = false;
   bool normal_judged = false;  // the surface is smooth within 2h of the exact hit
   float distance_h = 0;
   float normal_deg = 0;         // to the true normal (judged only where smooth)
@@ -66,6 +70,36 @@ float closest_approach(const Surface& truth, const Ray& ray, float scale) {
   return best;
 }
 
+// The shape at an exact hit p: the wall's thickness is the distance to the back side along the
+// inward normal (rays leaving p inward, like a shadow ray's exit).
+Feature feature_at(const Surface& truth, const Vec3& p, float h) {
+  if (!truth.smooth_at(p, FeatureSplit::kFeatureReachH * h)) return Feature::kCrease;
+  const Vec3 n_out = truth.normal(p);
+  float t = 0;
+  Vec3 n;
+  const Ray inward{p, -n_out, 0.01f * h, FeatureSplit::kThinWallH * h};
+  return truth.intersect(inward, t, n) ? Feature::kThin : Feature::kOpen;
+}
+
+bool near_crease(const Surface& truth, const Vec3& phantom, float h) {
+  const float reach = std::abs(truth.signed_distance(phantom)) + FeatureSplit::kFeatureReachH * h;
+  return !truth.smooth_at(phantom, reach);
+}
+
+void count_feature(FeatureSplit& split, Feature f) {
+  switch (f) {
+    case Feature::kOpen:
+      ++split.open;
+      break;
+    case Feature::kThin:
+      ++split.thin;
+      break;
+    case Feature::kCrease:
+      ++split.crease;
+      break;
+  }
+}
+
 }  // namespace
 
 std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uint64_t seed) {
@@ -101,12 +135,14 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
     RayOutcome& o = out[i];
     if (truth.intersect(ray, t_true, n_true)) {
       if (std::abs(n_true.dot(ray.d)) < 0.1f) return;  // grazing: not judged
+      o.feature = feature_at(truth, ray.at(t_true), hf);
       if (!found) {
         o.verdict = Verdict::kHole;
         return;
       }
       if ((hit.p - ray.at(t_true)).norm() > 5.0f * hf) {
         o.verdict = false_hit_cause(truth, hit, t_true, hf);
+        if (o.verdict == Verdict::kPhantom) o.phantom_near_crease = near_crease(truth, hit.p, hf);
         o.normal_judged = truth.smooth_at(ray.at(t_true), 2.0f * hf);  // smooth where missed?
         return;
       }
@@ -121,6 +157,7 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
     }
     if (closest_approach(truth, ray, scale) <= 2.0f * hf) return;  // near miss: not judged
     o.verdict = found ? Verdict::kMissPhantom : Verdict::kGoodMiss;
+    if (found) o.phantom_near_crease = near_crease(truth, hit.p, hf);
   });
   per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
 
@@ -134,9 +171,12 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
         continue;
       case Verdict::kHole:
         ++r.judged_hits, ++r.holes;
+        count_feature(r.hole_split, o.feature);
+        count_feature(r.judged_split, o.feature);
         break;
       case Verdict::kGoodHit:
         ++r.judged_hits;
+        count_feature(r.judged_split, o.feature);
         dist.push_back(o.distance_h);
         smooth_angle.push_back(o.smooth_normal_deg);
         if (o.normal_judged) {
@@ -152,15 +192,21 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
       case Verdict::kSeeThrough:
         ++r.judged_hits, ++r.false_hits, ++r.see_through;
         r.see_through_smooth += o.normal_judged;
+        count_feature(r.see_through_split, o.feature);
+        count_feature(r.judged_split, o.feature);
         break;
       case Verdict::kEarly:
         ++r.judged_hits, ++r.false_hits, ++r.early;
+        count_feature(r.judged_split, o.feature);
         break;
       case Verdict::kPhantom:
         ++r.judged_hits, ++r.false_hits, ++r.phantom;
+        r.phantom_near_crease += o.phantom_near_crease;
+        count_feature(r.judged_split, o.feature);
         break;
       case Verdict::kMissPhantom:
         ++r.judged_misses, ++r.false_hits, ++r.phantom;
+        r.phantom_near_crease += o.phantom_near_crease;
         break;
     }
   }

@@ -11,6 +11,19 @@
 
 namespace pcrt {
 
+// Where failures happen, by the shape at the exact front hit: on a wall thinner than kThinWallH
+// (measured along the inward normal to the back side), within kFeatureReachH of a crease (faces
+// more than 15 degrees apart), or on open smooth surface. The same split of every judged hit is
+// the baseline: a cause is established when the failures crowd where the shape has that feature.
+struct FeatureSplit {
+  // Twice the widest kernel reach of the surveyed methods' defaults (3.5 h: Wald and Seidel's
+  // support, the MLS start balls): a kernel centred on one side reaches the other.
+  static constexpr float kThinWallH = 7.0f;
+  static constexpr float kFeatureReachH = 3.5f;
+  size_t thin = 0, crease = 0, open = 0;
+  [[nodiscard]] size_t total() const { return thin + crease + open; }
+};
+
 struct AccuracyReport {
   size_t rays = 0;
   size_t judged_hits = 0;    // exact ray hits, not grazing (|cos| >= 0.1)
@@ -24,6 +37,10 @@ struct AccuracyReport {
   // See-through hits whose missed front surface is smooth within 2h (the rest pass within 2h of a
   // crease or a feature thinner than the method's kernel).
   size_t see_through_smooth = 0;
+  // Causes: judged hits, see-through hits and holes split by the shape at the exact first hit;
+  // phantom hits within kFeatureReachH (beyond their distance to the surface) of a crease.
+  FeatureSplit judged_split, see_through_split, hole_split;
+  size_t phantom_near_crease = 0;
   size_t normal_judged = 0;      // good hits where the surface is smooth within 2h (normals judged)
   double mean_spacing = 0;       // h
   double hole_rate = 0;          // holes / judged_hits

@@ -378,6 +378,20 @@ AccuracyInput accuracy_input(const CliArgs& a, OpCounters& prep) {
   return in;
 }
 
+json split_json(const FeatureSplit& s) {
+  return {{"thin", s.thin}, {"crease", s.crease}, {"open", s.open}};
+}
+
+// The failures by the shape where they happen, beside the same split of all judged hits.
+json causes_json(const AccuracyReport& r) {
+  return {{"thin_wall_h", FeatureSplit::kThinWallH},
+          {"feature_reach_h", FeatureSplit::kFeatureReachH},
+          {"judged_hits", split_json(r.judged_split)},
+          {"see_through", split_json(r.see_through_split)},
+          {"holes", split_json(r.hole_split)},
+          {"phantom_near_crease", r.phantom_near_crease}};
+}
+
 json accuracy_json(const AccuracyReport& r) {
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
   return {{"rays", r.rays},
@@ -394,6 +408,7 @@ json accuracy_json(const AccuracyReport& r) {
           {"see_through_smooth", r.see_through_smooth},
           {"see_through_smooth_rate", r.see_through_smooth_rate()},
           {"early_rate", r.early_rate()},
+          {"causes", causes_json(r)},
           {"phantom_rate", r.phantom_rate()},
           {"distance_median_h", num(r.distance_median_h)},
           {"distance_p95_h", num(r.distance_p95_h)},

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "methods/kernels/splat_set.hpp"
 #include "preprocess/point_attributes.hpp"
@@ -142,11 +143,21 @@ bool ImplicitCells::march(const Ray& ray, uint32_t cell, float t0, float t1, flo
     return f;
   };
   counters.add(kCellsMarched);
+  // A root on the cell's face (a flat face of the shape on a grid plane: the grid starts at the
+  // cloud's bounds) sits between this cell's exit value and the next cell's entry value, which
+  // rounding can give the same sign on both sides: values within the rounding of the sample
+  // position count as zero, so that the face's root is found from either side.
+  const float round_off =
+      8 * std::numeric_limits<float>::epsilon() * (ray.o.cwiseAbs().maxCoeff() + t1 + size_);
+  auto snapped = [&](float t) {
+    const float f = value(t);
+    return std::abs(f) <= round_off ? 0.0f : f;
+  };
   const float step = (t1 - t0) / float(steps_);
-  float t_prev = t0, f_prev = value(t0);
+  float t_prev = t0, f_prev = snapped(t0);
   for (int i = 1; i <= steps_; ++i) {
     const float t = i == steps_ ? t1 : t0 + step * float(i);
-    const float f = value(t);
+    const float f = snapped(t);
     if (f * f_prev <= 0 && !(f == 0 && f_prev == 0)) {
       t_hit = f_prev == f ? t_prev : t_prev + (t - t_prev) * f_prev / (f_prev - f);  // Lerp
       std::array<float, 8> w;
