@@ -553,6 +553,9 @@ json comparison_json(const FrameComparison& c) {
           {"missing", c.missing},
           {"extra", c.extra},
           {"normal_off", c.normal_off},
+          {"edge_pixels", c.edge_pixels},
+          {"missing_at_edges", c.missing_at_edges},
+          {"edge_reach_px", FrameComparison::kEdgeReachPx},
           {"missing_rate", c.missing_rate()},
           {"extra_rate", c.extra_rate()},
           {"normal_off_rate", c.normal_off_rate()},
@@ -632,9 +635,12 @@ int command_compare(const Args& args) {
   std::printf("%s: %s on %s vs %s, %dx%d, %zu object pixels\n", out.c_str(),
               method.method_info().id.c_str(), method.structure_id().c_str(),
               j["truth"].get<std::string>().c_str(), rs.width, rs.height, c.object_pixels);
-  std::printf("  missing %.3f%%  extra %.3f%%  normal > %.0f deg %.3f%%  RMSE %.4f\n",
-              100 * c.missing_rate(), 100 * c.extra_rate(), FrameComparison::kNormalOffDeg,
-              100 * c.normal_off_rate(), c.rmse);
+  std::printf(
+      "  missing %.3f%% (%zu of %zu at silhouettes and contours, which hold %.1f%% of the object)  "
+      "extra %.3f%%  normal > %.0f deg %.3f%%  RMSE %.4f\n",
+      100 * c.missing_rate(), c.missing_at_edges, c.missing,
+      c.object_pixels ? 100.0 * double(c.edge_pixels) / double(c.object_pixels) : 0.0,
+      100 * c.extra_rate(), FrameComparison::kNormalOffDeg, 100 * c.normal_off_rate(), c.rmse);
   return 0;
 }
 

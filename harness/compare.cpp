@@ -1,5 +1,6 @@
 #include "harness/compare.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -18,6 +19,18 @@ PixelVerdict judge(const RenderResult& truth, const RenderResult& method, size_t
   return deg > FrameComparison::kNormalOffDeg ? PixelVerdict::kNormalOff : PixelVerdict::kAgree;
 }
 
+// Whether the truth's pixel (x, y) has background or an occluding contour within kEdgeReachPx.
+bool at_edge(const RenderResult& truth, int width, int height, int x, int y) {
+  const float t = truth.primary_t[size_t(y) * size_t(width) + size_t(x)];
+  constexpr int r = FrameComparison::kEdgeReachPx;
+  for (int ny = std::max(y - r, 0); ny <= std::min(y + r, height - 1); ++ny)
+    for (int nx = std::max(x - r, 0); nx <= std::min(x + r, width - 1); ++nx) {
+      const float u = truth.primary_t[size_t(ny) * size_t(width) + size_t(nx)];
+      if (!std::isfinite(u) || std::abs(u - t) > FrameComparison::kContourJump * t) return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 FrameComparison compare_frames(const RenderResult& truth, const RenderResult& method) {
@@ -27,11 +40,16 @@ FrameComparison compare_frames(const RenderResult& truth, const RenderResult& me
   double sq = 0;
   const auto& ti = truth.image.pixels();
   const auto& mi = method.image.pixels();
+  const int w = truth.image.width(), h = truth.image.height();
   for (size_t i = 0; i < c.pixels; ++i) {
-    c.object_pixels += std::isfinite(truth.primary_t[i]);
+    const bool object = std::isfinite(truth.primary_t[i]);
+    const bool edge = object && at_edge(truth, w, h, int(i % size_t(w)), int(i / size_t(w)));
+    c.object_pixels += object;
+    c.edge_pixels += edge;
     switch (judge(truth, method, i)) {
       case PixelVerdict::kMissing:
         ++c.missing;
+        c.missing_at_edges += edge;
         break;
       case PixelVerdict::kExtra:
         ++c.extra;

@@ -16,9 +16,15 @@ struct FrameComparison {
   size_t missing = 0;        // object pixels the method leaves empty
   size_t extra = 0;          // pixels the method covers where the truth has none
   size_t normal_off = 0;     // pixels both hit with normals more than kNormalOffDeg apart
-  double rmse = 0;           // root mean square radiance error over all pixels (per channel)
+  // Object pixels at an edge of the truth's frame (background, or a depth jump of more than
+  // kContourJump of the pixel's depth, within kEdgeReachPx pixels: silhouettes and occluding
+  // contours), and the missing pixels among them: where a frame loses its pixels.
+  size_t edge_pixels = 0, missing_at_edges = 0;
+  double rmse = 0;  // root mean square radiance error over all pixels (per channel)
 
   static constexpr float kNormalOffDeg = 30.0f;
+  static constexpr int kEdgeReachPx = 2;
+  static constexpr float kContourJump = 0.02f;
   [[nodiscard]] double missing_rate() const { return rate(missing, object_pixels); }
   [[nodiscard]] double extra_rate() const { return rate(extra, object_pixels); }
   [[nodiscard]] double normal_off_rate() const { return rate(normal_off, object_pixels); }

@@ -34,3 +34,22 @@ TEST_CASE("Frame comparison counts missing, extra and normal-off pixels", "[comp
   CHECK(d.at(1, 0).isApprox(Vec3(1, 0, 0)));  // missing: red
   CHECK(d.at(0, 0).isZero());                 // agreeing, same radiance: black
 }
+
+TEST_CASE("Missing pixels at silhouettes and contours are told from interior ones", "[compare]") {
+  RenderResult truth = frame(12, 12), method = frame(12, 12);
+  // Truth: a 10x10 square at depth 1 with a 3x3 patch at depth 2 in its corner (a contour).
+  for (int y = 1; y <= 10; ++y)
+    for (int x = 1; x <= 10; ++x) {
+      const size_t i = size_t(y) * 12 + size_t(x);
+      truth.primary_t[i] = x >= 8 && y >= 8 ? 2.0f : 1.0f;
+      truth.primary_n[i] = Vec3::UnitZ();
+      method.primary_t[i] = truth.primary_t[i], method.primary_n[i] = Vec3::UnitZ();
+    }
+  for (size_t i : {size_t(1 * 12 + 5), size_t(5 * 12 + 5), size_t(6 * 12 + 7)})
+    method.primary_t[i] = kInfinity;  // at the silhouette, interior, next to the contour
+  const FrameComparison c = compare_frames(truth, method);
+  CHECK(c.missing == 3);
+  CHECK(c.missing_at_edges == 2);
+  // Not at an edge: x, y in 3..8 (2 from the background), less 6..8 x 6..8 (near the patch).
+  CHECK(c.edge_pixels == 100 - (36 - 9));
+}

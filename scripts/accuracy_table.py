@@ -17,7 +17,8 @@ from pathlib import Path
 
 BOUND = 1.0  # percent: the bound on holes, see-through and phantom hits
 FIELDS = ["shape", "method", "structure", "N", "mean_spacing", "judged_hits", "judged_misses",
-          "hole_rate", "see_through_rate", "see_through_smooth_rate", "early_rate", "phantom_rate", "false_hit_rate",
+          "hole_rate", "see_through_rate", "see_through_smooth_rate", "see_through_open_rate",
+          "hole_open_rate", "early_rate", "phantom_rate", "false_hit_rate",
           "distance_median_h", "distance_p95_h", "normal_median_deg", "normal_judged",
           "smooth_normal_median_deg", "faceting_floor_deg", "meets_bounds",
           "secondary_outward_self_hit_rate", "secondary_outward_missed_occluder_rate",
@@ -34,6 +35,10 @@ def load(directory):
         for side, v in j.get("secondary", {}).items():  # flattened for the CSV and the table
             for k in ("self_hit_rate", "missed_occluder_rate", "false_occluder_rate"):
                 j[f"secondary_{side}_{k}"] = v[k]
+        causes = j.get("causes")
+        if causes:  # failures on open smooth surface, as rates of the judged hits
+            for kind, key in (("see_through", "see_through_open_rate"), ("holes", "hole_open_rate")):
+                j[key] = causes[kind]["open"] / j["judged_hits"] if j["judged_hits"] else 0.0
         rows.append(j)
     if not rows:
         sys.exit(f"accuracy_table.py: no results under {directory}")
@@ -61,17 +66,55 @@ def before_after(before, after):
     return "\n".join(out) + "\n"
 
 
+def split_cell(split, base):
+    """'crease / thin / open' shares of the failures, and of all judged hits in brackets."""
+    def shares(s):
+        total = sum(s.values())
+        return " / ".join(f"{100.0 * s[k] / total:.0f}" for k in ("crease", "thin", "open")) if total else "-"
+    return f"{shares(split)} ({shares(base)})"
+
+
+def causes(rows):
+    """Where each method's worst failures happen, against where the judged rays land."""
+    c0 = next(r["causes"] for r in rows if "causes" in r)
+    out = [f"Causes at each method's worst shape: the failures' shares (%) on a crease (faces more "
+           f"than 15 degrees apart within {c0['feature_reach_h']} h), a thin wall (back side within "
+           f"{c0['thin_wall_h']} h along the inward normal) or open smooth surface; in brackets the "
+           f"same shares of all judged hits on that shape. A failure share well above its bracket "
+           f"is where the method fails. Phantoms: share with a crease within "
+           f"{c0['feature_reach_h']} h of their nearest surface point.",
+           "",
+           "| method | see-through | crease / thin / open | holes | crease / thin / open | "
+           "phantom | near a crease |",
+           "|---|---|---|---|---|---|---|"]
+    for m in sorted({r["method"] for r in rows}):
+        rs = [r for r in rows if r["method"] == m and "causes" in r]
+        if not rs:
+            continue
+        cells = []
+        for key, kind in (("see_through_rate", "see_through"), ("hole_rate", "holes")):
+            w = max(rs, key=lambda r: r[key])
+            cells += [worst(rs, key),
+                      split_cell(w["causes"][kind], w["causes"]["judged_hits"]) if w[key] else "-"]
+        w = max(rs, key=lambda r: r["phantom_rate"])
+        near = (f"{100.0 * w['causes']['phantom_near_crease'] / w['phantom']:.0f}%"
+                if w["phantom"] else "-")
+        out.append(f"| {m} | " + " | ".join(cells) + f" | {worst(rs, 'phantom_rate')} | {near} |")
+    return "\n".join(out) + "\n"
+
+
 def markdown(rows):
     shapes = sorted({r["shape"] for r in rows})
     methods = sorted({r["method"] for r in rows})
     out = [f"Worst over {len(shapes)} shapes ({', '.join(shapes)}); rates in % of judged rays, "
            f"distances in h, normals in degrees (median over shapes of the per-shape median).",
            "",
-           "| method | see-through | of which on smooth surface | phantom | holes | "
+           "| method | see-through | of which on open smooth surface | phantom | holes | "
+           "holes on open smooth surface | "
            "early (fattened) | distance median | normal median | faceting floor | "
            "shapes meeting every bound | secondary self-hits out / in | "
            "secondary missed occluders out / in |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in methods:
         rs = [r for r in rows if r["method"] == m]
 
@@ -80,8 +123,9 @@ def markdown(rows):
             return f"{v[len(v) // 2]:.3f}" if v else "-"
         meets = sum(1 for r in rs if r["meets_bounds"])
         out.append(f"| {m} | {worst(rs, 'see_through_rate')} | "
-                   f"{worst(rs, 'see_through_smooth_rate')} | {worst(rs, 'phantom_rate')} | "
-                   f"{worst(rs, 'hole_rate')} | {worst(rs, 'early_rate')} | "
+                   f"{worst(rs, 'see_through_open_rate')} | {worst(rs, 'phantom_rate')} | "
+                   f"{worst(rs, 'hole_rate')} | {worst(rs, 'hole_open_rate')} | "
+                   f"{worst(rs, 'early_rate')} | "
                    f"{med('distance_median_h')} | {med('normal_median_deg')} | "
                    f"{med('faceting_floor_deg')} | {meets}/{len(rs)} | "
                    f"{worst(rs, 'secondary_outward_self_hit_rate')} / "
@@ -102,6 +146,8 @@ def main():
             for r in rows:
                 w.writerow({k: r.get(k) for k in FIELDS})
     text = markdown(rows)
+    if any("causes" in r for r in rows):
+        text += "\n" + causes(rows)
     if "--before" in args:
         text += "\nWorst over the shapes, before -> after:\n\n"
         text += before_after(load(args[args.index("--before") + 1]), rows)
