@@ -39,12 +39,13 @@ struct TentWeight {
 };
 
 // A start inside the leaf: the crossing of the tangent plane of the front-most leaf point within
-// `reach` of the ray axis whose plane the ray crosses at or after t_lo, clamped to t_hi; false if
-// there is none. O(K). The front-most, not the nearest to the axis: where a leaf holds two sheets
-// of the surface (both walls of a thin part), the point nearest the axis may lie on the back one,
-// and Newton from its plane converges there, behind the surface the ray meets first. Planes
-// crossed before t_lo are skipped: they are surfaces the search has already left behind (the one
-// a secondary ray starts from), and a start clamped to t_lo would run Newton back to them.
+// `reach` of the ray axis whose plane the ray crosses at or after t_lo (or its nearest approach to
+// the ray when that crossing is out of its reach), clamped to t_hi; false if there is none. O(K).
+// The front-most, not the nearest to the axis: where a leaf holds two sheets of the surface (both
+// walls of a thin part), the point nearest the axis may lie on the back one, and Newton from its
+// plane converges there, behind the surface the ray meets first. Planes crossed before t_lo are
+// skipped: they are surfaces the search has already left behind (the one a secondary ray starts
+// from), and a start clamped to t_lo would run Newton back to them.
 inline bool nearest_tangent_crossing(const Ray& ray, std::span<const uint32_t> items,
                                      std::span<const PackedSplat> points, float reach, float t_lo,
                                      float t_hi, float& t_start) {
@@ -56,8 +57,11 @@ inline bool nearest_tangent_crossing(const Ray& ray, std::span<const uint32_t> i
     const float along = v.dot(ray.d);
     if (along >= front || (v - along * ray.d).squaredNorm() >= reach2) continue;
     const float denom = p.n.dot(ray.d);
-    const float t = std::abs(denom) > 1e-6f ? p.n.dot(v) / denom : along;
+    float t = std::abs(denom) > 1e-6f ? p.n.dot(v) / denom : along;
     if (!(t >= t_lo)) continue;
+    // A plane crossed beyond the point's reach (a plane tilted toward the ray) starts where no
+    // weight is, and the search would end at once: start at the point's nearest approach then.
+    if ((ray.at(t) - p.c).squaredNorm() >= reach2) t = std::max(along, t_lo);
     front = along;
     t_start = std::min(t, t_hi);
   }
