@@ -4,7 +4,8 @@
 #
 # Everything lives under DIR: munge key, socket, state, spool, logs. The daemons run in the
 # foreground as background jobs of this shell; their PIDs are recorded in DIR/pids and cluster_down
-# kills exactly those (never by name: other clusters may run on this machine). Ports come from
+# kills exactly those (never by name: other clusters may run on this machine), then keeps the list
+# in DIR/pids.down. Ports come from
 # PCRT_SLURMCTLD_PORT / PCRT_SLURMD_PORT, or are free ports picked by the kernel, so two clusters
 # on one machine do not collide.
 
@@ -55,7 +56,7 @@ JobCompType=jobcomp/none
 MailProg=/bin/true
 ReturnToService=2
 MinJobAge=600
-$node State=UNKNOWN
+$node NodeAddr=127.0.0.1 State=UNKNOWN
 PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP
 EOF
 }
@@ -111,9 +112,34 @@ cluster_up() {
   cluster_wait_idle
 }
 
-# Kills the recorded daemons (slurmd first, so no job step outlives it) and waits for them.
+# Job steps run under slurmstepd, which outlives slurmd: cancel every job of this cluster while
+# its daemons can still stop them.
+cluster_cancel_jobs() {
+  scancel --user="$(id -un)" 2>/dev/null || return 0
+  for _ in $(seq 100); do
+    [ -z "$(squeue -h -o %i 2>/dev/null)" ] && return 0
+    sleep 0.1
+  done
+  cluster_log "jobs still listed after scancel"
+}
+
+# Anything still carrying this cluster's SLURM_CONF (a step whose slurmd died first) apart from
+# this shell: found by PID in /proc, never by name.
+cluster_kill_leftovers() {
+  local env pid
+  for env in /proc/[0-9]*/environ; do
+    pid=${env#/proc/}; pid=${pid%/environ}
+    [ "$pid" = $$ ] || [ "$pid" = "$BASHPID" ] && continue
+    if grep -qzxF -- "SLURM_CONF=$CLUSTER_DIR/slurm.conf" "$env" 2>/dev/null; then
+      kill -9 "$pid" 2>/dev/null && cluster_log "left-over process $pid killed" || true
+    fi
+  done
+}
+
+# Cancels the jobs, kills the recorded daemons (slurmd first) and waits for them.
 cluster_down() {
   [ -n "${CLUSTER_DIR:-}" ] && [ -f "$CLUSTER_DIR/pids" ] || return 0
+  cluster_cancel_jobs
   local pid name
   while read -r pid name; do
     kill "$pid" 2>/dev/null || true
@@ -127,5 +153,7 @@ cluster_down() {
   while read -r pid name; do
     kill -9 "$pid" 2>/dev/null && cluster_log "$name ($pid) killed with SIGKILL" || true
   done <"$CLUSTER_DIR/pids"
-  : >"$CLUSTER_DIR/pids"
+  cluster_kill_leftovers
+  # Kept for a check that nothing survived; a second cluster_down has nothing left to kill.
+  mv "$CLUSTER_DIR/pids" "$CLUSTER_DIR/pids.down"
 }
