@@ -18,7 +18,7 @@ done
 [ "$(id -u)" = 0 ] || { echo "SKIP: the test cluster's slurmd must run as root"; exit 77; }
 
 source "$here/slurm_cluster.sh"
-work=$(mktemp -d /tmp/pcrt_cluster_test.XXXXXX)
+work=$(mktemp -d "${TMPDIR:-/tmp}/pcrt_cluster_test.XXXXXX")
 finish() {
   local rc=$?
   cluster_down
@@ -32,6 +32,7 @@ finish() {
   exit $rc
 }
 trap finish EXIT
+trap 'exit 143' TERM INT  # so that a killed test still tears its cluster down
 fail() { echo "FAIL: $*"; exit 1; }
 start=$(date +%s)
 
