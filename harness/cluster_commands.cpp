@@ -249,10 +249,13 @@ void submit(const ClusterDir& d, const Submission& s, bool dry_run) {
   array_cmd.insert(array_cmd.end(), s.extra_options.begin(), s.extra_options.end());
   array_cmd.push_back(d.shard_script());
   if (dry_run) {
-    if (!s.shards.empty())
+    std::vector<std::string> merge_cmd = s.extra_options;
+    if (!s.shards.empty()) {
       std::printf("would run: sbatch --parsable %s\n", join(array_cmd, " ").c_str());
-    std::printf("would run: sbatch --parsable %s--dependency=afterok:<array job> %s\n",
-                join(s.extra_options, " ").c_str(), d.merge_script().c_str());
+      merge_cmd.push_back("--dependency=afterok:<array job>");
+    }
+    merge_cmd.push_back(d.merge_script());
+    std::printf("would run: sbatch --parsable %s\n", join(merge_cmd, " ").c_str());
     return;
   }
   std::string array_job;
