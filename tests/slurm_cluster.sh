@@ -28,7 +28,7 @@ cluster_write_conf() {
   node=$(slurmd -C | head -1)
   cat >"$dir/slurm.conf" <<EOF
 ClusterName=pcrt
-SlurmctldHost=$(hostname -s)(127.0.0.1)
+SlurmctldHost=$(hostname | cut -d. -f1)(127.0.0.1)
 SlurmUser=root
 SlurmdUser=root
 SlurmctldPort=$ctld_port
