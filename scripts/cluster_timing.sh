@@ -12,6 +12,7 @@ cpus=${2:-}
 pcrt=$PWD/build/bin/pcrt
 source tests/slurm_cluster.sh
 work=$(mktemp -d /tmp/pcrt_cluster_timing.XXXXXX)
+chmod 0711 "$work"  # the cluster's munge socket lies below: every parent needs o+x
 trap 'cluster_down; rm -rf "$work"' EXIT
 
 now() { date +%s.%N; }

@@ -20,6 +20,7 @@ done
 
 source "$here/slurm_cluster.sh"
 work=$(mktemp -d "${TMPDIR:-/tmp}/pcrt_cluster_test.XXXXXX")
+chmod 0711 "$work"  # the cluster's munge socket lies below: every parent needs o+x
 finish() {
   local rc=$?
   cluster_down

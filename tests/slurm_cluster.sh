@@ -5,9 +5,9 @@
 # Everything lives under DIR: munge key, socket, state, spool, logs. The daemons run in the
 # foreground as background jobs of this shell; their PIDs are recorded in DIR/pids and cluster_down
 # kills exactly those (never by name: other clusters may run on this machine), then keeps the list
-# in DIR/pids.down. Ports come from
-# PCRT_SLURMCTLD_PORT / PCRT_SLURMD_PORT, or are free ports picked by the kernel, so two clusters
-# on one machine do not collide.
+# in DIR/pids.down. Ports come from PCRT_SLURMCTLD_PORT / PCRT_SLURMD_PORT, or are free ports
+# picked by the kernel, so two clusters on one machine do not collide; DIR (the state directory)
+# is the caller's.
 
 cluster_log() { echo "slurm_cluster: $*" >&2; }
 
@@ -61,17 +61,30 @@ PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP
 EOF
 }
 
+# munged and its clients reach the socket through every directory above it: each needs o+x.
+# Directories of the cluster get it; a parent outside that lacks it is reported, not changed.
+cluster_open_path() {
+  local top=$1 d
+  d=$(realpath "$top")
+  chmod 0711 "$d" "$d/munge"
+  d=$(dirname "$d")
+  while [ "$d" != / ]; do
+    if [ "$(stat -c %A "$d" | cut -c10)" != x ] && [ "$(stat -c %A "$d" | cut -c10)" != t ]; then
+      cluster_log "$d lacks o+x, which munged needs on every directory above its socket"
+      return 1
+    fi
+    d=$(dirname "$d")
+  done
+}
+
 cluster_start_munge() {
   local dir=$1
   mkdir -p "$dir/munge"
-  chmod 0700 "$dir/munge/.." 2>/dev/null || true
   dd if=/dev/urandom of="$dir/munge/munge.key" bs=1024 count=1 status=none
   chmod 0400 "$dir/munge/munge.key"
-  # Clients reach the socket through every directory above it: each needs o+x.
-  chmod 0755 "$dir/munge"
-  local d=$dir
-  while [ "$d" != / ]; do chmod o+x "$d"; d=$(dirname "$d"); done
-  # --force: munged refuses to run as root or with a group-writable /tmp parent otherwise.
+  cluster_open_path "$dir" || return 1
+  # --force: a throw-away key in a temporary directory need not pass the checks munged makes for
+  # a production key (ownership and write permissions of every parent directory).
   cluster_spawn munged munged --foreground --force --socket="$dir/munge/munge.socket" \
     --key-file="$dir/munge/munge.key" --pid-file="$dir/munge/munged.pid" \
     --log-file="$dir/munge/munged.log" --seed-file="$dir/munge/munged.seed"
