@@ -282,6 +282,9 @@ int submit_fresh(const CliArgs& a, bool dry_run) {
   const ClusterDir d = cluster_dir(a.require("out"));
   if (!a.has("shards")) input_error("--shards N is required");
   const size_t n = size_t(a.integer("shards", 0, 1, 100000));
+  if (n > config.runs.size())
+    input_error("--shards {} is more than the {} runs of {}", n, config.runs.size(),
+                a.positional()[0]);
   if (fs::exists(d.jobs()))
     input_error(
         "{}: already submitted; pcrt cluster submit --resume {} resubmits what is "

@@ -67,6 +67,8 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
     fs::remove(jsonl);
   }
   write_json(dir + "/context.json", machine_context(config.raw));
+  // A shard with nothing (left) to run still leaves a readable, empty runs.jsonl.
+  if (!fs::exists(jsonl)) std::ofstream{jsonl};
   std::vector<const json*> todo;
   for (size_t i : selected)
     if (!done.count(run_key(config.runs[i]))) todo.push_back(&config.runs[i]);
@@ -189,6 +191,8 @@ std::vector<size_t> shard_runs(const SweepConfig& config, const CliArgs& a) {
     return all_runs(config);
   }
   const auto [i, n] = parse_shard(a.get("shard"));
+  if (a.has("plan") && a.has("costs"))
+    input_error("--plan fixes the shards; --costs cannot move them");
   if (a.has("plan"))
     return plan_shard(read_json_file(a.get("plan")), config.runs, i, n, a.get("plan"));
   const std::vector<json> earlier =
