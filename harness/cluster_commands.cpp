@@ -83,9 +83,16 @@ std::string join(const std::vector<std::string>& parts, const std::string& sep) 
   return s;
 }
 
+// Sorted shard indices in sbatch --array syntax, consecutive ones as ranges: "0-3,5,7-9".
 std::string index_list(const std::vector<size_t>& shards) {
   std::vector<std::string> parts;
-  for (size_t s : shards) parts.push_back(std::to_string(s));
+  for (size_t i = 0; i < shards.size();) {
+    size_t j = i;
+    while (j + 1 < shards.size() && shards[j + 1] == shards[j] + 1) ++j;
+    parts.push_back(j == i ? std::to_string(shards[i])
+                           : fmt::format("{}-{}", shards[i], shards[j]));
+    i = j + 1;
+  }
   return join(parts, ",");
 }
 
@@ -277,19 +284,9 @@ void submit(const ClusterDir& d, const Submission& s, bool dry_run) {
   std::printf("merge, fit, report: job %s%s\n", merge_job.c_str(), after.c_str());
 }
 
-int submit_fresh(const CliArgs& a, bool dry_run) {
-  const SweepConfig config = load_sweep_config(a.positional()[0]);
-  const ClusterDir d = cluster_dir(a.require("out"));
-  if (!a.has("shards")) input_error("--shards N is required");
-  const size_t n = size_t(a.integer("shards", 0, 1, 100000));
-  if (n > config.runs.size())
-    input_error("--shards {} is more than the {} runs of {}", n, config.runs.size(),
-                a.positional()[0]);
-  if (fs::exists(d.jobs()))
-    input_error(
-        "{}: already submitted; pcrt cluster submit --resume {} resubmits what is "
-        "unfinished",
-        d.root, d.root);
+// DIR/slurm: the config, the plan and both job scripts.
+void write_cluster_files(const ClusterDir& d, const SweepConfig& config, size_t n,
+                         const CliArgs& a) {
   fs::create_directories(d.slurm() + "/logs");
   const std::vector<json> earlier =
       a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<json>{};
@@ -305,6 +302,22 @@ int submit_fresh(const CliArgs& a, bool dry_run) {
   const auto [lo, hi] = std::minmax_element(plan.cost.begin(), plan.cost.end());
   std::printf("%s: %zu runs in %zu shards, estimated %.1f to %.1f s each\n", d.slurm().c_str(),
               config.runs.size(), n, *lo, *hi);
+}
+
+int submit_fresh(const CliArgs& a, bool dry_run) {
+  const SweepConfig config = load_sweep_config(a.positional()[0]);
+  const ClusterDir d = cluster_dir(a.require("out"));
+  if (!a.has("shards")) input_error("--shards N is required");
+  const size_t n = size_t(a.integer("shards", 0, 1, 100000));
+  if (n > config.runs.size())
+    input_error("--shards {} is more than the {} runs of {}", n, config.runs.size(),
+                a.positional()[0]);
+  if (fs::exists(d.jobs()))
+    input_error(
+        "{}: already submitted; pcrt cluster submit --resume {} resubmits what is "
+        "unfinished",
+        d.root, d.root);
+  write_cluster_files(d, config, n, a);
   std::vector<size_t> all(n);
   std::iota(all.begin(), all.end(), size_t(0));
   submit(d, {all, {}}, dry_run);
@@ -313,6 +326,7 @@ int submit_fresh(const CliArgs& a, bool dry_run) {
 
 int submit_resume(const CliArgs& a, bool dry_run) {
   const ClusterDir d = cluster_dir(a.positional()[0]);
+  require_slurm_command("squeue");  // even for --dry-run: what is unfinished comes from squeue
   if (!fs::exists(d.jobs())) input_error("{}: nothing was submitted yet", d.jobs());
   const std::vector<Part> parts = survey(d);
   for (const Part& p : parts)
