@@ -16,6 +16,7 @@ chmod 0711 "$work"  # the cluster's munge socket lies below: every parent needs 
 trap 'cluster_down; rm -rf "$work"' EXIT
 
 now() { date +%s.%N; }
+elapsed() { /usr/bin/python3 -c "import sys, time; print(time.time() - float(sys.argv[1]))" "$1"; }
 wait_done() {
   local rc
   while :; do
@@ -27,7 +28,7 @@ wait_done() {
 }
 t0=$(now)
 "$pcrt" sweep "$config" --out "$work/single" >/dev/null
-single=$(echo "$(now) - $t0" | bc)
+single=$(elapsed "$t0")
 cluster_up "$work/cluster"
 printf '%-8s %10s %12s %16s %16s\n' shards "wall s" "to merged s" "balance (plan)" "balance (n-th)"
 printf '%-8s %10.1f %12s %16s %16s\n' 1 "$single" - - -
@@ -35,7 +36,7 @@ for n in 2 4; do
   t0=$(now)
   "$pcrt" cluster submit "$config" --out "$work/s$n" --shards "$n" ${cpus:+--cpus-per-task "$cpus"} >/dev/null
   wait_done "$work/s$n" || { "$pcrt" cluster status "$work/s$n"; exit 1; }
-  merged=$(echo "$(now) - $t0" | bc)
+  merged=$(elapsed "$t0")
   /usr/bin/python3 - "$work" "$n" "$merged" <<'PY'
 import json, os, sys
 work, n, merged = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
