@@ -24,6 +24,7 @@ int command_fit(const Args& args);
 int command_report(const Args& args);
 int command_calibrate(const Args& args);
 int command_check(const Args& args);
+int command_cluster(const Args& args);
 int command_run_one(const Args& args);
 
 }  // namespace pcrt

@@ -29,6 +29,9 @@ constexpr const char* kUsage =
     "  crossover --data DATA --method ID [--reconstruction afsr --engine bvh] [--json]   frames "
     "after which reconstruct + trace beats direct tracing\n"
     "  sweep CONFIG.json [--out DIR] [--resume] [--shard i/n] [--fit]   run a sweep\n"
+    "  cluster submit CONFIG.json --out DIR --shards N [...]   the sweep as a Slurm job array, "
+    "then merge, fit, report\n"
+    "  cluster status DIR          Slurm state and runs done per shard; exit 0 when finished\n"
     "  merge DIR... --out DIR      join the shards of one sweep\n"
     "  fit DIR                     fits and verdicts: DIR/fits.json, DIR/fits.csv\n"
     "  report DIR                  DIR/report.md with plots (matplotlib)\n"
@@ -66,6 +69,7 @@ int main(int argc, char** argv) {
     if (cmd == "report") return pcrt::command_report(args);
     if (cmd == "calibrate") return pcrt::command_calibrate(args);
     if (cmd == "check") return pcrt::command_check(args);
+    if (cmd == "cluster") return pcrt::command_cluster(args);
     if (cmd == "_run") return pcrt::command_run_one(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);

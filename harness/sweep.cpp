@@ -430,8 +430,9 @@ SweepConfig load_sweep_config(const std::string& path) {
 std::string run_key(const json& spec) {
   if (spec.contains("spec")) return spec["spec"].dump();  // a result: the spec it ran
   json s = spec;
-  for (const char* k : {"status", "error", "counters", "prepare_counters", "times_s", "extra",
-                        "spec", "time_median_s", "time_min_s", "time_max_s", "time_spread"})
+  for (const char* k :
+       {"status", "error", "counters", "prepare_counters", "times_s", "extra", "spec", "wall_s",
+        "time_median_s", "time_min_s", "time_max_s", "time_spread"})
     s.erase(k);
   return s.dump();
 }
@@ -604,8 +605,12 @@ json run_in_child(const json& spec, double time_limit_s) {
   close(out_pipe[0]);
   close(err_pipe[0]);
   waitpid(pid, &status, 0);
+  // The whole run's wall time, preparation and process included: what shard plans balance on.
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json r = spec;
   r["spec"] = spec;
+  r["wall_s"] = wall_s;
   if (timed_out) {
     r["status"] = "timeout";
     r["error"] = fmt::format("exceeded the time limit of {} s", time_limit_s);
@@ -613,7 +618,9 @@ json run_in_child(const json& spec, double time_limit_s) {
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
     try {
-      return json::parse(out);
+      json result = json::parse(out);
+      result["wall_s"] = wall_s;
+      return result;
     } catch (const json::exception&) {
       r["status"] = "failed";
       r["error"] = "the run printed no valid JSON";

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include "core/error.hpp"
@@ -15,6 +16,7 @@
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "harness/fit.hpp"
+#include "harness/shard_plan.hpp"
 #include "harness/sweep.hpp"
 #include "harness/workloads.hpp"
 
@@ -47,10 +49,10 @@ std::string fmt_duration(double s) {
   return fmt::format("{:.0f} min {:.0f} s", std::floor(s / 60), std::fmod(s, 60));
 }
 
-// Runs every run of `config` not yet in DIR/runs.jsonl (with --resume) that falls in the shard;
-// returns all results in DIR afterwards.
+// Runs the `selected` runs of `config` not yet in DIR/runs.jsonl (with --resume); returns all
+// results in DIR afterwards.
 std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
-                            std::pair<size_t, size_t> shard, bool quiet) {
+                            const std::vector<size_t>& selected, bool quiet) {
   fs::create_directories(dir);
   const std::string jsonl = dir + "/runs.jsonl";
   std::set<std::string> done;
@@ -65,10 +67,11 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
     fs::remove(jsonl);
   }
   write_json(dir + "/context.json", machine_context(config.raw));
+  // A shard with nothing (left) to run still leaves a readable, empty runs.jsonl.
+  if (!fs::exists(jsonl)) std::ofstream{jsonl};
   std::vector<const json*> todo;
-  for (size_t i = 0; i < config.runs.size(); ++i)
-    if (i % shard.second == shard.first && !done.count(run_key(config.runs[i])))
-      todo.push_back(&config.runs[i]);
+  for (size_t i : selected)
+    if (!done.count(run_key(config.runs[i]))) todo.push_back(&config.runs[i]);
   const bool tty = isatty(2) && !quiet;
   const auto start = std::chrono::steady_clock::now();
   size_t failed = 0;
@@ -166,6 +169,50 @@ SweepConfig config_of(const std::string& dir) {
   }
 }
 
+std::vector<size_t> all_runs(const SweepConfig& config) {
+  std::vector<size_t> all(config.runs.size());
+  std::iota(all.begin(), all.end(), size_t(0));
+  return all;
+}
+
+json read_json_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) input_error("{}: cannot open", path);
+  const json j = json::parse(in, nullptr, false);
+  if (j.is_discarded()) input_error("{}: not valid JSON", path);
+  return j;
+}
+
+// The runs of shard i/n: from a plan file when given (a cluster sweep fixes its split once),
+// else balanced on estimated costs (the model's, or an earlier sweep's times).
+std::vector<size_t> shard_runs(const SweepConfig& config, const CliArgs& a) {
+  if (!a.has("shard")) {
+    if (a.has("plan") || a.has("costs")) input_error("--plan and --costs need --shard");
+    return all_runs(config);
+  }
+  const auto [i, n] = parse_shard(a.get("shard"));
+  if (a.has("plan") && a.has("costs"))
+    input_error("--plan fixes the shards; --costs cannot move them");
+  if (a.has("plan"))
+    return plan_shard(read_json_file(a.get("plan")), config.runs, i, n, a.get("plan"));
+  const std::vector<json> earlier =
+      a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<json>{};
+  return plan_shards(run_costs(config.runs, earlier), n).shards[i];
+}
+
+// Merging shards of different sweeps or builds would mix results that cannot be compared: the
+// config and the commit must agree.
+void check_same_sweep(const json& ctx, const json& first, const std::string& dir,
+                      const std::string& first_dir) {
+  if (ctx.value("config", json()) != first.value("config", json()))
+    input_error("{}: its config differs from {}'s; only shards of one sweep merge", dir, first_dir);
+  const json commit = ctx.value("git_commit", json());
+  const json first_commit = first.value("git_commit", json());
+  if (commit != first_commit)
+    input_error("{}: made at commit {}, {} at {}; only shards of one build merge", dir,
+                commit.dump(), first_dir, first_commit.dump());
+}
+
 std::string python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3"; }
 
 }  // namespace
@@ -185,17 +232,21 @@ int command_run_one(const Args& args) {
 }
 
 int command_sweep(const Args& args) {
-  CliArgs a("sweep", "pcrt sweep CONFIG.json [--out DIR] [--resume] [--shard i/n]",
-            {{"out", "DIR", "output directory (default results/<config name>)"},
-             {"resume", "", "skip the runs already in DIR/runs.jsonl"},
-             {"shard", "i/n", "run only every n-th run, starting at the i-th (0-based)"},
-             {"fit", "", "also write DIR/fits.json and fits.csv"}},
-            1, 1);
+  CliArgs a(
+      "sweep",
+      "pcrt sweep CONFIG.json [--out DIR] [--resume] [--shard i/n [--costs DIR | --plan FILE]]",
+      {{"out", "DIR", "output directory (default results/<config name>)"},
+       {"resume", "", "skip the runs already in DIR/runs.jsonl"},
+       {"shard", "i/n", "run only shard i (0-based) of n, shards balanced on estimated run time"},
+       {"costs", "DIR", "estimate run times from an earlier sweep's DIR/runs.jsonl"},
+       {"plan", "FILE", "take the shard's runs from a plan file (pcrt cluster submit)"},
+       {"fit", "", "also write DIR/fits.json and fits.csv"}},
+      1, 1);
   if (!a.parse(args)) return 0;
   const SweepConfig config = load_sweep_config(a.positional()[0]);
   const std::string dir = a.has("out") ? a.get("out") : "results/" + config.name;
-  const auto shard = a.has("shard") ? parse_shard(a.get("shard")) : std::pair<size_t, size_t>{0, 1};
-  const std::vector<json> results = run_sweep(config, dir, a.has("resume"), shard, false);
+  const std::vector<json> results =
+      run_sweep(config, dir, a.has("resume"), shard_runs(config, a), false);
   if (a.has("fit")) write_fits(dir, fit_runs(config, results));
   return 0;
 }
@@ -206,17 +257,10 @@ int command_merge(const Args& args) {
   const std::string out = a.require("out");
   std::map<std::string, json> runs;
   json contexts = json::array();
-  std::string config_dump;
   for (size_t i = 0; i < a.positional().size(); ++i) {
     const std::string dir = a.positional()[i];
-    std::ifstream in(dir + "/context.json");
-    if (!in) input_error("{}/context.json: cannot open", dir);
-    const json ctx = json::parse(in, nullptr, false);
-    if (ctx.is_discarded()) input_error("{}/context.json: not valid JSON", dir);
-    if (config_dump.empty()) config_dump = ctx.value("config", json()).dump();
-    if (ctx.value("config", json()).dump() != config_dump)
-      input_error("{}: its config differs from {}'s; only shards of one sweep merge", dir,
-                  a.positional()[0]);
+    const json ctx = read_json_file(dir + "/context.json");
+    if (i > 0) check_same_sweep(ctx, contexts[0], dir, a.positional()[0]);
     contexts.push_back(ctx);
     for (const json& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
   }
@@ -290,7 +334,7 @@ int command_calibrate(const Args& args) {
       a.has("out")
           ? a.get("out")
           : (fs::temp_directory_path() / ("pcrt_calibrate_" + std::to_string(getpid()))).string();
-  const std::vector<json> results = run_sweep(config, dir, false, {0, 1}, true);
+  const std::vector<json> results = run_sweep(config, dir, false, all_runs(config), true);
   const std::vector<json> fits = fit_runs(config, results);
   if (a.has("out"))
     write_fits(dir, fits);
@@ -358,7 +402,7 @@ int command_check(const Args& args) {
       a.has("out")
           ? a.get("out")
           : (fs::temp_directory_path() / ("pcrt_check_" + std::to_string(getpid()))).string();
-  const std::vector<json> results = run_sweep(config, dir, false, {0, 1}, true);
+  const std::vector<json> results = run_sweep(config, dir, false, all_runs(config), true);
   const std::vector<json> fits = fit_runs(config, results);
   if (!a.has("out")) fs::remove_all(dir);
   // Counters per run, verdicts per op-count fit (time fits are not gated: machines differ).

@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libnanoflann-dev libfmt-dev nlohmann-json3-dev catch2 libbenchmark-dev libtbb-dev libpng-dev libembree-dev
   libcgal-dev libgmp-dev libmpfr-dev
   python3 python3-numpy python3-matplotlib
+  slurm-wlm munge
   ca-certificates
 )
 missing=()

@@ -53,6 +53,24 @@ test "$(wc -l <"$dir/a/runs.jsonl")" -eq 15
 "$pcrt" merge "$dir/s0" "$dir/s1" --out "$dir/m" >/dev/null
 test "$(wc -l <"$dir/m/runs.jsonl")" -eq 15
 "$pcrt" fit "$dir/m" >/dev/null && test -s "$dir/m/fits.csv"
+# Merged shards hold the same runs and counters as the whole sweep, whatever the shard count.
+for i in 0 1 2; do "$pcrt" sweep "$dir/tiny.json" --out "$dir/t$i" --shard $i/3 >/dev/null; done
+"$pcrt" merge "$dir/t0" "$dir/t1" "$dir/t2" --out "$dir/m3" >/dev/null
+python3 - "$dir/a" "$dir/m" "$dir/m3" <<'PY'
+import json, sys
+def runs(d):
+    return {json.dumps(r["spec"], sort_keys=True): (r["counters"], r.get("prepare_counters"))
+            for r in map(json.loads, open(d + "/runs.jsonl"))}
+a = runs(sys.argv[1])
+for d in sys.argv[2:]:
+    assert runs(d) == a, d
+PY
+# Shards of another build do not merge.
+cp -r "$dir/s1" "$dir/s1_other"
+python3 - "$dir/s1_other/context.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1])); c["git_commit"] = "0" * 40; json.dump(c, open(sys.argv[1], "w"))
+PY
 # The fitter on workloads of known complexity, in exact operation counts.
 "$pcrt" calibrate --json >"$dir/cal.json" || true
 python3 - "$dir/cal.json" <<'PY'
@@ -96,4 +114,20 @@ expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
 echo '{"runs": 3}' >"$dir/notbase.json"; expect_error "notbase.json: not a baseline" check --config "$dir/tiny.json" --baseline "$dir/notbase.json"
 mkdir -p "$dir/nosweep" && echo '{"x": 1}' >"$dir/nosweep/context.json"; expect_error "has no \"config\"" fit "$dir/nosweep"
 expect_error "runs.jsonl: cannot open" merge "$dir/nosweep" --out "$dir/merged"
+expect_error "only shards of one build merge" merge "$dir/s0" "$dir/s1_other" --out "$dir/merged"
+bad 'c["name"] = "other"'; "$pcrt" sweep "$dir/bad.json" --out "$dir/o1" --shard 1/2 >/dev/null
+expect_error "only shards of one sweep merge" merge "$dir/s0" "$dir/o1" --out "$dir/merged"
+expect_error "--plan and --costs need --shard" sweep "$dir/tiny.json" --plan "$dir/a/context.json"
+echo '{"shards": [{"runs": []}]}' >"$dir/plan.json"; expect_error "plans 1 shards, not 2" sweep "$dir/tiny.json" --shard 0/2 --plan "$dir/plan.json"
+# pcrt cluster without Slurm: --dry-run writes the scripts and plan; submitting says plainly that
+# sbatch is missing. (tests/cluster_slurm.sh runs it on a real cluster.)
+mkdir "$dir/nopath"
+PATH=$dir/nopath "$pcrt" cluster submit "$dir/tiny.json" --out "$dir/cl" --shards 2 --dry-run >/dev/null
+test -x "$dir/cl/slurm/shard.sbatch" && test -x "$dir/cl/slurm/merge.sbatch"
+grep -q -- "--kill-on-invalid-dep=yes" "$dir/cl/slurm/merge.sbatch"
+python3 -c "import json,sys; p = json.load(open(sys.argv[1])); assert len(p['shards']) == 2 and sum(len(s['runs']) for s in p['shards']) == 15" "$dir/cl/slurm/plan.json"
+if PATH=$dir/nopath "$pcrt" cluster submit "$dir/tiny.json" --out "$dir/cl2" --shards 2 2>"$dir/err"; then
+  echo "FAIL: cluster submit without sbatch succeeded"; exit 1
+fi
+grep -q "sbatch was not found" "$dir/err" && test "$(wc -l <"$dir/err")" -eq 1
 echo "sweep harness ok"

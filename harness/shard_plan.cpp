@@ -1,0 +1,163 @@
+#include "harness/shard_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+#include "core/error.hpp"
+#include "harness/sweep.hpp"
+
+namespace pcrt {
+namespace {
+
+// Nanoseconds per N log2 N of preparation + build, and per ray and log2 N of a frame: medians
+// over results/thesis (2 threads). Methods not listed cost like the splat oracle.
+struct MethodCost {
+  double prepare_ns = 100, ray_ns = 60;
+};
+
+MethodCost method_cost(const std::string& method) {
+  static const std::map<std::string, MethodCost> table = {{"adams_2005", {107, 371}},
+                                                          {"adamson_alexa_2003", {58, 777}},
+                                                          {"cai_2011", {116, 149}},
+                                                          {"cai_2015", {46, 327}},
+                                                          {"goradia_2010", {165, 47}},
+                                                          {"goradia_2011", {771, 101}},
+                                                          {"hubo_2006", {79, 58}},
+                                                          {"hubo_2007", {58, 74}},
+                                                          {"kashyap_2010_implicit", {747, 96}},
+                                                          {"kashyap_2010_splat", {157, 38}},
+                                                          {"linsen_2007", {345, 48}},
+                                                          {"reference_splat", {97, 41}},
+                                                          {"schaufler_jensen_2000", {130, 60}},
+                                                          {"tejada_2006", {35, 744}},
+                                                          {"tejada_2007", {47, 620}},
+                                                          {"wald_seidel_2005", {77, 203}},
+                                                          {"wand_strasser_2003", {110, 165}}};
+  const auto it = table.find(method);
+  return it == table.end() ? MethodCost{} : it->second;
+}
+
+double n_log_n(double n) { return n * std::log2(std::max(2.0, n)); }
+
+// Seconds of one CGAL reconstruction (results/thesis): Delaunay ~217 ns N log N on uniform
+// points and ~90 ns N^2 on skew lines (its worst case), advancing front ~630 ns N log N.
+double reconstruction_cost(const std::string& reconstruction, const std::string& dataset,
+                           double n) {
+  if (reconstruction == "afsr") return 630e-9 * n_log_n(n);
+  if (dataset.rfind("skew_lines", 0) == 0) return 90e-9 * n * n;
+  return 220e-9 * n_log_n(n);
+}
+
+double workload_cost(const std::string& workload, double n) {
+  if (workload == "triple_loop") return 1e-9 * n * n * n;
+  return 10e-9 * n_log_n(n);
+}
+
+double frame_cost(const json& spec, const MethodCost& c, double n) {
+  const double rays = spec.value("M", 4096.0) * spec.value("S", 1.0) * (1 + spec.value("B", 1.0));
+  // The per-ray constants come from outside cameras, where most rays miss the cloud early. Inside
+  // a closed surface every ray hits and works through its leaves: 17-30x as long on ci.json's
+  // bounces_inside.
+  const double hit_factor = spec.value("camera", "") == "inside" ? 20.0 : 1.0;
+  return hit_factor * c.ray_ns * 1e-9 * rays * std::log2(std::max(2.0, n));
+}
+
+}  // namespace
+
+double model_run_cost(const json& spec) {
+  // A child process, the registries and the cloud's generation come with every run (the shortest
+  // runs of configs/ci.json take 4 ms).
+  const double n = spec.value("N", 1000.0);
+  const double overhead = 0.004 + 200e-9 * n;
+  const std::string kind = spec.value("kind", "");
+  const double passes = spec.value("warmup", 0.0) + spec.value("reps", 1.0);
+  if (kind == "workload") return overhead + passes * workload_cost(spec.value("workload", ""), n);
+  if (kind == "reconstruct")
+    return overhead + passes * reconstruction_cost(spec.value("reconstruction", ""),
+                                                   spec.value("dataset", ""), n);
+  const MethodCost c = method_cost(spec.value("method", ""));
+  const double prepare = c.prepare_ns * 1e-9 * n_log_n(n);
+  if (kind == "build") return overhead + passes * prepare;
+  if (kind == "crossover")
+    return overhead + reconstruction_cost(spec.value("reconstruction", "afsr"), "", n) + prepare +
+           2 * passes * frame_cost(spec, c, n);
+  return overhead + passes * (prepare + frame_cost(spec, c, n));
+}
+
+std::vector<double> run_costs(const std::vector<json>& runs, const std::vector<json>& earlier) {
+  std::unordered_map<std::string, double> measured;
+  for (const json& r : earlier)
+    if (r.contains("wall_s") && r["wall_s"].is_number()) measured[run_key(r)] = r["wall_s"];
+  std::vector<double> model(runs.size()), ratios;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    model[i] = model_run_cost(runs[i]);
+    const auto it = measured.find(run_key(runs[i]));
+    if (it != measured.end() && model[i] > 0) ratios.push_back(it->second / model[i]);
+  }
+  // The earlier machine may be faster or slower than the model's: scale the runs it did not do.
+  double scale = 1;
+  if (!ratios.empty()) {
+    std::nth_element(ratios.begin(), ratios.begin() + long(ratios.size() / 2), ratios.end());
+    scale = ratios[ratios.size() / 2];
+  }
+  std::vector<double> costs(runs.size());
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const auto it = measured.find(run_key(runs[i]));
+    costs[i] = it != measured.end() ? it->second : model[i] * scale;
+  }
+  return costs;
+}
+
+ShardPlan plan_shards(const std::vector<double>& costs, size_t n) {
+  std::vector<size_t> order(costs.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return costs[a] > costs[b]; });
+  ShardPlan plan;
+  plan.shards.resize(n);
+  plan.cost.assign(n, 0.0);
+  for (size_t run : order) {
+    const size_t s =
+        size_t(std::min_element(plan.cost.begin(), plan.cost.end()) - plan.cost.begin());
+    plan.shards[s].push_back(run);
+    plan.cost[s] += costs[run];
+  }
+  for (auto& s : plan.shards) std::sort(s.begin(), s.end());
+  return plan;
+}
+
+json plan_json(const ShardPlan& plan, const std::vector<json>& runs, const std::string& source) {
+  json shards = json::array();
+  for (size_t s = 0; s < plan.shards.size(); ++s) {
+    json specs = json::array();
+    for (size_t i : plan.shards[s]) specs.push_back(runs[i]);
+    shards.push_back({{"estimated_s", plan.cost[s]}, {"runs", specs}});
+  }
+  return {{"cost_source", source}, {"shards", shards}};
+}
+
+std::vector<size_t> plan_shard(const json& plan, const std::vector<json>& runs, size_t shard,
+                               size_t n, const std::string& origin) {
+  if (!plan.is_object() || !plan.contains("shards") || !plan["shards"].is_array())
+    input_error("{}: not a shard plan (written by pcrt cluster submit)", origin);
+  if (plan["shards"].size() != n)
+    input_error("{}: plans {} shards, not {}", origin, plan["shards"].size(), n);
+  std::unordered_map<std::string, size_t> index;
+  for (size_t i = 0; i < runs.size(); ++i) index[run_key(runs[i])] = i;
+  std::vector<size_t> mine;
+  for (const json& spec : plan["shards"][shard].value("runs", json::array())) {
+    const auto it = index.find(run_key(spec));
+    if (it == index.end())
+      input_error(
+          "{}: shard {} plans a run the config does not have; the plan belongs to "
+          "another config",
+          origin, shard);
+    mine.push_back(it->second);
+  }
+  return mine;
+}
+
+}  // namespace pcrt

@@ -1,0 +1,182 @@
+#include "harness/slurm.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <utility>
+
+#include "core/error.hpp"
+
+extern char** environ;
+
+namespace pcrt {
+namespace {
+
+constexpr std::array<std::pair<JobState, std::string_view>, 13> kStateNames = {{
+    {JobState::Pending, "PENDING"},
+    {JobState::Running, "RUNNING"},
+    {JobState::Completing, "COMPLETING"},
+    {JobState::Completed, "COMPLETED"},
+    {JobState::Failed, "FAILED"},
+    {JobState::Cancelled, "CANCELLED"},
+    {JobState::Timeout, "TIMEOUT"},
+    {JobState::OutOfMemory, "OUT_OF_MEMORY"},
+    {JobState::NodeFail, "NODE_FAIL"},
+    {JobState::Preempted, "PREEMPTED"},
+    {JobState::Requeued, "REQUEUED"},
+    {JobState::Suspended, "SUSPENDED"},
+    {JobState::Gone, "GONE"},
+}};
+
+// Reads both pipes until the child closes them (reading one at a time could block the child on
+// a full other pipe).
+void drain(int out_fd, int err_fd, std::string& out, std::string& err) {
+  pollfd fds[2] = {{out_fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
+  int open = 2;
+  char buf[8192];
+  while (open > 0) {
+    if (poll(fds, 2, -1) < 0) break;
+    for (int i = 0; i < 2; ++i) {
+      if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP))) continue;
+      const ssize_t n = read(fds[i].fd, buf, sizeof buf);
+      if (n > 0) {
+        (i == 0 ? out : err).append(buf, size_t(n));
+      } else {
+        fds[i].fd = -1;
+        --open;
+      }
+    }
+  }
+}
+
+std::string last_line(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  const size_t nl = text.rfind('\n');
+  return nl == std::string::npos ? text : text.substr(nl + 1);
+}
+
+}  // namespace
+
+JobState parse_job_state(std::string_view name) {
+  // squeue may append a qualifier ("CANCELLED by 0").
+  const std::string_view word = name.substr(0, name.find(' '));
+  for (const auto& [state, text] : kStateNames)
+    if (text == word) return state;
+  if (word == "CONFIGURING" || word == "RESIZING" || word == "SIGNALING" || word == "STAGE_OUT")
+    return JobState::Running;
+  if (word == "REQUEUE_HOLD" || word == "REQUEUE_FED" || word == "RESV_DEL_HOLD")
+    return JobState::Requeued;
+  return JobState::Failed;  // BOOT_FAIL, DEADLINE, REVOKED, SPECIAL_EXIT, ...
+}
+
+std::string_view job_state_name(JobState state) {
+  for (const auto& [s, text] : kStateNames)
+    if (s == state) return text;
+  return "UNKNOWN";
+}
+
+bool is_active(JobState state) {
+  switch (state) {
+    case JobState::Pending:
+    case JobState::Running:
+    case JobState::Completing:
+    case JobState::Requeued:
+    case JobState::Suspended:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool is_failure(JobState state) {
+  return !is_active(state) && state != JobState::Completed && state != JobState::Gone;
+}
+
+CommandOutput run_command(const std::vector<std::string>& argv) {
+  int out_pipe[2], err_pipe[2];
+  if (pipe(out_pipe) != 0 || pipe(err_pipe) != 0) input_error("cannot create a pipe");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, out_pipe[1], 1);
+  posix_spawn_file_actions_adddup2(&actions, err_pipe[1], 2);
+  posix_spawn_file_actions_addclose(&actions, out_pipe[0]);
+  posix_spawn_file_actions_addclose(&actions, err_pipe[0]);
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, argv[0].c_str(), &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(out_pipe[1]);
+  close(err_pipe[1]);
+  CommandOutput result;
+  if (rc != 0) {
+    close(out_pipe[0]);
+    close(err_pipe[0]);
+    input_error("cannot start {}: {}", argv[0], std::strerror(rc));
+  }
+  drain(out_pipe[0], err_pipe[0], result.out, result.err);
+  close(out_pipe[0]);
+  close(err_pipe[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return result;
+}
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  for (std::string dir; std::getline(dirs, dir, ':');) {
+    const std::string candidate = (dir.empty() ? "." : dir) + "/" + program;
+    if (access(candidate.c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+void require_slurm_command(const std::string& program) {
+  if (!on_path(program))
+    input_error(
+        "{} was not found on PATH: pcrt cluster needs Slurm's commands (Debian: apt-get "
+        "install slurm-client) on a machine of the cluster",
+        program);
+}
+
+std::string sbatch(const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {"sbatch", "--parsable"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const CommandOutput r = run_command(argv);
+  const std::string id = last_line(r.out);
+  if (r.exit_code != 0 || id.empty())
+    input_error("sbatch failed (exit {}): {}", r.exit_code, last_line(r.err));
+  return id.substr(0, id.find(';'));  // "123;cluster" on federated set-ups
+}
+
+std::map<std::string, JobStatus> squeue_job(const std::string& job_id) {
+  const CommandOutput r = run_command(
+      {"squeue", "--noheader", "--array", "--states=all", "--jobs=" + job_id, "--format=%i|%T|%r"});
+  std::map<std::string, JobStatus> jobs;
+  if (r.exit_code != 0) {
+    // squeue refuses an id it has forgotten; that job is simply gone.
+    if (r.err.find("Invalid job id") != std::string::npos) return jobs;
+    input_error("squeue failed (exit {}): {}", r.exit_code, last_line(r.err));
+  }
+  std::stringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t a = line.find('|'), b = line.find('|', a + 1);
+    if (a == std::string::npos || b == std::string::npos) continue;
+    jobs[line.substr(0, a)] = {parse_job_state(line.substr(a + 1, b - a - 1)), line.substr(b + 1)};
+  }
+  return jobs;
+}
+
+}  // namespace pcrt
