@@ -72,10 +72,7 @@ class Hubo2007 final : public Method {
       if (!ball_chord(ray, p.centre, radii_[k], hit.t, t0, t1)) continue;
       counters.add(kPatchRuns);
       const std::span<const uint32_t> own(patch_items_.data() + p.begin, p.end - p.begin);
-      const float denom = p.normal.dot(ray.d);
-      const float start = std::abs(denom) > 1e-6f
-                              ? std::clamp(p.normal.dot(p.centre - ray.o) / denom, t0, t1)
-                              : 0.5f * (t0 + t1);
+      const float start = patch_start(ray, p, t0, t1);
       Vec3 n = Vec3::Zero();
       const float t = newton_on_weighted_plane(
           ray, start, t0, t1,
@@ -107,6 +104,18 @@ class Hubo2007 final : public Method {
   }
 
  private:
+  // Newton's start: where the ray crosses the patch's mean plane, if that lies among the
+  // patch's points; else (a plane tilted toward the ray, crossed at the chord's end, where no
+  // point's weight reaches and the search would end at once) the ray's nearest approach to the
+  // patch centre.
+  static float patch_start(const Ray& ray, const Patch& p, float t0, float t1) {
+    const float along = std::clamp((p.centre - ray.o).dot(ray.d), t0, t1);
+    const float denom = p.normal.dot(ray.d);
+    if (!(std::abs(denom) > 1e-6f)) return along;
+    const float crossing = std::clamp(p.normal.dot(p.centre - ray.o) / denom, t0, t1);
+    return (ray.at(crossing) - p.centre).norm() <= p.spread ? crossing : along;
+  }
+
   void add_patch(const SplatSet& pts, const uint32_t* b, const uint32_t* e) {
     Patch p{uint32_t(points_.size()), 0, Vec3::Zero(), Vec3::Zero(), 0};
     for (const uint32_t* i = b; i != e; ++i)
