@@ -29,8 +29,13 @@ enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 void write_ply(const std::string& path, const PointCloud& cloud,
                PlyFormat format = PlyFormat::kBinaryLittleEndian);
 
-// Whole file as a string; InputError naming the path if it cannot be read.
-std::string read_file(const std::string& path);
+// What read_file takes at most from a stream that has no size (a pipe, a character device such
+// as /dev/zero): larger than any text input pcrt is given through one, small enough to hold.
+inline constexpr size_t kMaxStreamBytes = size_t(1) << 28;
+
+// Whole file as a string; InputError naming the path if it cannot be read, is a directory, or is
+// a stream longer than `max_stream_bytes`.
+std::string read_file(const std::string& path, size_t max_stream_bytes = kMaxStreamBytes);
 
 // Shared by the readers: unit-length normals, or none if every normal is zero (as some CGAL
 // files store), or an InputError naming the first zero normal among non-zero ones.

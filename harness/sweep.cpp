@@ -22,6 +22,7 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/file_output.hpp"
+#include "core/json_input.hpp"
 #include "core/rng.hpp"
 #include "harness/claims.hpp"
 #include "harness/command_helpers.hpp"
@@ -412,14 +413,7 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
 }
 
 SweepConfig load_sweep_config(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) input_error("{}: cannot open", path);
-  json raw;
-  try {
-    raw = json::parse(in);
-  } catch (const json::exception& e) {
-    input_error("{}: not valid JSON: {}", path, e.what());
-  }
+  const json raw = read_json_file(path);
   try {
     return parse_sweep_config(raw, path);
   } catch (const json::exception& e) {
@@ -742,8 +736,8 @@ std::vector<json> read_runs_jsonl(const std::string& path) {
     ++n;
     if (line.empty()) continue;
     try {
-      runs.push_back(json::parse(line));
-    } catch (const json::exception&) {
+      runs.push_back(parse_json_text(line, fmt::format("{}: line {}", path, n)));
+    } catch (const InputError&) {
       // A sweep killed mid-write leaves at most a truncated last line: that run is redone.
       if (in.peek() == EOF) break;
       input_error("{}: line {} is not valid JSON", path, n);

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/file_output.hpp"
+#include "core/json_input.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "harness/fit.hpp"
@@ -150,14 +151,9 @@ void write_fits(const std::string& dir, const std::vector<json>& fits) {
 
 SweepConfig config_of(const std::string& dir) {
   const std::string path = dir + "/context.json";
-  std::ifstream in(path);
-  if (!in) input_error("{}: cannot open (is {} a sweep directory?)", path, dir);
-  json ctx;
-  try {
-    ctx = json::parse(in);
-  } catch (const json::exception&) {
-    input_error("{}: not valid JSON", path);
-  }
+  if (!fs::is_regular_file(path))
+    input_error("{}: no such file (is {} a sweep directory?)", path, dir);
+  json ctx = read_json_file(path);
   if (!ctx.is_object() || !ctx.contains("config")) input_error("{}: has no \"config\"", path);
   try {
     return parse_sweep_config(ctx["config"], path);
@@ -209,10 +205,8 @@ int command_merge(const Args& args) {
   std::string config_dump;
   for (size_t i = 0; i < a.positional().size(); ++i) {
     const std::string dir = a.positional()[i];
-    std::ifstream in(dir + "/context.json");
-    if (!in) input_error("{}/context.json: cannot open", dir);
-    const json ctx = json::parse(in, nullptr, false);
-    if (ctx.is_discarded()) input_error("{}/context.json: not valid JSON", dir);
+    const json ctx = read_json_file(dir + "/context.json");
+    if (!ctx.is_object()) input_error("{}/context.json: not an object", dir);
     if (config_dump.empty()) config_dump = ctx.value("config", json()).dump();
     if (ctx.value("config", json()).dump() != config_dump)
       input_error("{}: its config differs from {}'s; only shards of one sweep merge", dir,
@@ -344,11 +338,11 @@ int command_check(const Args& args) {
   if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
   json base;
   if (!a.has("update")) {  // the baseline is read and checked before the sweep runs
-    std::ifstream in(baseline_path);
-    if (!in) input_error("{}: cannot open (create it with --update)", baseline_path);
-    base = json::parse(in, nullptr, false);
-    if (base.is_discarded() || !base.is_object() || !base.contains("runs") ||
-        !base["runs"].is_object() || !base.value("verdicts", json::object()).is_object())
+    if (!fs::exists(baseline_path))
+      input_error("{}: no such file (create it with --update)", baseline_path);
+    base = read_json_file(baseline_path);
+    if (!base.is_object() || !base.contains("runs") || !base["runs"].is_object() ||
+        !base.value("verdicts", json::object()).is_object())
       input_error("{}: not a baseline (written by pcrt check --update)", baseline_path);
     for (const auto& [key, old] : base["runs"].items())
       if (!old.is_object())
