@@ -46,7 +46,7 @@ nlohmann::json parse_json_text(std::string_view text, const std::string& source)
   check_shape(text, source);
   try {
     return nlohmann::json::parse(text.begin(), text.end());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers beyond double
     // nlohmann's message names the place: "[json.exception.parse_error.101] parse error at line
     // 3, column 5: ..."; its tag is dropped.
     const std::string what = e.what();

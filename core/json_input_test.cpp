@@ -22,3 +22,9 @@ TEST_CASE("JSON input: nesting is bounded, NUL and trailing bytes are errors", "
                       Contains("two.json: not valid JSON: parse error at line 1, column 4"));
   REQUIRE_THROWS_AS(parse_json_text("{\n\"a\": [1,\n", "cut.json"), InputError);
 }
+
+TEST_CASE("JSON input: a number beyond double is an error naming the file", "[json][errors]") {
+  // Found by fuzz_json: nlohmann throws out_of_range, not parse_error, for it.
+  REQUIRE_THROWS_WITH(parse_json_text("{\"a\": 3e5353}", "big.json"),
+                      Contains("big.json: not valid JSON: number overflow parsing '3e5353'"));
+}

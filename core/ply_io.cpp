@@ -402,7 +402,11 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
 PointCloud read_ply(const std::string& path) { return read_ply(path, nullptr); }
 
 PointCloud read_ply(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles) {
-  const std::string text = read_file(path);
+  return parse_ply(read_file(path), path, triangles);
+}
+
+PointCloud parse_ply(const std::string& text, const std::string& path,
+                     std::vector<std::array<uint32_t, 3>>* triangles) {
   const PlyHeader h = parse_header(text, path);
   if (std::none_of(h.elements.begin(), h.elements.end(),
                    [](const PlyElement& e) { return e.name == "vertex"; }))

@@ -23,6 +23,12 @@ PointCloud read_ply(const std::string& path, std::vector<std::array<uint32_t, 3>
 PointCloud read_xyz(const std::string& path);
 PointCloud read_off(const std::string& path);
 PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles);
+// The readers on text in memory; `name` stands for the file in errors (the fuzz targets).
+PointCloud parse_ply(const std::string& text, const std::string& name,
+                     std::vector<std::array<uint32_t, 3>>* triangles);
+PointCloud parse_xyz(const std::string& text, const std::string& name);
+PointCloud parse_off(const std::string& text, const std::string& name,
+                     std::vector<std::array<uint32_t, 3>>* triangles);
 
 enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 // Writes x y z as float plus whichever of nx ny nz, red green blue, radius the cloud has.

@@ -10,7 +10,10 @@
 namespace pcrt {
 
 std::vector<Ray> read_rays_csv(const std::string& path) {
-  const std::string text = read_file(path);
+  return parse_rays_csv(read_file(path), path);
+}
+
+std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path) {
   std::vector<Ray> rays;
   bool header = false;
   // CSV: split on commas by turning them into blanks for the scanner; the header is checked first.

@@ -57,8 +57,9 @@ void normalize_loaded_normals(PointCloud& cloud) {
   }
 }
 
-PointCloud read_xyz(const std::string& path) {
-  const std::string text = read_file(path);
+PointCloud read_xyz(const std::string& path) { return parse_xyz(read_file(path), path); }
+
+PointCloud parse_xyz(const std::string& text, const std::string& path) {
   TextScanner scan(text, path);
   PointCloud cloud;
   cloud.name = path;
@@ -91,7 +92,11 @@ PointCloud read_xyz(const std::string& path) {
 PointCloud read_off(const std::string& path) { return read_off(path, nullptr); }
 
 PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles) {
-  const std::string text = read_file(path);
+  return parse_off(read_file(path), path, triangles);
+}
+
+PointCloud parse_off(const std::string& text, const std::string& path,
+                     std::vector<std::array<uint32_t, 3>>* triangles) {
   TextScanner scan(text, path);
   if (!scan.next_line()) input_error("{}: empty file", path);
   // The header keyword may carry C (colour) and N (normal) prefixes, and the counts may follow
