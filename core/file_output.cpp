@@ -24,6 +24,15 @@ void check_output_path(const std::string& path, const std::string& option) {
     input_error("{} {}: folder {} does not exist", option, path, folder.string());
 }
 
+void make_output_directory(const std::string& dir, const std::string& option) {
+  if (dir.empty()) input_error("{}: an empty directory name", option);
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    input_error("{} {}: is a file, not a directory", option, dir);
+  fs::create_directories(dir, ec);
+  if (ec) input_error("{} {}: cannot create: {}", option, dir, ec.message());
+}
+
 OutputFiles::~OutputFiles() {
   for (const Staged& s : staged_) std::remove(s.temporary.c_str());
 }

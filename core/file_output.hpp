@@ -17,6 +17,9 @@ using StreamWriter = std::function<void(std::ostream&)>;
 // directory, and its folder exists. Commands call it for every output before any work.
 void check_output_path(const std::string& path, const std::string& option);
 
+// Creates the output directory `dir` (and its parents) or throws InputError naming `option`.
+void make_output_directory(const std::string& dir, const std::string& option);
+
 // The outputs of one command. stage() writes a file to a temporary beside its target (an error
 // there leaves every target as it was); commit() renames them all onto their targets. Temporaries
 // not committed are removed when the set is destroyed.

@@ -52,7 +52,7 @@ std::string fmt_duration(double s) {
 // returns all results in DIR afterwards.
 std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
                             std::pair<size_t, size_t> shard, bool quiet) {
-  fs::create_directories(dir);
+  make_output_directory(dir, "--out");
   const std::string jsonl = dir + "/runs.jsonl";
   std::set<std::string> done;
   if (resume && fs::exists(jsonl)) {
@@ -214,7 +214,7 @@ int command_merge(const Args& args) {
     contexts.push_back(ctx);
     for (const json& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
   }
-  fs::create_directories(out);
+  make_output_directory(out, "--out");
   std::vector<json> all;
   for (auto& [k, r] : runs) all.push_back(r);
   write_file_atomically(out + "/runs.jsonl", [&](std::ostream& o) {
@@ -334,6 +334,7 @@ int command_check(const Args& args) {
   if (!a.parse(args)) return 0;
   const SweepConfig config = load_sweep_config(a.require("config"));
   const std::string baseline_path = a.require("baseline");
+  if (a.has("update")) check_output_path(baseline_path, "--baseline");
   const double tolerance = a.number("tolerance", 0.0);
   if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
   json base;

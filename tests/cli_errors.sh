@@ -52,9 +52,9 @@ expect_error "--data is required" anchor
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n' >"$dir/badface.ply"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' >"$dir/nofaces.ply"
 printf "0 0 0\n1 0 0\n0 1 0\n" >"$dir/three.xyz"
-expect_error "needs at least 4 points" reconstruct --method delaunay --data "$dir/three.xyz"
-expect_error "coplanar" reconstruct --method delaunay --data plane:n=100
-expect_error "coplanar" reconstruct --method afsr --data plane:n=100
+expect_error "three.xyz: delaunay needs at least 4 points" reconstruct --method delaunay --data "$dir/three.xyz"
+expect_error "plane:n=100: delaunay: all 100 points are coplanar" reconstruct --method delaunay --data plane:n=100
+expect_error "plane:n=100: afsr: all 100 points are coplanar" reconstruct --method afsr --data plane:n=100
 expect_error "unknown reconstruction 'poisson'" reconstruct --method poisson --data sphere:n=100
 expect_error "makes no triangle mesh" reconstruct --method delaunay --data sphere:n=100 --out "$dir/m.ply"
 expect_error "badface.ply: face 0 names vertex 7" render --mesh "$dir/badface.ply" --out "$dir/a.png"
@@ -102,6 +102,12 @@ keep_outputs "--stats $dir/statsdir: is a directory" "$dir/hits.csv" -- trace --
 keep_outputs "--out $dir/statsdir: is a directory" "$dir/keep.ply" -- convert sphere:n=10 --out "$dir/statsdir"
 keep_outputs "--images" "$dir/diff.png" -- compare --method reference_splat --truth "$dir/tri.off" --out "$dir/diff.png" --images "$dir/nonexistent/x"
 if compgen -G "$dir/*.tmp.*" >/dev/null; then echo "FAIL: temporaries left: $(ls "$dir"/*.tmp.*)"; fails=$((fails + 1)); fi
+# Sweep and check outputs and inputs of the wrong kind.
+config="$(dirname "$0")/../configs/ci.json"
+expect_error "--out $dir/keep.png: is a file, not a directory" sweep "$config" --out "$dir/keep.png"
+expect_error "$dir/statsdir: is a directory, not a file" check --config "$dir/statsdir" --baseline "$dir/b.json"
+expect_error "$dir/statsdir: is a directory, not a file" check --config "$config" --baseline "$dir/statsdir"
+expect_error "--baseline $dir/statsdir: is a directory" check --config "$config" --baseline "$dir/statsdir" --update
 # Names with control characters are printed escaped, on one line.
 printf '0 0 0\nnan 1 1\n' >"$dir/new
 line.xyz"
