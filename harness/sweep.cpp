@@ -562,7 +562,10 @@ json run_in_child(const json& spec, double time_limit_s) {
   posix_spawn_file_actions_addclose(&actions, err_pipe[0]);
   const std::string arg = spec.dump();
   std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
-  char* argv[] = {exe.data(), const_cast<char*>("_run"), const_cast<char*>(arg.c_str()), nullptr};
+  // The child learns who its sweep is, so that it dies with it (command_run_one).
+  std::string parent = std::to_string(getpid());
+  char* argv[] = {exe.data(), const_cast<char*>("_run"), const_cast<char*>(arg.c_str()),
+                  parent.data(), nullptr};
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv, environ);
   posix_spawn_file_actions_destroy(&actions);

@@ -1,9 +1,11 @@
 // The sweep side of the CLI: sweep, merge, fit, report, calibrate, check, and the hidden _run
 // that executes one run in a child process.
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -166,8 +168,22 @@ std::string python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3
 
 }  // namespace
 
+namespace {
+
+// A run dies with the sweep that started it (SIGKILL included): the kernel kills it when its parent
+// exits, and a parent already gone before that was arranged ends it here. So a killed sweep leaves
+// no run behind past its time limit, and a resumed sweep never races a leftover one.
+void die_with_parent(const std::string& parent_pid) {
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (std::to_string(getppid()) != parent_pid) _exit(1);
+}
+
+}  // namespace
+
 int command_run_one(const Args& args) {
-  if (args.size() != 1) input_error("_run takes one JSON run spec");
+  if (args.empty() || args.size() > 2)
+    input_error("_run takes one JSON run spec and the sweep's process id");
+  if (args.size() == 2) die_with_parent(args[1]);
   json spec;
   try {
     spec = json::parse(args[0]);

@@ -21,6 +21,32 @@ cat >"$dir/tiny.json" <<'JSON'
 }
 JSON
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --fit >/dev/null
+
+# A sweep killed with SIGKILL leaves no run behind (issue 14: the running child outlived its sweep
+# and, on resume, ran twice at once).
+cat >"$dir/slow.json" <<'JSON'
+{"name": "slow", "threads": 1, "experiments": [
+  {"name": "big", "kind": "render", "methods": ["reference_splat"], "datasets": ["sphere"],
+   "grid": {"N": [4000000], "M": [64], "B": [0]}}]}
+JSON
+"$pcrt" sweep "$dir/slow.json" --out "$dir/slow" >/dev/null 2>&1 &
+sweep=$!
+child=""
+for _ in $(seq 200); do
+  child=$(pgrep -P "$sweep" || true)
+  [ -n "$child" ] && break
+  sleep 0.05
+done
+test -n "$child"
+sleep 0.3  # well inside the run
+kill -9 "$sweep"
+wait "$sweep" 2>/dev/null || true
+for _ in $(seq 50); do kill -0 "$child" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$child" 2>/dev/null; then
+  echo "FAIL: run $child outlived its killed sweep"
+  kill -9 "$child"
+  exit 1
+fi
 test "$(wc -l <"$dir/a/runs.jsonl")" -eq 15
 head -1 "$dir/a/runs.csv" | python3 -c '
 import sys
