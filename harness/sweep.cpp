@@ -79,6 +79,13 @@ bool is_generator(const std::string& base) {
   return false;
 }
 
+// Whether a generator spec gives n itself (a sweep appends N to it).
+bool sets_n(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  if (colon == std::string::npos) return false;
+  return spec.find(":n=") == colon || spec.find(",n=", colon) != std::string::npos;
+}
+
 std::string generator_spec(const std::string& base, double n) {
   return base + (base.find(':') == std::string::npos ? ":" : ",") +
          "n=" + std::to_string(static_cast<long long>(n));
@@ -310,7 +317,9 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
       datasets = string_list(e.value("datasets", json()), where + ".datasets");
       for (const std::string& d : datasets) {
         if (is_generator(d)) {
-          (void)parse_generator_spec(generator_spec(d, 10), nullptr);
+          (void)parse_generator_spec(d, nullptr);
+          if (sets_n(d))
+            input_error("{}.datasets: '{}' sets n; a sweep takes N from its grid", where, d);
         } else {
           const PointCloud full = load_dataset(d).cloud;
           for (const json& p : points)

@@ -110,6 +110,8 @@ bad 'c["experiments"][0]["methods"] = ["nope"]';         expect_error "unknown m
 bad 'c["experiments"][0]["grid"]["N"] = [0, 10, 20]';     expect_error "N = 0 is impossible" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["set.radius_k"] = -3';          expect_error "radius_k=-3 is outside" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["datasets"] = ["'"$dir"'/tiny.json"]'; expect_error "tiny.json" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["datasets"] = ["sphere:n=5"]';  expect_error "experiments[0].datasets: 'sphere:n=5' sets n" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["datasets"] = ["sphere:seed=2,n=5"]'; expect_error "'sphere:seed=2,n=5' sets n" sweep "$dir/bad.json"
 bad 'c["experiments"][1]["kind"] = "dance"';             expect_error "kind must be" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["variable"] = "Q"';  expect_error "variable 'Q'" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["claim"] = "{method}/frame"'; expect_error "unknown claim 'reference_splat/frame'" sweep "$dir/bad.json"
