@@ -221,6 +221,25 @@ std::string substitute(std::string s, const json& row) {
   return s;
 }
 
+// The counts a reconstruction run records (execute_run), beside the registered counters.
+const std::set<std::string> kReconstructionCounts = {"cells",    "facets",         "triangles",
+                                                     "vertices", "boundary_edges", "predicates"};
+
+// Whether `column` names a count a run records: "ops_<counter>" or, for preparation,
+// "ops_prep_<counter>". A misspelt one would only show after the whole sweep, as a fit of zeros.
+bool is_counter_column(const std::string& column) {
+  if (column.rfind("ops_", 0) != 0) return false;
+  std::string name = column.substr(4);
+  if (kReconstructionCounts.count(name)) return true;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t i = 0; i < registered_counter_count(); ++i)
+      if (registered_counters()[i].name == name) return true;
+    if (name.rfind("prep_", 0) != 0) return false;
+    name = name.substr(5);
+  }
+  return false;
+}
+
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
   check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by", "free"}, where);
   FitSpec s;
@@ -232,7 +251,13 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   s.x = f.value("x", s.variable);
   if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
   s.metric = string_list(f["metric"], where + ".metric");
+  // Other metric names are run columns (time, fps, I_run, a crossover's times, ...).
+  for (const std::string& m : s.metric)
+    if (m.rfind("ops_", 0) == 0 && !is_counter_column(m))
+      input_error("{}.metric: '{}' is not a counter (pcrt list)", where, m);
   s.per = f.value("per", std::string());
+  if (!s.per.empty() && !is_counter_column(s.per))
+    input_error("{}.per: '{}' is not a counter (ops_NAME, pcrt list)", where, s.per);
   if (f.contains("by")) s.by = string_list(f["by"], where + ".by");
   if (f.contains("free")) s.free = string_list(f["free"], where + ".free");
   for (const std::string& v : s.free)
@@ -244,6 +269,9 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
     input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
   if (!s.variable.empty() && std::string("SMBNKkI").find(s.variable) == std::string::npos)
     input_error("{}: variable '{}' is not one of S M B N K k I", where, s.variable);
+  const std::set<std::string> columns = {"S", "M", "B", "N", "K", "k", "I", "I_run"};
+  if (!s.x.empty() && !columns.count(s.x) && s.x.rfind("set_", 0) != 0)
+    input_error("{}.x: '{}' is not one of S M B N K k I I_run or set_PARAMETER", where, s.x);
   // Rays are S * M * (paths) by construction: a growth fit on them proves nothing.
   const std::set<std::string> rays = {"ops_rays_cast", "ops_primary_rays", "ops_bounce_rays",
                                       "ops_shadow_rays", "ops_ray_hits"};
