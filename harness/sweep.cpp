@@ -23,6 +23,7 @@
 #include "core/error.hpp"
 #include "core/file_output.hpp"
 #include "core/json_input.hpp"
+#include "core/point_cloud_io.hpp"
 #include "core/rng.hpp"
 #include "harness/claims.hpp"
 #include "harness/command_helpers.hpp"
@@ -767,19 +768,23 @@ void write_runs_csv(const std::string& path, const std::vector<json>& results) {
 }
 
 std::vector<json> read_runs_jsonl(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) input_error("{}: cannot open", path);
+  if (!std::filesystem::exists(path)) input_error("{}: cannot open: no such file", path);
+  const std::string text = read_file(path);  // bounded: runs.jsonl may be a link to a device
   std::vector<json> runs;
-  std::string line;
   size_t n = 0;
-  while (std::getline(in, line)) {
+  for (size_t pos = 0; pos < text.size();) {
+    size_t end = text.find('\n', pos);
+    const bool last = end == std::string::npos || end + 1 == text.size();
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + pos, end - pos);
+    pos = end + 1;
     ++n;
     if (line.empty()) continue;
     try {
       runs.push_back(parse_json_text(line, fmt::format("{}: line {}", path, n)));
     } catch (const InputError&) {
       // A sweep killed mid-write leaves at most a truncated last line: that run is redone.
-      if (in.peek() == EOF) break;
+      if (last) break;
       input_error("{}: line {} is not valid JSON", path, n);
     }
   }

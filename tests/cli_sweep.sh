@@ -127,4 +127,7 @@ expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
 echo '{"runs": 3}' >"$dir/notbase.json"; expect_error "notbase.json: not a baseline" check --config "$dir/tiny.json" --baseline "$dir/notbase.json"
 mkdir -p "$dir/nosweep" && echo '{"x": 1}' >"$dir/nosweep/context.json"; expect_error "has no \"config\"" fit "$dir/nosweep"
 expect_error "runs.jsonl: cannot open" merge "$dir/nosweep" --out "$dir/merged"
+# A runs.jsonl without end (a link to /dev/zero) is read up to a bound (issue 14).
+mkdir -p "$dir/zero" && ln -s /dev/zero "$dir/zero/runs.jsonl"
+expect_error "runs.jsonl: more than 268435456 bytes" sweep "$dir/tiny.json" --out "$dir/zero" --resume
 echo "sweep harness ok"
