@@ -17,7 +17,6 @@
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/ray_io.hpp"
-#include "core/text_scanner.hpp"
 #include "harness/accuracy.hpp"
 #include "harness/claims.hpp"
 #include "harness/cli_args.hpp"

@@ -600,7 +600,8 @@ json run_in_child(const json& spec, double time_limit_s) {
   posix_spawn_file_actions_addclose(&actions, err_pipe[0]);
   const std::string arg = spec.dump();
   std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
-  // The child learns who its sweep is, so that it dies with it (command_run_one).
+  // The child learns who its sweep is, so that it dies with it (command_run_one). The kernel's
+  // parent-death signal follows the spawning thread: runs are spawned from the sweep's own thread.
   std::string parent = std::to_string(getpid());
   char* argv[] = {exe.data(), const_cast<char*>("_run"), const_cast<char*>(arg.c_str()),
                   parent.data(), nullptr};
