@@ -33,7 +33,7 @@ JSON
 sweep=$!
 child=""
 for _ in $(seq 200); do
-  child=$(pgrep -P "$sweep" || true)
+  child=$(cat /proc/"$sweep"/task/*/children 2>/dev/null | tr -s ' ' '\n' | head -n 1 || true)
   [ -n "$child" ] && break
   sleep 0.05
 done
