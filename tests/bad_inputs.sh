@@ -95,5 +95,24 @@ for f in "${corpus[@]}"; do
       ;;
   esac
 done
+# The bound itself is accepted: a cloud spanning +-1e12 and rays from its corner run on Embree's
+# discs, and its reconstruction on all three triangle engines.
+/usr/bin/python3 -c "
+import random
+random.seed(1)
+for _ in range(300): print(*(random.uniform(-1e12, 1e12) for _ in range(3)))" >"$dir/far.xyz"
+printf 'ox,oy,oz,dx,dy,dz\n1e12,1e12,1e12,-1,-1,-1\n-1e12,0,0,1,0,0\n' >"$dir/far.csv"
+accept() {  # accept pcrt-args...: must succeed
+  runs=$((runs + 1))
+  if ! "$pcrt" "$@" >/dev/null 2>"$dir/stderr"; then
+    echo "FAIL (refused at the bound): pcrt $*"; cat "$dir/stderr"; fails=$((fails + 1))
+  fi
+}
+accept render --method embree_oriented_disc --data "$dir/far.xyz" --out "$dir/far.png" --width 16 --height 16
+accept trace --method embree_oriented_disc --data "$dir/far.xyz" --rays "$dir/far.csv" --out "$dir/far_hits.csv"
+accept reconstruct --method afsr --data "$dir/far.xyz" --out "$dir/far_mesh.ply"
+for engine in bvh cgal_aabb embree; do
+  accept trace --mesh "$dir/far_mesh.ply" --engine "$engine" --rays "$dir/far.csv" --out "$dir/far_hits.csv"
+done
 echo "$runs runs over ${#corpus[@]} inputs: $fails failures"
 [ "$fails" -eq 0 ]
