@@ -30,7 +30,8 @@ std::vector<ParamSpec> with_common(std::vector<ParamSpec> shape) {
   return p;
 }
 
-std::shared_ptr<const Surface> make_surface(const std::string& name, const ParamValues& p) {
+std::shared_ptr<const Surface> make_surface(const std::string& name, const ParamValues& p,
+                                            const std::string& spec) {
   auto f = [&](const char* k) { return static_cast<float>(p.at(k)); };
   if (name == "sphere" || name == "fibonacci_sphere") {
     auto s = std::make_shared<SphereSurface>();
@@ -44,7 +45,7 @@ std::shared_ptr<const Surface> make_surface(const std::string& name, const Param
   }
   if (name == "torus") {
     if (p.at("r") >= p.at("R"))
-      input_error("dataset torus: r ({}) must be smaller than R ({})", p.at("r"), p.at("R"));
+      input_error("dataset '{}': r ({}) must be smaller than R ({})", spec, p.at("r"), p.at("R"));
     auto s = std::make_shared<TorusSurface>();
     s->major = f("R");
     s->minor = f("r");
@@ -244,7 +245,7 @@ Dataset load_dataset(const std::string& spec) {
     d.cloud.validate();
     return d;
   }
-  d.truth = make_surface(info->name, values);
+  d.truth = make_surface(info->name, values, spec);
   d.cloud = generate(info->name, values, *d.truth, spec);
   d.cloud.validate();
   return d;

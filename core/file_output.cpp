@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -12,9 +13,34 @@
 
 namespace pcrt {
 
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
-                           bool binary) {
-  const std::string tmp = fmt::format("{}.tmp.{}", path, static_cast<long>(getpid()));
+namespace fs = std::filesystem;
+
+void check_output_path(const std::string& path, const std::string& option) {
+  if (path.empty()) input_error("{}: an empty file name", option);
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) input_error("{} {}: is a directory, not a file", option, path);
+  const fs::path folder = fs::path(path).parent_path();
+  if (!folder.empty() && !fs::is_directory(folder, ec))
+    input_error("{} {}: folder {} does not exist", option, path, folder.string());
+}
+
+void make_output_directory(const std::string& dir, const std::string& option) {
+  if (dir.empty()) input_error("{}: an empty directory name", option);
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    input_error("{} {}: is a file, not a directory", option, dir);
+  fs::create_directories(dir, ec);
+  if (ec) input_error("{} {}: cannot create: {}", option, dir, ec.message());
+}
+
+OutputFiles::~OutputFiles() {
+  for (const Staged& s : staged_) std::remove(s.temporary.c_str());
+}
+
+void OutputFiles::stage(const std::string& path, const StreamWriter& write, bool binary) {
+  static std::atomic<unsigned> serial{0};
+  const std::string tmp =
+      fmt::format("{}.tmp.{}.{}", path, static_cast<long>(getpid()), serial.fetch_add(1));
   {
     std::ofstream out(tmp, binary ? std::ios::binary | std::ios::out : std::ios::out);
     if (!out) input_error("{}: cannot open for writing: {}", path, std::strerror(errno));
@@ -32,12 +58,22 @@ void write_file_atomically(const std::string& path, const std::function<void(std
       input_error("{}: write failed: {}", path, std::strerror(errno));
     }
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    input_error("{}: cannot replace: {}", path, ec.message());
+  staged_.push_back({path, tmp});
+}
+
+void OutputFiles::commit() {
+  for (size_t i = 0; i < staged_.size(); ++i) {
+    std::error_code ec;
+    fs::rename(staged_[i].temporary, staged_[i].path, ec);
+    if (ec) input_error("{}: cannot replace: {}", staged_[i].path, ec.message());
   }
+  staged_.clear();
+}
+
+void write_file_atomically(const std::string& path, const StreamWriter& write, bool binary) {
+  OutputFiles one;
+  one.stage(path, write, binary);
+  one.commit();
 }
 
 }  // namespace pcrt

@@ -1,16 +1,46 @@
-// Writing output files so that a failure never leaves a half-written file in place of a good one:
-// write beside the target, then rename over it.
+// Writing output files so that a failure never leaves a half-written file in place of a good one,
+// and a failing command changes no output at all: each file is written beside its target, then
+// renamed over it once everything that can fail has succeeded.
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace pcrt {
 
-// Calls `write` with a stream on a temporary file next to `path` and renames it to `path` when
-// `write` returns and the stream is good. Throws InputError naming `path` otherwise.
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
-                           bool binary = false);
+using StreamWriter = std::function<void(std::ostream&)>;
+
+// Throws InputError naming `option` and `path` unless `path` can be written: not empty, not a
+// directory, and its folder exists. Commands call it for every output before any work.
+void check_output_path(const std::string& path, const std::string& option);
+
+// Creates the output directory `dir` (and its parents) or throws InputError naming `option`.
+void make_output_directory(const std::string& dir, const std::string& option);
+
+// The outputs of one command. stage() writes a file to a temporary beside its target (an error
+// there leaves every target as it was); commit() renames them all onto their targets. Temporaries
+// not committed are removed when the set is destroyed.
+class OutputFiles {
+ public:
+  OutputFiles() = default;
+  OutputFiles(const OutputFiles&) = delete;
+  OutputFiles& operator=(const OutputFiles&) = delete;
+  ~OutputFiles();
+
+  void stage(const std::string& path, const StreamWriter& write, bool binary = false);
+  void commit();
+
+ private:
+  struct Staged {
+    std::string path, temporary;
+  };
+  std::vector<Staged> staged_;
+};
+
+// One output on its own: stage and commit.
+void write_file_atomically(const std::string& path, const StreamWriter& write, bool binary = false);
 
 }  // namespace pcrt

@@ -27,38 +27,38 @@ void png_flush_stream(png_structp png) { static_cast<std::ostream*>(png_get_io_p
 
 }  // namespace
 
-void write_png(const std::string& path, const Image& image, PngEncoding encoding) {
-  const int w = image.width();
-  const int h = image.height();
-  std::vector<uint8_t> rgb(size_t(w) * h * 3);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c)
-        rgb[(size_t(y) * w + x) * 3 + c] = to_byte(image.at(x, y)[c], encoding);
+StreamWriter png_writer(const Image& image, PngEncoding encoding) {
+  return [&image, encoding](std::ostream& out) {
+    const int w = image.width();
+    const int h = image.height();
+    std::vector<uint8_t> rgb(size_t(w) * h * 3);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c)
+          rgb[(size_t(y) * w + x) * 3 + c] = to_byte(image.at(x, y)[c], encoding);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    if (!png || !info) {
+      png_destroy_write_struct(&png, &info);
+      input_error("libpng could not start");
+    }
+    if (setjmp(png_jmpbuf(png))) {
+      png_destroy_write_struct(&png, &info);
+      input_error("libpng failed while encoding");
+    }
+    png_set_write_fn(png, &out, png_write_to_stream, png_flush_stream);
+    png_set_IHDR(png, info, static_cast<png_uint_32>(w), static_cast<png_uint_32>(h), 8,
+                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = 0; y < h; ++y) png_write_row(png, rgb.data() + size_t(y) * w * 3);
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+  };
+}
 
-  write_file_atomically(
-      path,
-      [&](std::ostream& out) {
-        png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-        png_infop info = png ? png_create_info_struct(png) : nullptr;
-        if (!png || !info) {
-          png_destroy_write_struct(&png, &info);
-          input_error("{}: libpng could not start", path);
-        }
-        if (setjmp(png_jmpbuf(png))) {
-          png_destroy_write_struct(&png, &info);
-          input_error("{}: libpng failed while encoding", path);
-        }
-        png_set_write_fn(png, &out, png_write_to_stream, png_flush_stream);
-        png_set_IHDR(png, info, static_cast<png_uint_32>(w), static_cast<png_uint_32>(h), 8,
-                     PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                     PNG_FILTER_TYPE_DEFAULT);
-        png_write_info(png, info);
-        for (int y = 0; y < h; ++y) png_write_row(png, rgb.data() + size_t(y) * w * 3);
-        png_write_end(png, nullptr);
-        png_destroy_write_struct(&png, &info);
-      },
-      /*binary=*/true);
+void write_png(const std::string& path, const Image& image, PngEncoding encoding) {
+  write_file_atomically(path, png_writer(image, encoding), /*binary=*/true);
 }
 
 }  // namespace pcrt

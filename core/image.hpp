@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/file_output.hpp"
 #include "core/geometry.hpp"
 
 namespace pcrt {
@@ -29,5 +30,7 @@ enum class PngEncoding { kSrgb, kLinear };
 // values in [0,1] as they are (for normal and depth images). Written atomically.
 void write_png(const std::string& path, const Image& image,
                PngEncoding encoding = PngEncoding::kSrgb);
+// The same PNG as a writer for OutputFiles::stage (binary); `image` must outlive the call.
+StreamWriter png_writer(const Image& image, PngEncoding encoding = PngEncoding::kSrgb);
 
 }  // namespace pcrt

@@ -134,6 +134,10 @@ PlyHeader parse_header(const std::string& text, const std::string& path) {
     }
   }
   if (!have_format) input_error("{}: PLY header has no format line", path);
+  // A record without properties takes no bytes, so no file length could bound its count.
+  for (const PlyElement& e : h.elements)
+    if (e.count > 0 && e.properties.empty())
+      input_error("{}: element '{}' has {} records but no properties", path, e.name, e.count);
   h.data_offset = pos;
   h.header_lines = line_no;
   return h;
@@ -214,6 +218,8 @@ struct VertexSink {
     Vec3 p(f(layout.x), f(layout.y), f(layout.z));
     if (!p.allFinite())
       input_error("{}: vertex {} has a non-finite or out-of-range coordinate", path, index);
+    if (!within_coordinate_range(p))
+      input_error("{}: vertex {} has a coordinate beyond +-{:g}", path, index, kMaxCoordinate);
     cloud.positions.push_back(p);
     if (layout.nx >= 0) cloud.normals.emplace_back(f(layout.nx), f(layout.ny), f(layout.nz));
     if (layout.r >= 0) {
@@ -396,7 +402,11 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
 PointCloud read_ply(const std::string& path) { return read_ply(path, nullptr); }
 
 PointCloud read_ply(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles) {
-  const std::string text = read_file(path);
+  return parse_ply(read_file(path), path, triangles);
+}
+
+PointCloud parse_ply(const std::string& text, const std::string& path,
+                     std::vector<std::array<uint32_t, 3>>* triangles) {
   const PlyHeader h = parse_header(text, path);
   if (std::none_of(h.elements.begin(), h.elements.end(),
                    [](const PlyElement& e) { return e.name == "vertex"; }))

@@ -33,14 +33,17 @@ void PointCloud::validate() const {
     input_error("{}: {} colours for {} points", name, colours.size(), n);
   for (size_t i = 0; i < n; ++i) {
     if (!positions[i].allFinite()) input_error("{}: point {} has a non-finite coordinate", name, i);
+    if (!within_coordinate_range(positions[i]))
+      input_error("{}: point {} has a coordinate beyond +-{:g}", name, i, kMaxCoordinate);
     if (has_normals()) {
       if (!normals[i].allFinite()) input_error("{}: point {} has a non-finite normal", name, i);
       if (std::abs(normals[i].squaredNorm() - 1.0f) > 1e-3f)
         input_error("{}: point {} has a normal of length {:.4g}, not 1", name, i,
                     normals[i].norm());
     }
-    if (has_radii() && !(std::isfinite(radii[i]) && radii[i] >= 0.0f))
-      input_error("{}: point {} has radius {}, not a finite value >= 0", name, i, radii[i]);
+    if (has_radii() && !(radii[i] >= 0.0f && radii[i] <= kMaxCoordinate))
+      input_error("{}: point {} has radius {}, not a value in [0, {:g}]", name, i, radii[i],
+                  kMaxCoordinate);
   }
 }
 

@@ -12,6 +12,17 @@
 
 namespace pcrt {
 
+// The largest coordinate magnitude pcrt accepts for a point, a mesh vertex or a ray origin. Areas,
+// squared distances and volumes of such coordinates stay finite in float (1e36 < 3.4e38), and
+// every ray pcrt makes around such a cloud (cameras a few bounding radii out) stays far inside
+// Embree's limit (|origin| <= 1.8e18, beyond which it aborts). Beyond it a bounding box's extent
+// or area overflows to infinity and NaN reaches index arithmetic.
+inline constexpr float kMaxCoordinate = 1e12f;
+
+inline bool within_coordinate_range(const Vec3& p) {
+  return p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxCoordinate;
+}
+
 struct Rgb8 {
   uint8_t r = 0, g = 0, b = 0;
 };
@@ -31,7 +42,8 @@ struct PointCloud {
   [[nodiscard]] std::vector<std::string> attributes() const;
 
   // Throws InputError naming `name` if the cloud is empty, an attribute array has the wrong
-  // length, or any value is NaN/inf or a normal is not unit length.
+  // length, or any value is NaN/inf, a coordinate lies beyond kMaxCoordinate or a normal is not
+  // unit length.
   void validate() const;
   // Drops exact duplicate positions (keeping the first), returns how many were dropped.
   size_t remove_duplicates();

@@ -23,14 +23,25 @@ PointCloud read_ply(const std::string& path, std::vector<std::array<uint32_t, 3>
 PointCloud read_xyz(const std::string& path);
 PointCloud read_off(const std::string& path);
 PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles);
+// The readers on text in memory; `name` stands for the file in errors (the fuzz targets).
+PointCloud parse_ply(const std::string& text, const std::string& name,
+                     std::vector<std::array<uint32_t, 3>>* triangles);
+PointCloud parse_xyz(const std::string& text, const std::string& name);
+PointCloud parse_off(const std::string& text, const std::string& name,
+                     std::vector<std::array<uint32_t, 3>>* triangles);
 
 enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 // Writes x y z as float plus whichever of nx ny nz, red green blue, radius the cloud has.
 void write_ply(const std::string& path, const PointCloud& cloud,
                PlyFormat format = PlyFormat::kBinaryLittleEndian);
 
-// Whole file as a string; InputError naming the path if it cannot be read.
-std::string read_file(const std::string& path);
+// What read_file takes at most from a stream that has no size (a pipe, a character device such
+// as /dev/zero): larger than any text input pcrt is given through one, small enough to hold.
+inline constexpr size_t kMaxStreamBytes = size_t(1) << 28;
+
+// Whole file as a string; InputError naming the path if it cannot be read, is a directory, or is
+// a stream longer than `max_stream_bytes`.
+std::string read_file(const std::string& path, size_t max_stream_bytes = kMaxStreamBytes);
 
 // Shared by the readers: unit-length normals, or none if every normal is zero (as some CGAL
 // files store), or an InputError naming the first zero normal among non-zero ones.

@@ -170,3 +170,37 @@ TEST_CASE("real scans load when fetched", "[io][data]") {
   }
   REQUIRE(loaded >= 5);
 }
+
+// Issue 14: what a fuzz campaign found in the readers.
+TEST_CASE("hostile inputs: huge coordinates, property-less elements, endless streams",
+          "[io][errors]") {
+  SECTION("coordinates beyond kMaxCoordinate name the file and the element or line") {
+    const std::string ply =
+        write_text("far.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                   "property float z\nend_header\n0 0 0\n2e18 0 0\n");
+    REQUIRE_INPUT_ERROR(read_point_cloud(ply), "far.ply: vertex 1 has a coordinate beyond");
+    REQUIRE_INPUT_ERROR(read_point_cloud(write_text("far.xyz", "0 0 0\n0 1e30 0\n")),
+                        "far.xyz: line 2: a coordinate beyond");
+    REQUIRE_INPUT_ERROR(
+        read_point_cloud(write_text("far.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 0 -3e38\n")),
+        "far.off: line 5: vertex 2 has a coordinate beyond");
+    REQUIRE_INPUT_ERROR(load_dataset("sphere:n=10,radius=1e20"), "radius=1e20: point 0");
+    // The largest accepted magnitude still loads.
+    REQUIRE(read_point_cloud(write_text("edge.xyz", "0 0 0\n1e12 -1e12 1e12\n")).size() == 2);
+  }
+  SECTION("a binary element without properties and a huge count is refused, not looped over") {
+    std::string ply =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
+        "property float y\nproperty float z\nelement foo 18446744073709551615\nend_header\n";
+    ply.append(12, '\0');
+    REQUIRE_INPUT_ERROR(read_point_cloud(write_text("empty_element.ply", ply)),
+                        "empty_element.ply: element 'foo' has 18446744073709551615 records but "
+                        "no properties");
+  }
+  SECTION("a stream without a size is read up to a bound") {
+    REQUIRE_INPUT_ERROR(read_file("/dev/zero", 1 << 20),
+                        "/dev/zero: more than 1048576 bytes from a stream without a size");
+    REQUIRE_INPUT_ERROR(read_file(pcrt::test::scratch_dir().string()), "is a directory");
+  }
+}

@@ -12,14 +12,27 @@
 
 namespace pcrt {
 
-std::string read_file(const std::string& path) {
+std::string read_file(const std::string& path, size_t max_stream_bytes) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    input_error("{}: is a directory, not a point cloud file", path);
+  if (std::filesystem::is_directory(path, ec)) input_error("{}: is a directory, not a file", path);
+  const bool regular = std::filesystem::is_regular_file(path, ec);
+  const auto file_size = regular ? std::filesystem::file_size(path, ec) : 0;
+  // A regular file is read to its size; a stream without one (a pipe, /dev/zero) up to the cap.
+  const size_t limit = regular && !ec && file_size > 0 ? size_t(file_size) : max_stream_bytes;
   std::ifstream in(path, std::ios::binary);
   if (!in) input_error("{}: cannot open: {}", path, std::strerror(errno));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  std::vector<char> chunk(1 << 16);
+  while (in && text.size() <= limit) {
+    in.read(chunk.data(), std::streamsize(std::min(chunk.size(), limit + 1 - text.size())));
+    text.append(chunk.data(), size_t(in.gcount()));
+  }
   if (in.bad()) input_error("{}: read error", path);
+  if (text.size() > limit) {
+    if (regular) input_error("{}: the file grew while it was read", path);
+    input_error("{}: more than {} bytes from a stream without a size; pcrt reads at most that",
+                path, max_stream_bytes);
+  }
   return text;
 }
 
@@ -44,8 +57,9 @@ void normalize_loaded_normals(PointCloud& cloud) {
   }
 }
 
-PointCloud read_xyz(const std::string& path) {
-  const std::string text = read_file(path);
+PointCloud read_xyz(const std::string& path) { return parse_xyz(read_file(path), path); }
+
+PointCloud parse_xyz(const std::string& text, const std::string& path) {
   TextScanner scan(text, path);
   PointCloud cloud;
   cloud.name = path;
@@ -63,6 +77,8 @@ PointCloud read_xyz(const std::string& path) {
     }
     Vec3 p(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
     if (!p.allFinite()) input_error("{}: line {}: non-finite coordinate", path, scan.line());
+    if (!within_coordinate_range(p))
+      input_error("{}: line {}: a coordinate beyond +-{:g}", path, scan.line(), kMaxCoordinate);
     cloud.positions.push_back(p);
     if (columns == 6)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
@@ -76,7 +92,11 @@ PointCloud read_xyz(const std::string& path) {
 PointCloud read_off(const std::string& path) { return read_off(path, nullptr); }
 
 PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>>* triangles) {
-  const std::string text = read_file(path);
+  return parse_off(read_file(path), path, triangles);
+}
+
+PointCloud parse_off(const std::string& text, const std::string& path,
+                     std::vector<std::array<uint32_t, 3>>* triangles) {
   TextScanner scan(text, path);
   if (!scan.next_line()) input_error("{}: empty file", path);
   // The header keyword may carry C (colour) and N (normal) prefixes, and the counts may follow
@@ -112,6 +132,9 @@ PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>
     Vec3 p(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
     if (!p.allFinite())
       input_error("{}: line {}: vertex {} has a non-finite coordinate", path, scan.line(), i);
+    if (!within_coordinate_range(p))
+      input_error("{}: line {}: vertex {} has a coordinate beyond +-{:g}", path, scan.line(), i,
+                  kMaxCoordinate);
     cloud.positions.push_back(p);
     if (has_normals)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),

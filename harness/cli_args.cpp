@@ -39,6 +39,7 @@ bool CliArgs::parse(const std::vector<std::string>& args) {
     const OptionSpec* spec = nullptr;
     for (const auto& o : options_)
       if (o.name == name) spec = &o;
+    if (!spec && name == "help") input_error("pcrt {}: --help takes no value", command_);
     if (!spec)
       input_error("pcrt {}: unknown option '--{}' (see pcrt {} --help)", command_, name, command_);
     if (!spec->repeatable && values_.count(name))
@@ -55,7 +56,11 @@ bool CliArgs::parse(const std::vector<std::string>& args) {
     }
     values_[name].push_back(*inline_value);
   }
-  if (positional_.size() < min_pos_ || positional_.size() > max_pos_)
+  if (positional_.size() > max_pos_)  // name the stray one: a value given to a flag, say
+    input_error("pcrt {}: unexpected argument '{}' (takes {}{}): usage: {}", command_,
+                positional_[max_pos_], max_pos_ == 0 ? "no arguments" : "at most ",
+                max_pos_ == 0 ? "" : std::to_string(max_pos_), usage_);
+  if (positional_.size() < min_pos_)
     input_error("pcrt {}: expected {}{} argument(s), got {}: usage: {}", command_, min_pos_,
                 max_pos_ != min_pos_ ? fmt::format(" to {}", max_pos_) : "", positional_.size(),
                 usage_);

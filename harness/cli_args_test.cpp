@@ -22,7 +22,13 @@ TEST_CASE("strict command-line options", "[cli]") {
   REQUIRE_THROWS_WITH(make().parse({"--bogus"}), Contains("unknown option '--bogus'"));
   REQUIRE_THROWS_WITH(make().parse({"--out"}), Contains("needs a value"));
   REQUIRE_THROWS_WITH(make().parse({"--out", "a", "--out", "b"}), Contains("twice"));
-  REQUIRE_THROWS_WITH(make().parse({"a", "b"}), Contains("expected"));
+  // Issue 14: the stray argument is named, and --help=1 is not an unknown option.
+  REQUIRE_THROWS_WITH(make().parse({"a", "b"}),
+                      Contains("unexpected argument 'b' (takes at most 1)"));
+  REQUIRE_THROWS_WITH(CliArgs("t", "pcrt t", {{"json", "", "flag"}}, 0, 0).parse({"--json", "1"}),
+                      Contains("unexpected argument '1' (takes no arguments)"));
+  REQUIRE_THROWS_WITH(make().parse({"--help=1"}), Contains("--help takes no value"));
+  REQUIRE_THROWS_WITH(CliArgs("t", "pcrt t", {}, 1, 1).parse({}), Contains("expected 1 argument"));
   REQUIRE_THROWS_WITH(make().parse({"--json=1"}), Contains("takes no value"));
   CliArgs n("t", "pcrt t", {{"width", "W", "w"}}, 0, 0);
   REQUIRE(n.parse({"--width", "abc"}));

@@ -36,8 +36,13 @@ inline json counters_json(const OpCounters& c) {
   return j;
 }
 
+// A writer owning its JSON, for OutputFiles::stage.
+inline StreamWriter json_writer(json j) {
+  return [j = std::move(j)](std::ostream& out) { out << j.dump(2) << '\n'; };
+}
+
 inline void write_json(const std::string& path, const json& j) {
-  write_file_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  write_file_atomically(path, json_writer(j));
 }
 
 // --threads for every parallel phase (TBB's global limit).

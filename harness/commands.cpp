@@ -16,7 +16,7 @@
 #include "core/error.hpp"
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
-#include "core/text_scanner.hpp"
+#include "core/ray_io.hpp"
 #include "harness/accuracy.hpp"
 #include "harness/claims.hpp"
 #include "harness/cli_args.hpp"
@@ -208,14 +208,19 @@ int command_render(const Args& args) {
   if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
     input_error("pcrt render: --view and --up must not be parallel");
   if (rs.ray_epsilon < 0) input_error("pcrt render: --ray-epsilon must be >= 0");
+  for (const char* option : {"out", "depth", "normals", "stats"})
+    if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
 
   const auto loaded = load_scene(a, "render");
   Timings& timings = loaded->timings;
   RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
   timings["render"] = r.seconds;
-  write_png(out, r.image);
-  if (a.has("depth")) write_png(a.get("depth"), r.depth, PngEncoding::kLinear);
-  if (a.has("normals")) write_png(a.get("normals"), r.normals, PngEncoding::kLinear);
+  OutputFiles outputs;  // all or none
+  outputs.stage(out, png_writer(r.image), true);
+  if (a.has("depth"))
+    outputs.stage(a.get("depth"), png_writer(r.depth, PngEncoding::kLinear), true);
+  if (a.has("normals"))
+    outputs.stage(a.get("normals"), png_writer(r.normals, PngEncoding::kLinear), true);
 
   json params = loaded->params;
   params.update({{"M", rs.width * rs.height},
@@ -232,7 +237,8 @@ int command_render(const Args& args) {
                       {"timings", timings},
                       {"structure_bytes", loaded->structure_bytes()},
                       {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0}};
-  if (a.has("stats")) write_json(a.get("stats"), stats);
+  if (a.has("stats")) outputs.stage(a.get("stats"), json_writer(stats));
+  outputs.commit();
   std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),
               loaded->cloud().size(), rs.width, rs.height, rs.spp, rs.bounces);
   std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"],
@@ -241,42 +247,6 @@ int command_render(const Args& args) {
     std::printf("  %-28s %llu\n", name.c_str(), (unsigned long long)value);
   return 0;
 }
-
-namespace {
-
-std::vector<Ray> read_rays(const std::string& path) {
-  const std::string text = read_file(path);
-  std::vector<Ray> rays;
-  bool header = false;
-  // CSV: split on commas by turning them into blanks for the scanner; the header is checked first.
-  std::string blanked = text;
-  std::replace(blanked.begin(), blanked.end(), ',', ' ');
-  TextScanner lines(blanked, path);
-  while (lines.next_line(false)) {
-    const auto& tok = lines.tokens();
-    if (!header) {
-      const std::vector<std::string_view> want{"ox", "oy", "oz", "dx", "dy", "dz"};
-      if (tok != want)
-        input_error("{}: line {}: header must be 'ox,oy,oz,dx,dy,dz'", path, lines.line());
-      header = true;
-      continue;
-    }
-    if (tok.size() != 6)
-      input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
-    Ray r;
-    r.o = Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
-    const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
-    if (!r.o.allFinite() || !d.allFinite())
-      input_error("{}: line {}: non-finite value", path, lines.line());
-    if (!(d.norm() > 0)) input_error("{}: line {}: zero direction", path, lines.line());
-    r.d = d.normalized();
-    rays.push_back(r);
-  }
-  if (!header) input_error("{}: empty; expected the header 'ox,oy,oz,dx,dy,dz'", path);
-  return rays;
-}
-
-}  // namespace
 
 int command_trace(const Args& args) {
   auto opts = scene_options();
@@ -290,7 +260,9 @@ int command_trace(const Args& args) {
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   const std::string out = a.require("out");
-  const std::vector<Ray> rays = read_rays(a.require("rays"));
+  for (const char* option : {"out", "stats"})
+    if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
+  const std::vector<Ray> rays = read_rays_csv(a.require("rays"));
   const auto loaded = load_scene(a, "trace");
   Timings& timings = loaded->timings;
   const SceneIntersector& scene = loaded->scene();
@@ -305,7 +277,8 @@ int command_trace(const Args& args) {
   }
   OpCounters counters;
   per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
-  write_file_atomically(out, [&](std::ostream& o) {
+  OutputFiles outputs;  // all or none
+  outputs.stage(out, [&](std::ostream& o) {
     o << "ray,hit,t,px,py,pz,nx,ny,nz\n";
     for (size_t i = 0; i < rays.size(); ++i) {
       const Hit& h = hits[i];
@@ -319,12 +292,13 @@ int command_trace(const Args& args) {
   if (a.has("stats")) {
     json params = loaded->params;
     params["rays"] = rays.size();
-    write_json(a.get("stats"), {{"params", params},
-                                {"counters", counters_json(counters)},
-                                {"prepare_counters", counters_json(loaded->prepare)},
-                                {"timings", timings},
-                                {"structure_bytes", loaded->structure_bytes()}});
+    outputs.stage(a.get("stats"), json_writer({{"params", params},
+                                               {"counters", counters_json(counters)},
+                                               {"prepare_counters", counters_json(loaded->prepare)},
+                                               {"timings", timings},
+                                               {"structure_bytes", loaded->structure_bytes()}}));
   }
+  outputs.commit();
   size_t n_hit = 0;
   for (char f : found) n_hit += size_t(f);
   std::printf("%s: %zu rays, %zu hits (%s, %zu points)\n", out.c_str(), rays.size(), n_hit,
@@ -589,6 +563,11 @@ int command_compare(const Args& args) {
     if (a.has(o))
       input_error("pcrt compare: --{} does not apply (the cloud comes from --truth)", o);
   const std::string out = a.require("out");
+  check_output_path(out, "--out");
+  if (a.has("images")) {
+    check_output_path(a.get("images") + ".method.png", "--images");
+    check_output_path(a.get("images") + ".truth.png", "--images");
+  }
   RenderSettings rs;
   rs.width = int(a.integer("width", 256, 1, 16384));
   rs.height = int(a.integer("height", 256, 1, 16384));
@@ -615,11 +594,14 @@ int command_compare(const Args& args) {
   const RenderResult t = render(mesh, frame, rs);
   const RenderResult m = render(method, frame, rs);
   const FrameComparison c = compare_frames(t, m);
-  write_png(out, difference_image(t, m));
+  const Image difference = difference_image(t, m);
+  OutputFiles outputs;  // all or none
+  outputs.stage(out, png_writer(difference), true);
   if (a.has("images")) {
-    write_png(a.get("images") + ".method.png", m.image);
-    write_png(a.get("images") + ".truth.png", t.image);
+    outputs.stage(a.get("images") + ".method.png", png_writer(m.image), true);
+    outputs.stage(a.get("images") + ".truth.png", png_writer(t.image), true);
   }
+  outputs.commit();
   json j = {{"method", method.method_info().id},
             {"structure", method.structure_id()},
             {"width", rs.width},
@@ -853,6 +835,7 @@ int command_convert(const Args& args) {
             1, 1);
   if (!a.parse(args)) return 0;
   const std::string out = a.require("out");
+  check_output_path(out, "--out");
   const Dataset d = load_dataset(a.positional()[0]);
   write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(),

@@ -1,9 +1,11 @@
 // pcrt: point cloud ray tracing benchmark harness.
+#include <fmt/format.h>
 #include <tbb/global_control.h>
 
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "core/error.hpp"
 #include "harness/commands.hpp"
@@ -43,12 +45,38 @@ constexpr const char* kUsage =
     "DATA is a file (.ply .xyz .pwn .off) or a generator spec such as "
     "sphere:n=100000,seed=1,noise=0.001\n";
 
+// One line whatever a message quotes (a path with a newline, bytes from a file): control
+// characters and backslashes are printed as C escapes.
+std::string escaped(const std::string& text) {
+  std::string out;
+  for (const unsigned char c : text) {
+    if (c == '\\')
+      out += "\\\\";
+    else if (c == '\n')
+      out += "\\n";
+    else if (c == '\t')
+      out += "\\t";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c < 0x20 || c == 0x7f)
+      out += fmt::format("\\x{:02x}", c);
+    else
+      out += char(c);
+  }
+  return out;
+}
+
+int fail(const std::string& cmd, const std::string& what) {
+  std::fprintf(stderr, "pcrt %s: error: %s\n", escaped(cmd).c_str(), escaped(what).c_str());
+  return 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fputs(kUsage, stderr);
-    return 2;
+    return 1;
   }
   const std::string cmd = argv[1];
   const pcrt::Args args(argv + 2, argv + argc);
@@ -75,20 +103,20 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     }
-    std::fprintf(stderr, "pcrt: unknown command '%s'\n%s", cmd.c_str(), kUsage);
-    return 2;
+    std::fprintf(stderr, "pcrt: error: unknown command '%s' (pcrt --help lists them)\n",
+                 escaped(cmd).c_str());
+    return 1;
   } catch (const pcrt::InputError& e) {
     // Messages that already name the command are not prefixed twice.
     std::string what = e.what();
     const std::string own = "pcrt " + cmd + ": ";
     if (what.rfind(own, 0) == 0) what.erase(0, own.size());
-    std::fprintf(stderr, "pcrt %s: error: %s\n", cmd.c_str(), what.c_str());
-    return 1;
+    return fail(cmd, what);
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "pcrt %s: error: out of memory\n", cmd.c_str());
-    return 1;
+    return fail(cmd, "out of memory (the input is too large for this machine)");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pcrt %s: internal error: %s\n", cmd.c_str(), e.what());
+    std::fprintf(stderr, "pcrt %s: internal error: %s\n", escaped(cmd).c_str(),
+                 escaped(e.what()).c_str());
     return 3;
   }
 }

@@ -31,6 +31,7 @@ int command_reconstruct(const Args& args) {
   const ReconstructionInfo& info =
       ReconstructionRegistry::instance().get(a.require("method"), "reconstruction");
   const std::string data = a.require("data");
+  if (a.has("out")) check_output_path(a.get("out"), "--out");
   const Dataset d = load_dataset(data);
   const ReconstructionReport r = info.run(d.cloud);
   if (a.has("out")) {

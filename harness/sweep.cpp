@@ -22,6 +22,8 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/file_output.hpp"
+#include "core/json_input.hpp"
+#include "core/point_cloud_io.hpp"
 #include "core/rng.hpp"
 #include "harness/claims.hpp"
 #include "harness/command_helpers.hpp"
@@ -76,6 +78,13 @@ bool is_generator(const std::string& base) {
   for (const auto& g : generators())
     if (g.name == name) return true;
   return false;
+}
+
+// Whether a generator spec gives n itself (a sweep appends N to it).
+bool sets_n(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  if (colon == std::string::npos) return false;
+  return spec.find(":n=") == colon || spec.find(",n=", colon) != std::string::npos;
 }
 
 std::string generator_spec(const std::string& base, double n) {
@@ -213,6 +222,25 @@ std::string substitute(std::string s, const json& row) {
   return s;
 }
 
+// The counts a reconstruction run records (execute_run), beside the registered counters.
+const std::set<std::string> kReconstructionCounts = {"cells",    "facets",         "triangles",
+                                                     "vertices", "boundary_edges", "predicates"};
+
+// Whether `column` names a count a run records: "ops_<counter>" or, for preparation,
+// "ops_prep_<counter>". A misspelt one would only show after the whole sweep, as a fit of zeros.
+bool is_counter_column(const std::string& column) {
+  if (column.rfind("ops_", 0) != 0) return false;
+  std::string name = column.substr(4);
+  if (kReconstructionCounts.count(name)) return true;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t i = 0; i < registered_counter_count(); ++i)
+      if (registered_counters()[i].name == name) return true;
+    if (name.rfind("prep_", 0) != 0) return false;
+    name = name.substr(5);
+  }
+  return false;
+}
+
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
   check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by", "free"}, where);
   FitSpec s;
@@ -224,7 +252,13 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   s.x = f.value("x", s.variable);
   if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
   s.metric = string_list(f["metric"], where + ".metric");
+  // Other metric names are run columns (time, fps, I_run, a crossover's times, ...).
+  for (const std::string& m : s.metric)
+    if (m.rfind("ops_", 0) == 0 && !is_counter_column(m))
+      input_error("{}.metric: '{}' is not a counter (pcrt list)", where, m);
   s.per = f.value("per", std::string());
+  if (!s.per.empty() && !is_counter_column(s.per))
+    input_error("{}.per: '{}' is not a counter (ops_NAME, pcrt list)", where, s.per);
   if (f.contains("by")) s.by = string_list(f["by"], where + ".by");
   if (f.contains("free")) s.free = string_list(f["free"], where + ".free");
   for (const std::string& v : s.free)
@@ -236,6 +270,9 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
     input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
   if (!s.variable.empty() && std::string("SMBNKkI").find(s.variable) == std::string::npos)
     input_error("{}: variable '{}' is not one of S M B N K k I", where, s.variable);
+  const std::set<std::string> columns = {"S", "M", "B", "N", "K", "k", "I", "I_run"};
+  if (!s.x.empty() && !columns.count(s.x) && s.x.rfind("set_", 0) != 0)
+    input_error("{}.x: '{}' is not one of S M B N K k I I_run or set_PARAMETER", where, s.x);
   // Rays are S * M * (paths) by construction: a growth fit on them proves nothing.
   const std::set<std::string> rays = {"ops_rays_cast", "ops_primary_rays", "ops_bounce_rays",
                                       "ops_shadow_rays", "ops_ray_hits"};
@@ -309,7 +346,9 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
       datasets = string_list(e.value("datasets", json()), where + ".datasets");
       for (const std::string& d : datasets) {
         if (is_generator(d)) {
-          (void)parse_generator_spec(generator_spec(d, 10), nullptr);
+          (void)parse_generator_spec(d, nullptr);
+          if (sets_n(d))
+            input_error("{}.datasets: '{}' sets n; a sweep takes N from its grid", where, d);
         } else {
           const PointCloud full = load_dataset(d).cloud;
           for (const json& p : points)
@@ -412,14 +451,7 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
 }
 
 SweepConfig load_sweep_config(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) input_error("{}: cannot open", path);
-  json raw;
-  try {
-    raw = json::parse(in);
-  } catch (const json::exception& e) {
-    input_error("{}: not valid JSON: {}", path, e.what());
-  }
+  const json raw = read_json_file(path);
   try {
     return parse_sweep_config(raw, path);
   } catch (const json::exception& e) {
@@ -569,7 +601,11 @@ json run_in_child(const json& spec, double time_limit_s) {
   posix_spawn_file_actions_addclose(&actions, err_pipe[0]);
   const std::string arg = spec.dump();
   std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
-  char* argv[] = {exe.data(), const_cast<char*>("_run"), const_cast<char*>(arg.c_str()), nullptr};
+  // The child learns who its sweep is, so that it dies with it (command_run_one). The kernel's
+  // parent-death signal follows the spawning thread: runs are spawned from the sweep's own thread.
+  std::string parent = std::to_string(getpid());
+  char* argv[] = {exe.data(), const_cast<char*>("_run"), const_cast<char*>(arg.c_str()),
+                  parent.data(), nullptr};
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv, environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -740,19 +776,23 @@ void write_runs_csv(const std::string& path, const std::vector<json>& results) {
 }
 
 std::vector<json> read_runs_jsonl(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) input_error("{}: cannot open", path);
+  if (!std::filesystem::exists(path)) input_error("{}: cannot open: no such file", path);
+  const std::string text = read_file(path);  // bounded: runs.jsonl may be a link to a device
   std::vector<json> runs;
-  std::string line;
   size_t n = 0;
-  while (std::getline(in, line)) {
+  for (size_t pos = 0; pos < text.size();) {
+    size_t end = text.find('\n', pos);
+    const bool last = end == std::string::npos || end + 1 == text.size();
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + pos, end - pos);
+    pos = end + 1;
     ++n;
     if (line.empty()) continue;
     try {
-      runs.push_back(json::parse(line));
-    } catch (const json::exception&) {
+      runs.push_back(parse_json_text(line, fmt::format("{}: line {}", path, n)));
+    } catch (const InputError&) {
       // A sweep killed mid-write leaves at most a truncated last line: that run is redone.
-      if (in.peek() == EOF) break;
+      if (last) break;
       input_error("{}: line {} is not valid JSON", path, n);
     }
   }

@@ -1,9 +1,11 @@
 // The sweep side of the CLI: sweep, merge, fit, report, calibrate, check, and the hidden _run
 // that executes one run in a child process.
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/file_output.hpp"
+#include "core/json_input.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "harness/fit.hpp"
@@ -53,7 +56,7 @@ std::string fmt_duration(double s) {
 // results in DIR afterwards.
 std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
                             const std::vector<size_t>& selected, bool quiet) {
-  fs::create_directories(dir);
+  make_output_directory(dir, "--out");
   const std::string jsonl = dir + "/runs.jsonl";
   std::set<std::string> done;
   if (resume && fs::exists(jsonl)) {
@@ -153,14 +156,9 @@ void write_fits(const std::string& dir, const std::vector<json>& fits) {
 
 SweepConfig config_of(const std::string& dir) {
   const std::string path = dir + "/context.json";
-  std::ifstream in(path);
-  if (!in) input_error("{}: cannot open (is {} a sweep directory?)", path, dir);
-  json ctx;
-  try {
-    ctx = json::parse(in);
-  } catch (const json::exception&) {
-    input_error("{}: not valid JSON", path);
-  }
+  if (!fs::is_regular_file(path))
+    input_error("{}: no such file (is {} a sweep directory?)", path, dir);
+  json ctx = read_json_file(path);
   if (!ctx.is_object() || !ctx.contains("config")) input_error("{}: has no \"config\"", path);
   try {
     return parse_sweep_config(ctx["config"], path);
@@ -217,8 +215,22 @@ std::string python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3
 
 }  // namespace
 
+namespace {
+
+// A run dies with the sweep that started it (SIGKILL included): the kernel kills it when its parent
+// exits, and a parent already gone before that was arranged ends it here. So a killed sweep leaves
+// no run behind past its time limit, and a resumed sweep never races a leftover one.
+void die_with_parent(const std::string& parent_pid) {
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (std::to_string(getppid()) != parent_pid) _exit(1);
+}
+
+}  // namespace
+
 int command_run_one(const Args& args) {
-  if (args.size() != 1) input_error("_run takes one JSON run spec");
+  if (args.empty() || args.size() > 2)
+    input_error("_run takes one JSON run spec and the sweep's process id");
+  if (args.size() == 2) die_with_parent(args[1]);
   json spec;
   try {
     spec = json::parse(args[0]);
@@ -260,11 +272,12 @@ int command_merge(const Args& args) {
   for (size_t i = 0; i < a.positional().size(); ++i) {
     const std::string dir = a.positional()[i];
     const json ctx = read_json_file(dir + "/context.json");
+    if (!ctx.is_object()) input_error("{}/context.json: not an object", dir);
     if (i > 0) check_same_sweep(ctx, contexts[0], dir, a.positional()[0]);
     contexts.push_back(ctx);
     for (const json& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
   }
-  fs::create_directories(out);
+  make_output_directory(out, "--out");
   std::vector<json> all;
   for (auto& [k, r] : runs) all.push_back(r);
   write_file_atomically(out + "/runs.jsonl", [&](std::ostream& o) {
@@ -384,15 +397,16 @@ int command_check(const Args& args) {
   if (!a.parse(args)) return 0;
   const SweepConfig config = load_sweep_config(a.require("config"));
   const std::string baseline_path = a.require("baseline");
+  if (a.has("update")) check_output_path(baseline_path, "--baseline");
   const double tolerance = a.number("tolerance", 0.0);
   if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
   json base;
   if (!a.has("update")) {  // the baseline is read and checked before the sweep runs
-    std::ifstream in(baseline_path);
-    if (!in) input_error("{}: cannot open (create it with --update)", baseline_path);
-    base = json::parse(in, nullptr, false);
-    if (base.is_discarded() || !base.is_object() || !base.contains("runs") ||
-        !base["runs"].is_object() || !base.value("verdicts", json::object()).is_object())
+    if (!fs::exists(baseline_path))
+      input_error("{}: no such file (create it with --update)", baseline_path);
+    base = read_json_file(baseline_path);
+    if (!base.is_object() || !base.contains("runs") || !base["runs"].is_object() ||
+        !base.value("verdicts", json::object()).is_object())
       input_error("{}: not a baseline (written by pcrt check --update)", baseline_path);
     for (const auto& [key, old] : base["runs"].items())
       if (!old.is_object())

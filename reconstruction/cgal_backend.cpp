@@ -57,7 +57,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 void require_points(const PointCloud& cloud, const char* id) {
   if (cloud.size() < 4)
-    input_error("{}: needs at least 4 points for a 3D triangulation, got {}", id, cloud.size());
+    input_error("{}: {} needs at least 4 points for a 3D triangulation, got {}", cloud.name, id,
+                cloud.size());
 }
 
 ReconstructionReport run_delaunay(const PointCloud& cloud) {
@@ -73,8 +74,9 @@ ReconstructionReport run_delaunay(const PointCloud& cloud) {
   r.points = cloud.size();
   r.vertices = dt.number_of_vertices();
   if (dt.dimension() < 3)
-    input_error("delaunay: all {} points are {} (triangulation dimension {}): no tetrahedra",
-                cloud.size(), dt.dimension() == 2 ? "coplanar" : "collinear", dt.dimension());
+    input_error("{}: delaunay: all {} points are {} (triangulation dimension {}): no tetrahedra",
+                cloud.name, cloud.size(), dt.dimension() == 2 ? "coplanar" : "collinear",
+                dt.dimension());
   r.cells = dt.number_of_finite_cells();
   r.facets = dt.number_of_finite_facets();
   r.memory_bytes = dt.number_of_cells() * sizeof(CountedDelaunay::Cell) +
@@ -90,8 +92,8 @@ ReconstructionReport run_afsr(const PointCloud& cloud) {
     // next to the reconstruction itself, and outside the timed region).
     const Delaunay dt(pts.begin(), pts.end());
     if (dt.dimension() < 3)
-      input_error("afsr: all {} points are {}: no surface to reconstruct", cloud.size(),
-                  dt.dimension() == 2 ? "coplanar" : "collinear");
+      input_error("{}: afsr: all {} points are {}: no surface to reconstruct", cloud.name,
+                  cloud.size(), dt.dimension() == 2 ? "coplanar" : "collinear");
   }
   std::vector<std::array<std::size_t, 3>> facets;
   const auto start = std::chrono::steady_clock::now();

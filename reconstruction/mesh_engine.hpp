@@ -9,6 +9,8 @@
 #include <string>
 
 #include "core/counters.hpp"
+#include "core/error.hpp"
+#include "core/point_cloud.hpp"
 #include "core/registry.hpp"
 #include "harness/scene.hpp"
 #include "reconstruction/triangle_mesh.hpp"
@@ -45,7 +47,7 @@ class MeshScene final : public SceneIntersector {
   MeshScene(const TriangleMesh& mesh, const std::string& engine, OpCounters& counters,
             Timings& timings)
       : info_(&MeshEngineRegistry::instance().get(engine, "mesh engine")),
-        engine_(info_->create(mesh, counters, timings)) {}
+        engine_(info_->create(checked(mesh), counters, timings)) {}
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
     counters.add(kRaysCast);
     const bool found = engine_->closest_hit(ray, hit, counters);
@@ -56,6 +58,15 @@ class MeshScene final : public SceneIntersector {
   [[nodiscard]] size_t memory_bytes() const { return engine_->memory_bytes(); }
 
  private:
+  // No engine is handed coordinates it cannot take (mesh files are checked when read; this
+  // covers meshes made in memory).
+  static const TriangleMesh& checked(const TriangleMesh& mesh) {
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+      if (!within_coordinate_range(mesh.vertices[i]))
+        input_error("mesh vertex {} has a coordinate beyond +-{:g}", i, kMaxCoordinate);
+    return mesh;
+  }
+
   const MeshEngineInfo* info_;
   std::unique_ptr<MeshEngine> engine_;
 };

@@ -136,3 +136,34 @@ TEST_CASE("Mesh rendering is the same at 1 and 2 threads on every engine", "[rec
     REQUIRE(one.counters.get(kRayHits) > 0);
   }
 }
+
+// Issue 14: a vertex near float's limit made the BVH's centroid extent infinite and its bin index
+// NaN -> INT_MIN (a segfault in Release). Mesh scenes refuse such vertices; the BVH itself must
+// still build and trace without leaving its bins.
+TEST_CASE("Huge mesh vertices: scenes refuse them, the BVH survives them", "[reconstruction]") {
+  TriangleMesh mesh;
+  for (int i = 0; i < 40; ++i) {  // triangle i: z = 0, x in [i, i + 0.9], y in [0, 1]
+    const float x = float(i);
+    mesh.vertices.push_back(Vec3(x, 0, 0));
+    mesh.vertices.push_back(Vec3(x + 0.9f, 0, 0));
+    mesh.vertices.push_back(Vec3(x, 1, 0));
+  }
+  // Triangle 1 far out in y: its centroid, (lo + hi) / 2, overflows to infinity.
+  mesh.vertices[3] = Vec3(0, 2e38f, 0);
+  mesh.vertices[4] = Vec3(1, 3e38f, 0);
+  mesh.vertices[5] = Vec3(0, 3e38f, 1);
+  for (uint32_t t = 0; t < 40; ++t) mesh.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  OpCounters counters;
+  Timings timings;
+  for (const char* engine : {"bvh", "cgal_aabb", "embree"})
+    REQUIRE_THROWS_WITH(MeshScene(mesh, engine, counters, timings),
+                        Catch::Matchers::Contains("mesh vertex 3 has a coordinate beyond"));
+  const auto bvh =
+      MeshEngineRegistry::instance().get("bvh", "mesh engine").create(mesh, counters, timings);
+  Hit hit;
+  Ray ray;
+  ray.o = Vec3(20.2f, 0.2f, 5);
+  ray.d = Vec3(0, 0, -1);
+  REQUIRE(bvh->closest_hit(ray, hit, counters));
+  REQUIRE(hit.prim == 20);
+}

@@ -15,6 +15,13 @@ namespace {
 constexpr int kBins = 16;
 constexpr uint32_t kLeafSize = 4;
 
+// The bin of a centroid coordinate `c` over [lo, lo + ext]. Clamped on both sides, and NaN goes
+// to bin 0, so no rounding or overflow can index outside the bins.
+int bin_of(float c, float lo, float ext) {
+  const float b = float(kBins) * (c - lo) / ext;
+  return b >= 0 ? int(std::min(b, float(kBins - 1))) : 0;
+}
+
 struct Node {
   Aabb box;
   uint32_t first = 0;  // leaf: first triangle in order_; inner: right child (left is next)
@@ -128,11 +135,11 @@ class TriangleBvh final : public MeshEngine {
     int best_bin = -1;
     for (int a = 0; a < 3; ++a) {
       const float lo = cbox.lo[a], ext = cbox.hi[a] - cbox.lo[a];
-      if (!(ext > 0)) continue;
+      if (!(ext > 0) || !std::isfinite(ext)) continue;  // flat, or beyond float's range
       std::array<Aabb, kBins> bins;
       std::array<uint32_t, kBins> counts{};
       for (uint32_t k = begin; k < end; ++k) {
-        const int b = std::min(kBins - 1, int(kBins * (centroids_[order_[k]][a] - lo) / ext));
+        const int b = bin_of(centroids_[order_[k]][a], lo, ext);
         bins[size_t(b)].extend(boxes_[order_[k]]);
         ++counts[size_t(b)];
       }
@@ -156,7 +163,7 @@ class TriangleBvh final : public MeshEngine {
     if (best_bin >= 0 && best < area(box) * float(end - begin)) {
       const float lo = cbox.lo[axis], ext = cbox.hi[axis] - cbox.lo[axis];
       uint32_t* m = std::partition(order_.data() + begin, order_.data() + end, [&](uint32_t i) {
-        return std::min(kBins - 1, int(kBins * (centroids_[i][axis] - lo) / ext)) <= best_bin;
+        return bin_of(centroids_[i][axis], lo, ext) <= best_bin;
       });
       mid = uint32_t(m - order_.data());
       return true;

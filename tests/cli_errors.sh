@@ -40,7 +40,7 @@ expect_error "--out is required" render --method reference_splat --data sphere:n
 expect_error "zero_dir.csv: line 2: zero direction" trace --method reference_splat --data sphere:n=100 --rays "$dir/zero_dir.csv" --out "$dir/h.csv"
 expect_error "bad_header.csv: line 1" trace --method reference_splat --data sphere:n=100 --rays "$dir/bad_header.csv" --out "$dir/h.csv"
 expect_error "short_row.csv: line 3" trace --method reference_splat --data sphere:n=100 --rays "$dir/short_row.csv" --out "$dir/h.csv"
-expect_error "cannot open" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/no/such/dir/h.csv"
+expect_error "--out $dir/no/such/dir/h.csv: folder $dir/no/such/dir does not exist" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/no/such/dir/h.csv"
 
 printf "0 0 0\\n1 0 0\\n0 1 0\\n1 1 1\\n" >"$dir/four.xyz"
 expect_error "is a file; accuracy needs a generator" accuracy --method reference_splat --data "$dir/four.xyz"
@@ -52,9 +52,9 @@ expect_error "--data is required" anchor
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n' >"$dir/badface.ply"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' >"$dir/nofaces.ply"
 printf "0 0 0\n1 0 0\n0 1 0\n" >"$dir/three.xyz"
-expect_error "needs at least 4 points" reconstruct --method delaunay --data "$dir/three.xyz"
-expect_error "coplanar" reconstruct --method delaunay --data plane:n=100
-expect_error "coplanar" reconstruct --method afsr --data plane:n=100
+expect_error "three.xyz: delaunay needs at least 4 points" reconstruct --method delaunay --data "$dir/three.xyz"
+expect_error "plane:n=100: delaunay: all 100 points are coplanar" reconstruct --method delaunay --data plane:n=100
+expect_error "plane:n=100: afsr: all 100 points are coplanar" reconstruct --method afsr --data plane:n=100
 expect_error "unknown reconstruction 'poisson'" reconstruct --method poisson --data sphere:n=100
 expect_error "makes no triangle mesh" reconstruct --method delaunay --data sphere:n=100 --out "$dir/m.ply"
 expect_error "badface.ply: face 0 names vertex 7" render --mesh "$dir/badface.ply" --out "$dir/a.png"
@@ -79,8 +79,42 @@ expect_error "apply only to --truth" accuracy --method hubo_2006 --data sphere:n
 expect_error "mesh engine" accuracy --method hubo_2006 --truth "$dir/tri.off" --truth-engine nope
 expect_error "--truth MESH is required" compare --method hubo_2006 --out "$dir/d.png"
 expect_error "does not apply" compare --method hubo_2006 --truth "$dir/tri.off" --data sphere:n=100 --out "$dir/d.png"
-# Unknown command and no arguments: usage, non-zero.
-if "$pcrt" frobnicate >/dev/null 2>&1; then echo "FAIL: unknown command exited 0"; fails=$((fails + 1)); fi
+# Every output is checked before the work and written only when everything has succeeded (issue
+# 14: render wrote out.png, then failed on --stats DIR or --depth; trace did the same to hits.csv).
+mkdir "$dir/statsdir"
+keep_outputs() {  # keep_outputs "what it must mention" OUTPUT... -- pcrt-args...
+  local want=$1; shift
+  local outs=()
+  while [ "$1" != "--" ]; do outs+=("$1"); echo "precious" >"$1"; shift; done
+  shift
+  expect_error "$want" "$@"
+  for o in "${outs[@]}"; do
+    if [ "$(cat "$o")" != "precious" ]; then echo "FAIL: pcrt $* changed $o"; fails=$((fails + 1)); fi
+  done
+}
+render=(render --method reference_splat --data sphere:n=200 --width 8 --height 8)
+keep_outputs "--stats $dir/statsdir: is a directory" "$dir/keep.png" -- "${render[@]}" --out "$dir/keep.png" --stats "$dir/statsdir"
+keep_outputs "--depth $dir/nonexistent/d.png: folder" "$dir/keep.png" -- "${render[@]}" --out "$dir/keep.png" --depth "$dir/nonexistent/d.png"
+keep_outputs "--depth: an empty file name" "$dir/keep.png" -- "${render[@]}" --out "$dir/keep.png" --depth ''
+keep_outputs "--out: an empty file name" "$dir/keep.png" -- "${render[@]}" --out '' --depth "$dir/keep.png"
+keep_outputs "--out $dir/statsdir: is a directory" "$dir/keep.png" -- "${render[@]}" --out "$dir/statsdir" --normals "$dir/keep.png"
+keep_outputs "--stats $dir/statsdir: is a directory" "$dir/hits.csv" -- trace --method reference_splat --data sphere:n=200 --rays "$dir/rays.csv" --out "$dir/hits.csv" --stats "$dir/statsdir"
+keep_outputs "--out $dir/statsdir: is a directory" "$dir/keep.ply" -- convert sphere:n=10 --out "$dir/statsdir"
+keep_outputs "--images" "$dir/diff.png" -- compare --method reference_splat --truth "$dir/tri.off" --out "$dir/diff.png" --images "$dir/nonexistent/x"
+if compgen -G "$dir/*.tmp.*" >/dev/null; then echo "FAIL: temporaries left: $(ls "$dir"/*.tmp.*)"; fails=$((fails + 1)); fi
+# Sweep and check outputs and inputs of the wrong kind.
+config="$(dirname "$0")/../configs/ci.json"
+expect_error "--out $dir/keep.png: is a file, not a directory" sweep "$config" --out "$dir/keep.png"
+expect_error "$dir/statsdir: is a directory, not a file" check --config "$dir/statsdir" --baseline "$dir/b.json"
+expect_error "$dir/statsdir: is a directory, not a file" check --config "$config" --baseline "$dir/statsdir"
+expect_error "--baseline $dir/statsdir: is a directory" check --config "$config" --baseline "$dir/statsdir" --update
+# Names with control characters are printed escaped, on one line.
+printf '0 0 0\nnan 1 1\n' >"$dir/new
+line.xyz"
+expect_error 'new\nline.xyz: line 2' info "$dir/new
+line.xyz"
+# Unknown command: one line, exit 1 like every other error; no arguments: usage, non-zero.
+expect_error "unknown command 'frobnicate'" frobnicate
 if "$pcrt" >/dev/null 2>&1; then echo "FAIL: no command exited 0"; fails=$((fails + 1)); fi
 [ "$fails" -eq 0 ] && echo "all CLI error paths ok"
 exit "$fails"

@@ -21,6 +21,32 @@ cat >"$dir/tiny.json" <<'JSON'
 }
 JSON
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --fit >/dev/null
+
+# A sweep killed with SIGKILL leaves no run behind (issue 14: the running child outlived its sweep
+# and, on resume, ran twice at once).
+cat >"$dir/slow.json" <<'JSON'
+{"name": "slow", "threads": 1, "experiments": [
+  {"name": "big", "kind": "render", "methods": ["reference_splat"], "datasets": ["sphere"],
+   "grid": {"N": [4000000], "M": [64], "B": [0]}}]}
+JSON
+"$pcrt" sweep "$dir/slow.json" --out "$dir/slow" >/dev/null 2>&1 &
+sweep=$!
+child=""
+for _ in $(seq 200); do
+  child=$(cat /proc/"$sweep"/task/*/children 2>/dev/null | tr -s ' ' '\n' | head -n 1 || true)
+  [ -n "$child" ] && break
+  sleep 0.05
+done
+test -n "$child"
+sleep 0.3  # well inside the run
+kill -9 "$sweep"
+wait "$sweep" 2>/dev/null || true
+for _ in $(seq 50); do kill -0 "$child" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$child" 2>/dev/null; then
+  echo "FAIL: run $child outlived its killed sweep"
+  kill -9 "$child"
+  exit 1
+fi
 test "$(wc -l <"$dir/a/runs.jsonl")" -eq 15
 head -1 "$dir/a/runs.csv" | python3 -c '
 import sys
@@ -102,12 +128,17 @@ bad 'c["experiments"][0]["methods"] = ["nope"]';         expect_error "unknown m
 bad 'c["experiments"][0]["grid"]["N"] = [0, 10, 20]';     expect_error "N = 0 is impossible" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["set.radius_k"] = -3';          expect_error "radius_k=-3 is outside" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["datasets"] = ["'"$dir"'/tiny.json"]'; expect_error "tiny.json" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["datasets"] = ["sphere:n=5"]';  expect_error "experiments[0].datasets: 'sphere:n=5' sets n" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["datasets"] = ["sphere:seed=2,n=5"]'; expect_error "'sphere:seed=2,n=5' sets n" sweep "$dir/bad.json"
 bad 'c["experiments"][1]["kind"] = "dance"';             expect_error "kind must be" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["variable"] = "Q"';  expect_error "variable 'Q'" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["claim"] = "{method}/frame"'; expect_error "unknown claim 'reference_splat/frame'" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["metric"] = "ops_rays_cast"'; expect_error "counts rays only" sweep "$dir/bad.json"
 bad 'c["experiments"][1]["fits"][0]["claim"] = "gift_wrapping/worst"'; expect_error "is not tested: pcrt has no gift-wrapping" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["fits"][0]["free"] = ["Q"]';    expect_error "'Q' is not one of K, k, I_run" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["fits"][0]["metric"] = "ops_nodes_visted"'; expect_error "fits[0].metric: 'ops_nodes_visted' is not a counter" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["fits"][0]["per"] = "rays"';    expect_error ".per: 'rays' is not a counter" sweep "$dir/bad.json"
+bad 'c["experiments"][0]["fits"][0]["x"] = "Q"';         expect_error ".x: 'Q' is not one of" sweep "$dir/bad.json"
 bad 'c["experiments"][0]["camera"] = "under"';           expect_error "camera must be" sweep "$dir/bad.json"
 printf '{"experiments": [' >"$dir/trunc.json";            expect_error "not valid JSON" sweep "$dir/trunc.json"
 expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
@@ -130,4 +161,7 @@ if PATH=$dir/nopath "$pcrt" cluster submit "$dir/tiny.json" --out "$dir/cl2" --s
   echo "FAIL: cluster submit without sbatch succeeded"; exit 1
 fi
 grep -q "sbatch was not found" "$dir/err" && test "$(wc -l <"$dir/err")" -eq 1
+# A runs.jsonl without end (a link to /dev/zero) is read up to a bound (issue 14).
+mkdir -p "$dir/zero" && ln -s /dev/zero "$dir/zero/runs.jsonl"
+expect_error "runs.jsonl: more than 268435456 bytes" sweep "$dir/tiny.json" --out "$dir/zero" --resume
 echo "sweep harness ok"

@@ -1,0 +1,63 @@
+#include "core/json_input.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "core/point_cloud_io.hpp"
+
+namespace pcrt {
+namespace {
+
+size_t line_at(std::string_view text, size_t offset) {
+  return 1 +
+         size_t(std::count(text.begin(), text.begin() + long(std::min(offset, text.size())), '\n'));
+}
+
+// Rejects NUL bytes and nesting deeper than kMaxJsonDepth before nlohmann sees the text; brackets
+// inside strings do not count.
+void check_shape(std::string_view text, const std::string& source) {
+  size_t depth = 0;
+  bool in_string = false, escaped = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\0') input_error("{}: line {}: a NUL byte; not JSON text", source, line_at(text, i));
+    if (in_string) {
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        input_error("{}: line {}: nested deeper than {} levels", source, line_at(text, i),
+                    kMaxJsonDepth);
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+}  // namespace
+
+nlohmann::json parse_json_text(std::string_view text, const std::string& source) {
+  check_shape(text, source);
+  try {
+    return nlohmann::json::parse(text.begin(), text.end());
+  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers beyond double
+    // nlohmann's message names the place: "[json.exception.parse_error.101] parse error at line
+    // 3, column 5: ..."; its tag is dropped.
+    const std::string what = e.what();
+    const size_t tag_end = what.find("] ");
+    input_error("{}: not valid JSON: {}", source,
+                tag_end == std::string::npos ? what : what.substr(tag_end + 2));
+  }
+}
+
+nlohmann::json read_json_file(const std::string& path) {
+  return parse_json_text(read_file(path), path);
+}
+
+}  // namespace pcrt

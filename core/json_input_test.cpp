@@ -1,0 +1,30 @@
+#include "core/json_input.hpp"
+
+#include <catch2/catch.hpp>
+#include <string>
+
+#include "core/error.hpp"
+
+using namespace pcrt;
+using Catch::Matchers::Contains;
+
+TEST_CASE("JSON input: nesting is bounded, NUL and trailing bytes are errors", "[json][errors]") {
+  const std::string deep = std::string(1000000, '[') + std::string(1000000, ']');
+  REQUIRE_THROWS_WITH(parse_json_text(deep, "deep.json"),
+                      Contains("deep.json: line 1: nested deeper than 64 levels"));
+  const std::string at_limit = std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']');
+  REQUIRE(parse_json_text(at_limit, "ok.json").is_array());
+  // Brackets inside strings are not nesting.
+  REQUIRE(parse_json_text("{\"a\": \"" + std::string(100, '[') + "\\\"\"}", "s.json").is_object());
+  REQUIRE_THROWS_WITH(parse_json_text(std::string("{}\0", 3), "nul.json"),
+                      Contains("nul.json: line 1: a NUL byte"));
+  REQUIRE_THROWS_WITH(parse_json_text("{} {}", "two.json"),
+                      Contains("two.json: not valid JSON: parse error at line 1, column 4"));
+  REQUIRE_THROWS_AS(parse_json_text("{\n\"a\": [1,\n", "cut.json"), InputError);
+}
+
+TEST_CASE("JSON input: a number beyond double is an error naming the file", "[json][errors]") {
+  // Found by fuzz_json: nlohmann throws out_of_range, not parse_error, for it.
+  REQUIRE_THROWS_WITH(parse_json_text("{\"a\": 3e5353}", "big.json"),
+                      Contains("big.json: not valid JSON: number overflow parsing '3e5353'"));
+}

@@ -1,0 +1,53 @@
+#include "core/ray_io.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "core/point_cloud.hpp"
+#include "core/point_cloud_io.hpp"
+#include "core/text_scanner.hpp"
+
+namespace pcrt {
+
+std::vector<Ray> read_rays_csv(const std::string& path) {
+  return parse_rays_csv(read_file(path), path);
+}
+
+std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path) {
+  std::vector<Ray> rays;
+  bool header = false;
+  // CSV: split on commas by turning them into blanks for the scanner; the header is checked first.
+  std::string blanked = text;
+  std::replace(blanked.begin(), blanked.end(), ',', ' ');
+  TextScanner lines(blanked, path);
+  while (lines.next_line(false)) {
+    const auto& tok = lines.tokens();
+    if (!header) {
+      const std::vector<std::string_view> want{"ox", "oy", "oz", "dx", "dy", "dz"};
+      if (tok != want)
+        input_error("{}: line {}: header must be 'ox,oy,oz,dx,dy,dz'", path, lines.line());
+      header = true;
+      continue;
+    }
+    if (tok.size() != 6)
+      input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
+    Ray r;
+    r.o = Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
+    const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
+    if (!r.o.allFinite() || !d.allFinite())
+      input_error("{}: line {}: non-finite value", path, lines.line());
+    // Embree aborts on origins beyond 1.8e18; every structure loses the ray's t long before.
+    if (!within_coordinate_range(r.o))
+      input_error("{}: line {}: origin coordinate beyond +-{:g}", path, lines.line(),
+                  kMaxCoordinate);
+    if (!(d.cast<double>().norm() > 0))
+      input_error("{}: line {}: zero direction", path, lines.line());
+    // In double: the float norm of a direction near 1e38 (or 1e-38) overflows (or underflows).
+    r.d = d.cast<double>().normalized().cast<float>();
+    rays.push_back(r);
+  }
+  if (!header) input_error("{}: empty; expected the header 'ox,oy,oz,dx,dy,dz'", path);
+  return rays;
+}
+
+}  // namespace pcrt
