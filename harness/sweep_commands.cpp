@@ -173,14 +173,6 @@ std::vector<size_t> all_runs(const SweepConfig& config) {
   return all;
 }
 
-json read_json_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) input_error("{}: cannot open", path);
-  const json j = json::parse(in, nullptr, false);
-  if (j.is_discarded()) input_error("{}: not valid JSON", path);
-  return j;
-}
-
 // The runs of shard i/n: from a plan file when given (a cluster sweep fixes its split once),
 // else balanced on estimated costs (the model's, or an earlier sweep's times).
 std::vector<size_t> shard_runs(const SweepConfig& config, const CliArgs& a) {
