@@ -98,8 +98,11 @@ class Hubo2007 final : public Method {
     const float t = wsum > 0 ? tsum / wsum : front;
     const uint32_t prim = nearest_point(ray.at(t), leaf.items);
     if (t > leaf.t_exit || !closer(t, prim, hit)) return false;
-    record_hit(ray, t, prim, nsum.norm() > 0 ? Vec3(nsum.normalized()) : hits[0].second, sigma_,
-               hit);
+    // The footprint covers the blend: the patch surfaces averaged lie up to depth_ apart, so a ray
+    // leaving the hit (lifted by half the footprint) must clear depth_ beyond the Gaussian's
+    // rounding, or it meets a neighbouring patch's surface (dark streaks on sparse scans).
+    record_hit(ray, t, prim, nsum.norm() > 0 ? Vec3(nsum.normalized()) : hits[0].second,
+               sigma_ + 2 * depth_, hit);
     return true;
   }
 
