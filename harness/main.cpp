@@ -2,8 +2,10 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <new>
 #include <string>
 
@@ -66,6 +68,27 @@ std::string escaped(const std::string& text) {
   return out;
 }
 
+// What an out-of-memory error names: the values of the input options, the leading positional
+// argument (a file, directory or generator spec) and the other arguments that are existing files
+// or directories, outputs excepted.
+std::string inputs_of(const pcrt::Args& args) {
+  auto follows = [&](size_t i, std::initializer_list<const char*> options) {
+    return i > 0 && std::any_of(options.begin(), options.end(),
+                                [&](const char* o) { return args[i - 1] == o; });
+  };
+  std::string names;
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::error_code ec;
+    const bool input =
+        follows(i, {"--data", "--truth", "--mesh", "--rays", "--config", "--baseline"}) ||
+        (i == 0 && args[i].rfind("--", 0) != 0) ||
+        (args[i].rfind("--", 0) != 0 && !follows(i, {"--out", "--stats", "--depth", "--normals"}) &&
+         std::filesystem::exists(args[i], ec));
+    if (input) names += (names.empty() ? "" : ", ") + args[i];
+  }
+  return names;
+}
+
 int fail(const std::string& cmd, const std::string& what) {
   std::fprintf(stderr, "pcrt %s: error: %s\n", escaped(cmd).c_str(), escaped(what).c_str());
   return 1;
@@ -113,7 +136,10 @@ int main(int argc, char** argv) {
     if (what.rfind(own, 0) == 0) what.erase(0, own.size());
     return fail(cmd, what);
   } catch (const std::bad_alloc&) {
-    return fail(cmd, "out of memory (the input is too large for this machine)");
+    const std::string inputs = inputs_of(args);
+    return fail(cmd, inputs.empty()
+                         ? "out of memory (the input is too large for this machine)"
+                         : "out of memory: " + inputs + " is too large for this machine");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pcrt %s: internal error: %s\n", escaped(cmd).c_str(),
                  escaped(e.what()).c_str());
