@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 
 #include "core/counters.hpp"
@@ -59,5 +60,11 @@ class PointScene final : public SceneIntersector {
   std::unique_ptr<Method> method_;
   std::unique_ptr<Structure> structure_;
 };
+
+// Closest hits of `rays` on all threads TBB may use (a tbb::global_control bounds them);
+// found[i] says whether rays[i] hit. Counters are kept per thread and summed, so they do not
+// depend on the thread count. What `pcrt trace` and the Python module's Scene.trace run.
+OpCounters trace_rays(const SceneIntersector& scene, std::span<const Ray> rays, std::span<Hit> hits,
+                      std::span<char> found);
 
 }  // namespace pcrt

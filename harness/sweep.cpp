@@ -130,10 +130,10 @@ void validate_params(const std::string& method, const std::string& structure,
   const StructureInfo* s =
       m.own_structure.empty() ? &StructureRegistry::instance().get(sid, "structure") : nullptr;
   for (const auto& [k, v] : set) {
-    const bool in_m =
-        std::any_of(m.params.begin(), m.params.end(), [&](auto& p) { return p.name == k; });
-    const bool in_s =
-        s && std::any_of(s->params.begin(), s->params.end(), [&](auto& p) { return p.name == k; });
+    const std::string& name = k;  // clang 14 cannot capture a structured binding
+    auto named = [&](const ParamSpec& p) { return p.name == name; };
+    const bool in_m = std::any_of(m.params.begin(), m.params.end(), named);
+    const bool in_s = s && std::any_of(s->params.begin(), s->params.end(), named);
     if (!in_m && !in_s)
       input_error("{}: set.{} is not a parameter of {} or {}", where, k, method, sid);
     (in_m ? mp : sp)[k] = v;

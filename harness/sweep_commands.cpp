@@ -63,8 +63,7 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
   // old results are touched.
   write_json(dir + "/context.json", machine_context(config.raw));
   // A shard with nothing (left) to run still leaves a readable, empty runs.jsonl.
-  if (!resume || !fs::exists(jsonl))
-    write_file_atomically(jsonl, [](std::ostream&) {});
+  if (!resume || !fs::exists(jsonl)) write_file_atomically(jsonl, [](std::ostream&) {});
   std::vector<const json*> todo;
   for (size_t i : selected)
     if (!done.count(run_key(config.runs[i]))) todo.push_back(&config.runs[i]);
