@@ -14,6 +14,7 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/exr_output.hpp"
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/ray_io.hpp"
@@ -170,6 +171,34 @@ int command_info(const Args& args) {
   return 0;
 }
 
+namespace {
+
+// The frame, depth and normal images: PNG (8-bit; depth scaled to [0,1] over the image, normals
+// as (n + 1) / 2) or, for a .exr name, 32-bit float (radiance as it is, depth as the primary
+// hit's distance in scene units with +inf where nothing was hit, normals signed, 0 on a miss).
+void stage_render_images(OutputFiles& outputs, const RenderResult& r, const std::string& out,
+                         const std::string& depth, const std::string& normals) {
+  const int w = r.image.width(), h = r.image.height();
+  if (is_exr_path(out))
+    outputs.stage(out, exr_writer(w, h, rgb_channels(r.image)), true);
+  else
+    outputs.stage(out, png_writer(r.image), true);
+  if (is_exr_path(depth))
+    outputs.stage(depth, exr_writer(w, h, {{"Z", r.primary_t}}), true);
+  else if (!depth.empty())
+    outputs.stage(depth, png_writer(r.depth, PngEncoding::kLinear), true);
+  if (is_exr_path(normals)) {
+    std::vector<FloatChannel> n = {{"R", {}}, {"G", {}}, {"B", {}}};
+    for (const Vec3& v : r.primary_n)
+      for (int k = 0; k < 3; ++k) n[size_t(k)].values.push_back(v[k]);
+    outputs.stage(normals, exr_writer(w, h, std::move(n)), true);
+  } else if (!normals.empty()) {
+    outputs.stage(normals, png_writer(r.normals, PngEncoding::kLinear), true);
+  }
+}
+
+}  // namespace
+
 int command_render(const Args& args) {
   auto opts = scene_options();
   opts.insert(
@@ -185,10 +214,12 @@ int command_render(const Args& args) {
         "direction from the cloud's centre to the camera (default 0.55,-0.75,0.4)"},
        {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
        {"ray-epsilon", "E", "offset of secondary ray origins (default 1e-3 x scene diagonal)"},
-       {"depth", "FILE.png", "also write the primary-hit depth image"},
-       {"normals", "FILE.png", "also write the primary-hit normal image"}});
+       {"depth", "FILE.png|.exr",
+        "also write the primary-hit depth image (EXR: distance in scene units, inf: no hit)"},
+       {"normals", "FILE.png|.exr",
+        "also write the primary-hit normal image (EXR: the signed normal)"}});
   CliArgs a("render",
-            "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID]) --out FILE.png "
+            "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID]) --out FILE.png|.exr "
             "[options]",
             opts, 0, 0);
   if (!a.parse(args)) return 0;
@@ -216,11 +247,8 @@ int command_render(const Args& args) {
   RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
   timings["render"] = r.seconds;
   OutputFiles outputs;  // all or none
-  outputs.stage(out, png_writer(r.image), true);
-  if (a.has("depth"))
-    outputs.stage(a.get("depth"), png_writer(r.depth, PngEncoding::kLinear), true);
-  if (a.has("normals"))
-    outputs.stage(a.get("normals"), png_writer(r.normals, PngEncoding::kLinear), true);
+  stage_render_images(outputs, r, out, a.has("depth") ? a.get("depth") : "",
+                      a.has("normals") ? a.get("normals") : "");
 
   json params = loaded->params;
   params.update({{"M", rs.width * rs.height},

@@ -18,7 +18,7 @@ constexpr const char* kUsage =
     "usage: pcrt <command> [options]   (pcrt <command> --help for each)\n\n"
     "commands:\n"
     "  info DATA [--json]          points, bounds, attributes, mean spacing of a dataset\n"
-    "  render (--method ID --data DATA | --mesh FILE --engine ID) --out FILE.png ...   render an "
+    "  render (--method ID --data DATA | --mesh FILE --engine ID) --out FILE.png|.exr ...   render an "
     "image (Algorithms 1-2)\n"
     "  trace (--method ID --data DATA | --mesh FILE --engine ID) --rays RAYS.csv --out HITS.csv "
     "...   closest hits of given rays\n"

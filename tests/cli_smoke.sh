@@ -97,6 +97,12 @@ for a, b, c in zip(rows["bvh"], rows["cgal_aabb"], rows["embree"]):
         assert abs(float(a["t"]) - float(b["t"])) < 1e-4 and abs(float(a["t"]) - float(c["t"])) < 1e-4
 assert hits > 1000, hits
 PY
+# Float images: a .exr name writes 32-bit OpenEXR (radiance, depth in scene units, signed normals).
+"$pcrt" render --method reference_splat --data sphere:n=5000 --out "$dir/f.exr" --depth "$dir/d.exr" \
+  --normals "$dir/n.EXR" --width 24 --height 16 >/dev/null
+for f in f.exr d.exr n.EXR; do
+  test "$(head -c 4 "$dir/$f" | od -An -tx1 | tr -d ' ')" = "762f3101" || { echo "FAIL: $f is not EXR"; exit 1; }
+done
 "$pcrt" render --mesh "$dir/s.ply" --engine bvh --out "$dir/mesh.png" --width 32 --height 32 --stats "$dir/mesh.json" >/dev/null
 python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["params"]["engine"] == "bvh" and j["counters"]["triangle_tests"] > 0' "$dir/mesh.json"
 "$pcrt" crossover --data sphere:n=2000 --method goradia_2010 --width 32 --height 32 --reps 1 --json | python3 -c '
