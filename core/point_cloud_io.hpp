@@ -39,9 +39,14 @@ void write_ply(const std::string& path, const PointCloud& cloud,
 // as /dev/zero): larger than any text input pcrt is given through one, small enough to hold.
 inline constexpr size_t kMaxStreamBytes = size_t(1) << 28;
 
-// Whole file as a string; InputError naming the path if it cannot be read, is a directory, or is
-// a stream longer than `max_stream_bytes`.
-std::string read_file(const std::string& path, size_t max_stream_bytes = kMaxStreamBytes);
+// What read_file does when a regular file grows while it is read: an input must not (an error),
+// a log another process appends to may (the bytes it had when reading began are returned).
+enum class FileGrowth { kError, kSnapshot };
+
+// Whole file as a string; InputError naming the path if it cannot be read, is a directory, is
+// a stream longer than `max_stream_bytes`, or (kError) grew while it was read.
+std::string read_file(const std::string& path, size_t max_stream_bytes = kMaxStreamBytes,
+                      FileGrowth growth = FileGrowth::kError);
 
 // Shared by the readers: unit-length normals, or none if every normal is zero (as some CGAL
 // files store), or an InputError naming the first zero normal among non-zero ones.

@@ -12,7 +12,7 @@
 
 namespace pcrt {
 
-std::string read_file(const std::string& path, size_t max_stream_bytes) {
+std::string read_file(const std::string& path, size_t max_stream_bytes, FileGrowth growth) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) input_error("{}: is a directory, not a file", path);
   const bool regular = std::filesystem::is_regular_file(path, ec);
@@ -29,6 +29,10 @@ std::string read_file(const std::string& path, size_t max_stream_bytes) {
   }
   if (in.bad()) input_error("{}: read error", path);
   if (text.size() > limit) {
+    if (regular && growth == FileGrowth::kSnapshot) {
+      text.resize(limit);
+      return text;
+    }
     if (regular) input_error("{}: the file grew while it was read", path);
     input_error("{}: more than {} bytes from a stream without a size; pcrt reads at most that",
                 path, max_stream_bytes);

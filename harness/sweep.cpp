@@ -806,7 +806,9 @@ void write_runs_csv(const std::string& path, const std::vector<json>& results) {
 
 std::vector<json> read_runs_jsonl(const std::string& path) {
   if (!std::filesystem::exists(path)) input_error("{}: cannot open: no such file", path);
-  const std::string text = read_file(path);  // bounded: runs.jsonl may be a link to a device
+  // Bounded (runs.jsonl may be a link to a device); a running sweep may be appending to it (pcrt
+  // cluster status reads the shards' while they run): what was there when reading began.
+  const std::string text = read_file(path, kMaxStreamBytes, FileGrowth::kSnapshot);
   std::vector<json> runs;
   size_t n = 0;
   for (size_t pos = 0; pos < text.size();) {
