@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
+#include "core/process_usage.hpp"
 #include "core/ray_io.hpp"
 #include "harness/accuracy.hpp"
 #include "harness/claims.hpp"
@@ -212,6 +213,7 @@ int command_render(const Args& args) {
     if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
 
   const auto loaded = load_scene(a, "render");
+  const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
   Timings& timings = loaded->timings;
   RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
   timings["render"] = r.seconds;
@@ -236,7 +238,9 @@ int command_render(const Args& args) {
                       {"prepare_counters", counters_json(loaded->prepare)},
                       {"timings", timings},
                       {"structure_bytes", loaded->structure_bytes()},
-                      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0}};
+                      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0},
+                      {"process",
+                       {{"setup_cpu_seconds", setup_cpu}, {"peak_rss_bytes", peak_rss_bytes()}}}};
   if (a.has("stats")) outputs.stage(a.get("stats"), json_writer(stats));
   outputs.commit();
   std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),
