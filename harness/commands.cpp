@@ -240,7 +240,10 @@ int command_render(const Args& args) {
                       {"structure_bytes", loaded->structure_bytes()},
                       {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0},
                       {"process",
-                       {{"setup_cpu_seconds", setup_cpu}, {"peak_rss_bytes", peak_rss_bytes()}}}};
+                       {{"setup_cpu_seconds", setup_cpu},
+                        {"peak_rss_bytes", peak_rss_bytes()},
+                        {"estimated_scene_bytes",
+                         loaded->points ? loaded->points->estimated_bytes() : 0}}}};
   if (a.has("stats")) outputs.stage(a.get("stats"), json_writer(stats));
   outputs.commit();
   std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),
@@ -840,7 +843,7 @@ int command_convert(const Args& args) {
   if (!a.parse(args)) return 0;
   const std::string out = a.require("out");
   check_output_path(out, "--out");
-  const Dataset d = load_dataset(a.positional()[0]);
+  const Dataset d = load_dataset_in_input_order(a.positional()[0]);  // a file keeps its order
   write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(),
               fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());
