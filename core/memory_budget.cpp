@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 #include <limits>
+#include <string>
 
 #include "core/error.hpp"
 
@@ -14,12 +15,9 @@ namespace {
 // A "Key:   value kB" line of a /proc file, in bytes; `fallback` when absent.
 size_t proc_kb_field(const char* file, const std::string& key, size_t fallback) {
   std::ifstream in(file);
-  std::string name;
-  size_t kb = 0;
-  while (in >> name >> kb) {
-    if (name == key + ":") return kb * 1024;
-    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-  }
+  const std::string prefix = key + ":";
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0) return size_t(std::stoull(line.substr(prefix.size()))) * 1024;
   return fallback;
 }
 

@@ -34,7 +34,7 @@ for n in $sizes; do
     set +e
     /usr/bin/time -v -o "$tmp/time" "$pcrt" render --method "$m" "${sets[@]}" --data "$data" \
       --out "$tmp/frame.png" --width 512 --height 512 --bounces 0 --no-light \
-      --threads "$threads" --stats "$tmp/stats.json" 2>"$tmp/err"
+      --threads "$threads" --stats "$tmp/stats.json" >/dev/null 2>"$tmp/err"
     rc=$?
     set -e
     /usr/bin/python3 - "$tmp" "$spec" "$n" "$rc" "$threads" "$(git rev-parse --short HEAD)" \
@@ -56,6 +56,8 @@ if rc == 0:
     render = tm.get("render", 0.0)
     row["timings"] = tm
     row["setup_cpu_seconds"] = s["process"]["setup_cpu_seconds"]
+    if "estimated_scene_bytes" in s["process"]:
+        row["estimated_scene_bytes"] = s["process"]["estimated_scene_bytes"]
     row["structure_bytes"] = s.get("structure_bytes")
     rays = s["counters"].get("rays_cast", 0)
     row["primary_rays_per_second"] = rays / render if render > 0 else None
@@ -71,14 +73,15 @@ import json, sys
 from pathlib import Path
 out = Path(sys.argv[1])
 rows = [json.loads(l) for l in (out / "runs.jsonl").read_text().splitlines() if l.strip()]
-lines = ["| method | N | commit | peak RSS (MiB) | bytes/point | setup CPU-s | setup wall s | primary Mrays/s | exit |",
-         "|---|---|---|---|---|---|---|---|---|"]
+lines = ["| method | N | commit | peak RSS (MiB) | bytes/point | estimate (B/point, + cloud) | setup CPU-s | setup wall s | primary Mrays/s | exit |",
+         "|---|---|---|---|---|---|---|---|---|---|"]
 for r in rows:
     tm = r.get("timings", {})
     wall = sum(v for k, v in tm.items() if k in ("load", "prepare", "build"))
     rps = r.get("primary_rays_per_second")
+    est = f"{r['estimated_scene_bytes'] / r['N'] + 24:.0f}" if "estimated_scene_bytes" in r else "-"
     lines.append(f"| {r['method']} | {r['N']:.0e} | {r['commit']} | {r['peak_rss_bytes']/2**20:.0f} | "
-                 f"{r['bytes_per_point']:.1f} | {r.get('setup_cpu_seconds', float('nan')):.1f} | {wall:.1f} | "
+                 f"{r['bytes_per_point']:.1f} | {est} | {r.get('setup_cpu_seconds', float('nan')):.1f} | {wall:.1f} | "
                  f"{(rps or 0)/1e6:.2f} | {r['exit']} |")
 (out / "summary.md").write_text("\n".join(lines) + "\n")
 print("\n".join(lines))
