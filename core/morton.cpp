@@ -1,5 +1,8 @@
 #include "core/morton.hpp"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 
 #include "core/error.hpp"
@@ -38,7 +41,7 @@ template <typename T>
 void permute(std::vector<T>& v, const std::vector<uint32_t>& order) {
   if (v.empty()) return;
   std::vector<T> sorted(v.size());
-  for (size_t k = 0; k < order.size(); ++k) sorted[k] = v[order[k]];
+  tbb::parallel_for(size_t(0), order.size(), [&](size_t k) { sorted[k] = v[order[k]]; });
   v.swap(sorted);
 }
 
@@ -55,9 +58,11 @@ std::vector<uint32_t> morton_order(std::span<const Vec3> positions) {
   for (const Vec3& p : positions) b.extend(p);
   const Vec3 scale = key_scale(b);
   std::vector<Keyed> keyed(positions.size());
-  for (size_t i = 0; i < positions.size(); ++i)
+  tbb::parallel_for(size_t(0), positions.size(), [&](size_t i) {
     keyed[i] = {key_of(positions[i], b, scale), uint32_t(i)};
-  std::sort(keyed.begin(), keyed.end(), [&](const Keyed& a, const Keyed& c) {
+  });
+  // A strict total order (the index breaks every tie), so the parallel sort's result is unique.
+  tbb::parallel_sort(keyed.begin(), keyed.end(), [&](const Keyed& a, const Keyed& c) {
     if (a.key != c.key) return a.key < c.key;
     const Vec3& p = positions[a.index];
     const Vec3& q = positions[c.index];
