@@ -1,8 +1,5 @@
 #include "core/dataset.hpp"
 
-#include "core/memory_budget.hpp"
-#include "core/morton.hpp"
-
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +7,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "core/morton.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/rng.hpp"

@@ -22,8 +22,8 @@ uint64_t spread_bits(uint64_t x) {
 }
 
 Vec3 key_scale(const Aabb& b) {
-  return (b.extent().array() > 0).select(Vec3::Constant(2097151.0f).cwiseQuotient(b.extent()),
-                                         0.0f);
+  return (b.extent().array() > 0)
+      .select(Vec3::Constant(2097151.0f).cwiseQuotient(b.extent()), 0.0f);
 }
 
 uint64_t key_of(const Vec3& p, const Aabb& b, const Vec3& scale) {

@@ -12,9 +12,10 @@ namespace pcrt {
 
 inline uint32_t offset32(size_t n, const char* structure) {
   if (n > size_t(UINT32_MAX))
-    input_error("{}: {} references exceed its 32-bit offsets (2^32 - 1); use fewer points or "
-                "larger leaves",
-                structure, n);
+    input_error(
+        "{}: {} references exceed its 32-bit offsets (2^32 - 1); use fewer points or "
+        "larger leaves",
+        structure, n);
   return uint32_t(n);
 }
 

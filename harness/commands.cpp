@@ -233,17 +233,17 @@ int command_render(const Args& args) {
                  {"seed", rs.seed},
                  {"point_light", rs.point_light},
                  {"threads", rs.threads}});
-  const json stats = {{"params", params},
-                      {"counters", counters_json(r.counters)},
-                      {"prepare_counters", counters_json(loaded->prepare)},
-                      {"timings", timings},
-                      {"structure_bytes", loaded->structure_bytes()},
-                      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0},
-                      {"process",
-                       {{"setup_cpu_seconds", setup_cpu},
-                        {"peak_rss_bytes", peak_rss_bytes()},
-                        {"estimated_scene_bytes",
-                         loaded->points ? loaded->points->estimated_bytes() : 0}}}};
+  const json stats = {
+      {"params", params},
+      {"counters", counters_json(r.counters)},
+      {"prepare_counters", counters_json(loaded->prepare)},
+      {"timings", timings},
+      {"structure_bytes", loaded->structure_bytes()},
+      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0},
+      {"process",
+       {{"setup_cpu_seconds", setup_cpu},
+        {"peak_rss_bytes", peak_rss_bytes()},
+        {"estimated_scene_bytes", loaded->points ? loaded->points->estimated_bytes() : 0}}}};
   if (a.has("stats")) outputs.stage(a.get("stats"), json_writer(stats));
   outputs.commit();
   std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),

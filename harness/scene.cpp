@@ -45,7 +45,8 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
 
   // Refused before any work if it cannot fit (the cloud is already in memory).
   estimated_bytes_ = estimate_scene_bytes(*method_info_, structure_id_, cloud, method_params_);
-  require_memory(estimated_bytes_, fmt::format("{} with {} on {} points", cloud.name, method_info_->id, cloud.size()));
+  require_memory(estimated_bytes_, fmt::format("{} with {} on {} points", cloud.name,
+                                               method_info_->id, cloud.size()));
   method_ = method_info_->create(method_params_);
   {
     PrepareContext ctx{counters, timings};
