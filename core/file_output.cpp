@@ -1,5 +1,7 @@
 #include "core/file_output.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -68,6 +70,28 @@ void OutputFiles::commit() {
     if (ec) input_error("{}: cannot replace: {}", staged_[i].path, ec.message());
   }
   staged_.clear();
+}
+
+void append_line(const std::string& path, const std::string& line) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) input_error("{}: cannot append: {}", path, std::strerror(errno));
+  struct stat st {};
+  const off_t old_size = ::fstat(fd, &st) == 0 ? st.st_size : -1;
+  const std::string text = line + '\n';
+  size_t done = 0;
+  int error = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error = n < 0 ? errno : ENOSPC;
+      break;
+    }
+    done += size_t(n);
+  }
+  if (error != 0 && done > 0 && old_size >= 0) (void)::ftruncate(fd, old_size);
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0) input_error("{}: write failed: {}", path, std::strerror(error));
 }
 
 void write_file_atomically(const std::string& path, const StreamWriter& write, bool binary) {

@@ -40,6 +40,11 @@ class OutputFiles {
   std::vector<Staged> staged_;
 };
 
+// Appends `line` and a newline to the file at `path` (created if missing), whole or not at all:
+// if the write fails (a full or read-only file system), the file is cut back to its old length,
+// so a log of one record per line stays readable, and InputError names `path` and the cause.
+void append_line(const std::string& path, const std::string& line);
+
 // One output on its own: stage and commit.
 void write_file_atomically(const std::string& path, const StreamWriter& write, bool binary = false);
 

@@ -9,6 +9,19 @@
 
 namespace pcrt {
 
+Ray make_user_ray(const Vec3& o, const Vec3& d, const std::string& where) {
+  if (!o.allFinite() || !d.allFinite()) input_error("{}: non-finite value", where);
+  // Embree aborts on origins beyond 1.8e18; every structure loses the ray's t long before.
+  if (!within_coordinate_range(o))
+    input_error("{}: origin coordinate beyond +-{:g}", where, kMaxCoordinate);
+  if (!(d.cast<double>().norm() > 0)) input_error("{}: zero direction", where);
+  Ray r;
+  r.o = o;
+  // In double: the float norm of a direction near 1e38 (or 1e-38) overflows (or underflows).
+  r.d = d.cast<double>().normalized().cast<float>();
+  return r;
+}
+
 std::vector<Ray> read_rays_csv(const std::string& path) {
   return parse_rays_csv(read_file(path), path);
 }
@@ -31,19 +44,9 @@ std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path
     }
     if (tok.size() != 6)
       input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
-    Ray r;
-    r.o = Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
+    const Vec3 o(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
     const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
-    if (!r.o.allFinite() || !d.allFinite())
-      input_error("{}: line {}: non-finite value", path, lines.line());
-    // Embree aborts on origins beyond 1.8e18; every structure loses the ray's t long before.
-    if (!within_coordinate_range(r.o))
-      input_error("{}: line {}: origin coordinate beyond +-{:g}", path, lines.line(),
-                  kMaxCoordinate);
-    if (!(d.cast<double>().norm() > 0))
-      input_error("{}: line {}: zero direction", path, lines.line());
-    // In double: the float norm of a direction near 1e38 (or 1e-38) overflows (or underflows).
-    r.d = d.cast<double>().normalized().cast<float>();
+    const Ray r = make_user_ray(o, d, fmt::format("{}: line {}", path, lines.line()));
     rays.push_back(r);
   }
   if (!header) input_error("{}: empty; expected the header 'ox,oy,oz,dx,dy,dz'", path);

@@ -8,6 +8,11 @@
 
 namespace pcrt {
 
+// A ray a user gave (a CSV line, a row of a numpy array): its direction normalised. Throws
+// InputError "<where>: ..." for a non-finite value, an origin beyond kMaxCoordinate or a zero
+// direction.
+Ray make_user_ray(const Vec3& o, const Vec3& d, const std::string& where);
+
 // Directions are normalised. Throws InputError naming the file and line for a wrong header, a
 // malformed or non-finite value, a zero direction or an origin beyond kMaxCoordinate.
 std::vector<Ray> read_rays_csv(const std::string& path);

@@ -275,15 +275,11 @@ int command_trace(const Args& args) {
   const SceneIntersector& scene = loaded->scene();
   std::vector<Hit> hits(rays.size());
   std::vector<char> found(rays.size(), 0);
-  tbb::combinable<OpCounters> per_thread;
+  OpCounters counters;
   {
     ScopedTimer t(timings, "trace");
-    tbb::parallel_for(size_t(0), rays.size(), [&](size_t i) {
-      found[i] = scene.closest_hit(rays[i], hits[i], per_thread.local());
-    });
+    counters = trace_rays(scene, rays, hits, found);
   }
-  OpCounters counters;
-  per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
   OutputFiles outputs;  // all or none
   outputs.stage(out, [&](std::ostream& o) {
     o << "ray,hit,t,px,py,pz,nx,ny,nz\n";

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
@@ -190,8 +191,10 @@ double weighted_r2(const std::vector<double>& y, double rss) {
   return tss > 0 ? 1.0 - rss / tss : 1.0;
 }
 
-// The faster (or slower) model with the most weight, for the reason text.
+// The faster (or slower) model with the most weight, for the reason text; [from, to) must not
+// be empty (a claim of the fastest class has no faster model: UBSan found the read past the end).
 Growth heaviest(const GrowthFit& f, int from, int to) {
+  if (from >= to) throw std::logic_error("heaviest: no model in the range");
   int best = from;
   for (int m = from; m < to; ++m)
     if (f.weight[size_t(m)] > f.weight[size_t(best)]) best = m;
@@ -221,7 +224,8 @@ void decide(GrowthFit& f, Growth expected) {
   const int c = rank(expected);
   const std::string claimed = growth_name(expected);
   pairwise_weights(f, c);
-  const Growth faster = heaviest(f, c + 1, int(kModels));
+  // Named only when a faster model carries weight, so one exists.
+  auto faster = [&] { return heaviest(f, c + 1, int(kModels)); };
   // Exceeding needs two independent witnesses: a faster model decisively preferred, and a
   // log-log exponent whose CI lies above the exponent the claimed model itself shows over this
   // range (with a constant term >= 0 it can only show less). A late upturn of a flat series can
@@ -231,7 +235,7 @@ void decide(GrowthFit& f, Growth expected) {
     f.reason = fmt::format(
         "{} is preferred to every model at or below {} (Akaike weight {:.2f}), "
         "and the exponent CI [{:.3f}, {:.3f}] lies above {}'s {:.3f}",
-        growth_name(faster), claimed, f.weight_faster, f.ci_low, f.ci_high, claimed,
+        growth_name(faster()), claimed, f.weight_faster, f.ci_low, f.ci_high, claimed,
         f.claimed_exponent);
     return;
   }
@@ -240,13 +244,13 @@ void decide(GrowthFit& f, Growth expected) {
     f.reason = fmt::format(
         "{} is preferred (Akaike weight {:.2f}), but the exponent CI [{:.3f}, "
         "{:.3f}] reaches {}'s own {:.3f} over this range",
-        growth_name(faster), f.weight_faster, f.ci_low, f.ci_high, claimed, f.claimed_exponent);
+        growth_name(faster()), f.weight_faster, f.ci_low, f.ci_high, claimed, f.claimed_exponent);
     return;
   }
   if (f.weight_faster > 0.5) {
     f.verdict = ClaimVerdict::kInconclusive;
     f.reason = fmt::format("{} fits better than {} but not decisively (Akaike weight {:.2f} < {})",
-                           growth_name(faster), claimed, f.weight_faster, kDecisive);
+                           growth_name(faster()), claimed, f.weight_faster, kDecisive);
     return;
   }
   // Claims stated as exact powers must have the power inside the CI of their growth term's

@@ -1,5 +1,8 @@
 #include "harness/scene.hpp"
 
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
 #include "harness/memory_estimate.hpp"
@@ -23,9 +26,9 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   const StructureInfo& sinfo = structure_info_ ? *structure_info_ : kOwn;
   ParamValues for_method, for_structure;
   for (const auto& [name, value] : options.set) {
-    auto names = [&](const std::vector<ParamSpec>& specs) {
+    auto names = [&, &key = name](const std::vector<ParamSpec>& specs) {
       for (const auto& s : specs)
-        if (s.name == name) return true;
+        if (s.name == key) return true;
       return false;
     };
     if (names(method_info_->params))
@@ -65,6 +68,17 @@ bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) con
                                 : method_->own_closest_hit(ray, hit, counters);
   if (found) counters.add(kRayHits);
   return found;
+}
+
+OpCounters trace_rays(const SceneIntersector& scene, std::span<const Ray> rays, std::span<Hit> hits,
+                      std::span<char> found) {
+  tbb::combinable<OpCounters> per_thread;
+  tbb::parallel_for(size_t(0), rays.size(), [&](size_t i) {
+    found[i] = scene.closest_hit(rays[i], hits[i], per_thread.local());
+  });
+  OpCounters counters;
+  per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
+  return counters;
 }
 
 }  // namespace pcrt

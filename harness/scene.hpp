@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 
 #include "core/counters.hpp"
@@ -62,5 +63,11 @@ class PointScene final : public SceneIntersector {
   std::unique_ptr<Structure> structure_;
   size_t estimated_bytes_ = 0;
 };
+
+// Closest hits of `rays` on all threads TBB may use (a tbb::global_control bounds them);
+// found[i] says whether rays[i] hit. Counters are kept per thread and summed, so they do not
+// depend on the thread count. What `pcrt trace` and the Python module's Scene.trace run.
+OpCounters trace_rays(const SceneIntersector& scene, std::span<const Ray> rays, std::span<Hit> hits,
+                      std::span<char> found);
 
 }  // namespace pcrt

@@ -39,6 +39,9 @@
 extern char** environ;
 
 namespace pcrt {
+
+namespace fs = std::filesystem;
+
 namespace {
 
 const std::set<std::string> kKinds = {"render", "build", "reconstruct", "workload", "crossover"};
@@ -92,6 +95,14 @@ std::string generator_spec(const std::string& base, double n) {
          "n=" + std::to_string(static_cast<long long>(n));
 }
 
+// A file dataset named relative to the config resolves against `dataset_dir` (empty: the
+// current folder); generator specs and absolute paths stay as given.
+std::string dataset_path(const std::string& dataset, const std::string& dataset_dir) {
+  if (is_generator(dataset) || dataset_dir.empty() || fs::path(dataset).is_absolute())
+    return dataset;
+  return (fs::path(dataset_dir) / dataset).lexically_normal().string();
+}
+
 // The cloud of a run: a generator at N points, or N points drawn from a file without
 // replacement (seeded, so every run of the same spec sees the same subset).
 PointCloud run_cloud(const std::string& base, double n, uint64_t seed) {
@@ -119,10 +130,10 @@ void validate_params(const std::string& method, const std::string& structure,
   const StructureInfo* s =
       m.own_structure.empty() ? &StructureRegistry::instance().get(sid, "structure") : nullptr;
   for (const auto& [k, v] : set) {
-    const bool in_m =
-        std::any_of(m.params.begin(), m.params.end(), [&](auto& p) { return p.name == k; });
-    const bool in_s =
-        s && std::any_of(s->params.begin(), s->params.end(), [&](auto& p) { return p.name == k; });
+    const std::string& name = k;  // clang 14 cannot capture a structured binding
+    auto named = [&](const ParamSpec& p) { return p.name == name; };
+    const bool in_m = std::any_of(m.params.begin(), m.params.end(), named);
+    const bool in_s = s && std::any_of(s->params.begin(), s->params.end(), named);
     if (!in_m && !in_s)
       input_error("{}: set.{} is not a parameter of {} or {}", where, k, method, sid);
     (in_m ? mp : sp)[k] = v;
@@ -290,8 +301,11 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
 SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
   check_keys(raw,
              {"name", "description", "threads", "repetitions", "warmup", "time_limit_s", "measure",
-              "seed", "experiments"},
+              "seed", "experiments", "dataset_dir"},
              origin);
+  if (raw.contains("dataset_dir") && !raw["dataset_dir"].is_string())
+    input_error("{}: dataset_dir must be a folder name", origin);
+  const std::string dataset_dir = raw.value("dataset_dir", std::string());
   SweepConfig c;
   c.raw = raw;
   c.name = raw.value("name", std::filesystem::path(origin).stem().string());
@@ -350,7 +364,7 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
           if (sets_n(d))
             input_error("{}.datasets: '{}' sets n; a sweep takes N from its grid", where, d);
         } else {
-          const PointCloud full = load_dataset(d).cloud;
+          const PointCloud full = load_dataset(dataset_path(d, dataset_dir)).cloud;
           for (const json& p : points)
             if (p.contains("N") && p["N"].get<double>() > double(full.size()))
               input_error("{}: N = {} but {} has {} points", where, p["N"].get<double>(), d,
@@ -361,6 +375,10 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
     // A point's "set.x" values join the experiment's; each combination is checked as a run
     // would check it.
     auto emit = [&](json spec) {
+      if (spec.contains("dataset")) {
+        const std::string path = dataset_path(spec["dataset"], dataset_dir);
+        if (path != spec["dataset"]) spec["dataset_path"] = path;
+      }
       for (const json& p : points) {
         json s = spec;
         for (const auto& [k, v] : p.items()) {
@@ -451,8 +469,17 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
 }
 
 SweepConfig load_sweep_config(const std::string& path) {
-  const json raw = read_json_file(path);
+  json raw = read_json_file(path);
   try {
+    // Relative dataset files are the config's neighbours, wherever pcrt runs (Mitsuba's rule for
+    // scene files). The folder is written into the config so that its copies (context.json, a
+    // cluster's config.json) still find them.
+    const fs::path folder = fs::absolute(fs::path(path)).parent_path();
+    if (!raw.is_object()) input_error("{}: a sweep config is a JSON object", path);
+    const std::string given = raw.value("dataset_dir", std::string());
+    std::string dir = (folder / given).lexically_normal().string();
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    raw["dataset_dir"] = dir;
     return parse_sweep_config(raw, path);
   } catch (const json::exception& e) {
     input_error("{}: wrong type: {}", path, e.what());
@@ -460,11 +487,12 @@ SweepConfig load_sweep_config(const std::string& path) {
 }
 
 std::string run_key(const json& spec) {
-  if (spec.contains("spec")) return spec["spec"].dump();  // a result: the spec it ran
-  json s = spec;
+  json s = spec.contains("spec") ? spec["spec"] : spec;  // a result: the spec it ran
+  // Where the dataset lies on this machine is not what the run is (a cluster node, a moved
+  // checkout): the key keeps the name the config gives.
   for (const char* k :
        {"status", "error", "counters", "prepare_counters", "times_s", "extra", "spec", "wall_s",
-        "time_median_s", "time_min_s", "time_max_s", "time_spread"})
+        "time_median_s", "time_min_s", "time_max_s", "time_spread", "dataset_path"})
     s.erase(k);
   return s.dump();
 }
@@ -518,7 +546,8 @@ json execute_run(const json& spec) {
     }
     r["counters"] = counters_json(first);
   } else {
-    const PointCloud cloud = run_cloud(spec.at("dataset"), spec.value("N", 0.0), seed);
+    const PointCloud cloud =
+        run_cloud(spec.value("dataset_path", spec.at("dataset")), spec.value("N", 0.0), seed);
     r["N"] = cloud.size();
     if (kind == "reconstruct") {
       const auto& info =

@@ -39,14 +39,6 @@ std::pair<size_t, size_t> parse_shard(const std::string& text) {
   return {size_t(i), size_t(n)};
 }
 
-void append_line(const std::string& path, const json& j) {
-  std::ofstream out(path, std::ios::app);
-  if (!out) input_error("{}: cannot append", path);
-  out << j.dump() << '\n';
-  out.flush();
-  if (!out) input_error("{}: write failed", path);
-}
-
 std::string fmt_duration(double s) {
   if (s < 90) return fmt::format("{:.0f} s", s);
   return fmt::format("{:.0f} min {:.0f} s", std::floor(s / 60), std::fmod(s, 60));
@@ -66,12 +58,12 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
     write_file_atomically(jsonl, [&](std::ostream& o) {
       for (const json& r : kept) o << r.dump() << '\n';
     });
-  } else if (fs::exists(jsonl)) {
-    fs::remove(jsonl);
   }
+  // Written first: on a read-only or full file system this is the one-line error, before the
+  // old results are touched.
   write_json(dir + "/context.json", machine_context(config.raw));
   // A shard with nothing (left) to run still leaves a readable, empty runs.jsonl.
-  if (!fs::exists(jsonl)) std::ofstream{jsonl};
+  if (!resume || !fs::exists(jsonl)) write_file_atomically(jsonl, [](std::ostream&) {});
   std::vector<const json*> todo;
   for (size_t i : selected)
     if (!done.count(run_key(config.runs[i]))) todo.push_back(&config.runs[i]);
@@ -92,7 +84,7 @@ std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, b
     }
     json result = run_in_child(spec, config.time_limit_s);
     if (result.value("status", "") != "ok") ++failed;
-    append_line(jsonl, result);
+    append_line(jsonl, result.dump());
   }
   if (tty) std::fprintf(stderr, "\r\033[K");
   std::vector<json> all = read_runs_jsonl(jsonl);

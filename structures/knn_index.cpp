@@ -47,8 +47,18 @@ size_t KnnIndex::knn(const Vec3& q, size_t k, uint32_t* indices, float* dist2,
 size_t KnnIndex::radius(const Vec3& q, float r, std::vector<std::pair<uint32_t, float>>& out,
                         OpCounters& counters) const {
   // nanoflann's L2 adaptors take the squared radius.
+#if NANOFLANN_VERSION >= 0x150
+  // 1.5 returns ResultItems (and 1.7 numbers versions 0x01MMPP, still above 0x150): converted
+  // through a buffer each thread keeps, so no allocation once it has grown.
+  thread_local std::vector<nanoflann::ResultItem<uint32_t, float>> items;
+  const size_t found =
+      tree_->tree.radiusSearch(q.data(), r * r, items, nanoflann::SearchParameters(0.0f, true));
+  out.resize(items.size());
+  for (size_t i = 0; i < items.size(); ++i) out[i] = {items[i].first, items[i].second};
+#else
   const size_t found =
       tree_->tree.radiusSearch(q.data(), r * r, out, nanoflann::SearchParams(32, 0.0f, true));
+#endif
   counters.add(kKnnQueries);
   counters.add(kKnnResults, found);
   return found;

@@ -1,0 +1,331 @@
+// The Python module `pcrt._pcrt` (re-exported by the package `pcrt`): clouds with numpy views,
+// scenes of any method on any structure, closest hits of numpy rays and rendered frames as numpy
+// arrays, the method registry. The same library code the CLI runs: a Scene is a PointScene,
+// Scene.trace is trace_rays (what `pcrt trace` runs), Scene.render is the renderer.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <tbb/global_control.h>
+
+#include <memory>
+#include <optional>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/ray_io.hpp"
+#include "harness/renderer.hpp"
+#include "harness/scene.hpp"
+#include "methods/method.hpp"
+
+namespace py = pybind11;
+using namespace pcrt;
+
+namespace {
+
+using FloatRows = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+// A read-only numpy view of `count` rows of `columns` values of T starting at `data`, kept alive
+// by `owner` (the Python object holding the cloud): no copy.
+template <typename T>
+py::array view(const T* data, size_t count, size_t columns, size_t row_bytes, py::handle owner) {
+  std::vector<py::ssize_t> shape{py::ssize_t(count)}, strides{py::ssize_t(row_bytes)};
+  if (columns > 1) {
+    shape.push_back(py::ssize_t(columns));
+    strides.push_back(py::ssize_t(sizeof(T)));
+  }
+  py::array a(py::dtype::of<T>(), shape, strides, data, owner);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+// (n, 3) float rows of a numpy argument, or an error naming the argument.
+FloatRows rows3(const py::handle& obj, const char* name) {
+  FloatRows a = FloatRows::ensure(obj);
+  if (!a || a.ndim() != 2 || a.shape(1) != 3)
+    input_error("{}: expected an array of shape (n, 3)", name);
+  return a;
+}
+
+std::vector<Vec3> to_vec3(const FloatRows& a) {
+  std::vector<Vec3> out(size_t(a.shape(0)));
+  auto r = a.unchecked<2>();
+  for (py::ssize_t i = 0; i < a.shape(0); ++i) out[size_t(i)] = Vec3(r(i, 0), r(i, 1), r(i, 2));
+  return out;
+}
+
+py::dict counters_dict(const OpCounters& c) {
+  py::dict d;
+  for (const auto& [name, value] : c.to_map()) d[py::str(name)] = value;
+  return d;
+}
+
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads < 0 || threads > 1024) input_error("threads = {} is impossible", threads);
+  if (threads == 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(threads));
+}
+
+std::shared_ptr<PointCloud> cloud_from_arrays(const py::handle& positions,
+                                              const py::object& normals, const py::object& radii,
+                                              const std::string& name) {
+  auto c = std::make_shared<PointCloud>();
+  c->name = name;
+  c->positions = to_vec3(rows3(positions, "positions"));
+  if (!normals.is_none()) c->normals = to_vec3(rows3(normals, "normals"));
+  if (!radii.is_none()) {
+    auto r = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(radii);
+    if (!r || r.ndim() != 1) input_error("radii: expected an array of shape (n,)");
+    c->radii.assign(r.data(), r.data() + r.shape(0));
+  }
+  c->validate();
+  return c;
+}
+
+// A method on a structure over a cloud it keeps alive; the counters of its preparation and of
+// its last trace or render.
+class Scene {
+ public:
+  Scene(std::shared_ptr<const PointCloud> cloud, const std::string& method,
+        const std::string& structure, const py::kwargs& params)
+      : cloud_(std::move(cloud)) {
+    SceneOptions options{method, structure, {}};
+    for (const auto& [k, v] : params) options.set[py::cast<std::string>(k)] = py::cast<double>(v);
+    py::gil_scoped_release unlocked;
+    scene_ = std::make_unique<PointScene>(*cloud_, options, prepare_, timings_);
+  }
+
+  py::dict trace(const py::handle& origins, const py::handle& directions, int threads) {
+    const FloatRows o = rows3(origins, "origins"), d = rows3(directions, "directions");
+    if (o.shape(0) != d.shape(0))
+      input_error("origins has {} rows but directions {}", o.shape(0), d.shape(0));
+    const size_t n = size_t(o.shape(0));
+    std::vector<Ray> rays(n);
+    auto ro = o.unchecked<2>(), rd = d.unchecked<2>();
+    for (size_t i = 0; i < n; ++i)
+      rays[i] = make_user_ray(Vec3(ro(i, 0), ro(i, 1), ro(i, 2)),
+                              Vec3(rd(i, 0), rd(i, 1), rd(i, 2)), fmt::format("ray {}", i));
+    std::vector<Hit> hits(n);
+    std::vector<char> found(n, 0);
+    {
+      py::gil_scoped_release unlocked;
+      const auto limit = thread_limit(threads);
+      last_ = trace_rays(*scene_, rays, hits, found);
+    }
+    py::array_t<bool> hit{py::ssize_t(n)};
+    py::array_t<float> t{py::ssize_t(n)};
+    py::array_t<float> position({py::ssize_t(n), py::ssize_t(3)});
+    py::array_t<float> normal({py::ssize_t(n), py::ssize_t(3)});
+    py::array_t<int64_t> primitive{py::ssize_t(n)};
+    auto h = hit.mutable_unchecked<1>();
+    auto tt = t.mutable_unchecked<1>();
+    auto p = position.mutable_unchecked<2>(), nn = normal.mutable_unchecked<2>();
+    auto pr = primitive.mutable_unchecked<1>();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (size_t i = 0; i < n; ++i) {
+      const auto j = py::ssize_t(i);
+      h(j) = found[i] != 0;
+      tt(j) = found[i] ? hits[i].t : kInfinity;
+      pr(j) = found[i] ? int64_t(hits[i].prim) : -1;
+      for (py::ssize_t k = 0; k < 3; ++k) {
+        p(j, k) = found[i] ? hits[i].p[k] : nan;
+        nn(j, k) = found[i] ? hits[i].n[k] : nan;
+      }
+    }
+    py::dict out;
+    out["hit"] = hit;
+    out["t"] = t;
+    out["position"] = position;
+    out["normal"] = normal;
+    out["primitive"] = primitive;
+    return out;
+  }
+
+  py::array render(int width, int height, int spp, int bounces, uint64_t seed, bool point_light,
+                   int threads) {
+    RenderSettings rs;
+    rs.width = width;
+    rs.height = height;
+    rs.spp = spp;
+    rs.bounces = bounces;
+    rs.seed = seed;
+    rs.point_light = point_light;
+    rs.threads = threads;
+    if (width < 1 || height < 1 || width > 1 << 15 || height > 1 << 15)
+      input_error("width {} x height {} is impossible", width, height);
+    if (spp < 1 || bounces < 0) input_error("spp = {}, bounces = {}: impossible", spp, bounces);
+    std::optional<RenderResult> r;
+    {
+      py::gil_scoped_release unlocked;
+      const auto limit = thread_limit(threads);
+      r.emplace(pcrt::render(*scene_, *cloud_, rs));
+    }
+    last_ = r->counters;
+    py::array_t<float> image({py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
+    auto im = image.mutable_unchecked<3>();
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        for (int k = 0; k < 3; ++k) im(y, x, k) = r->image.at(x, y)[k];
+    return image;
+  }
+
+  [[nodiscard]] py::dict prepare_counters() const { return counters_dict(prepare_); }
+  [[nodiscard]] py::dict counters() const { return counters_dict(last_); }
+  [[nodiscard]] std::string method() const { return scene_->method_info().id; }
+  [[nodiscard]] std::string structure() const { return scene_->structure_id(); }
+  [[nodiscard]] size_t structure_bytes() const { return scene_->structure_bytes(); }
+
+ private:
+  std::shared_ptr<const PointCloud> cloud_;
+  OpCounters prepare_, last_;
+  Timings timings_;
+  std::unique_ptr<PointScene> scene_;
+};
+
+py::dict param_dict(const ParamSpec& p) {
+  py::dict d;
+  d["name"] = p.name;
+  d["default"] = p.default_value;
+  d["min"] = p.min_value;
+  d["max"] = p.max_value;
+  d["integer"] = p.integer;
+  d["doc"] = p.description;
+  return d;
+}
+
+py::list methods() {
+  py::list out;
+  for (const MethodInfo& info : MethodRegistry::instance().all()) {
+    const MethodInfo* m = &info;
+    py::dict d;
+    d["id"] = m->id;
+    d["paper"] = m->paper;
+    d["thesis_ref"] = m->thesis_ref;
+    d["description"] = m->description;
+    d["structure"] = m->own_structure.empty() ? m->structure : m->own_structure;
+    d["needs"] = m->needs;
+    py::list params, claims;
+    for (const ParamSpec& p : m->params) params.append(param_dict(p));
+    for (const MethodClaim& c : m->claims) {
+      py::dict cd;
+      cd["quantity"] = c.quantity;
+      cd["complexity"] = c.complexity;
+      cd["variables"] = c.variables;
+      cd["source"] = c.source;
+      claims.append(cd);
+    }
+    d["params"] = params;
+    d["claims"] = claims;
+    out.append(d);
+  }
+  return out;
+}
+
+py::list structures() {
+  py::list out;
+  for (const StructureInfo& info : StructureRegistry::instance().all()) {
+    const StructureInfo* s = &info;
+    py::dict d;
+    d["id"] = s->id;
+    d["description"] = s->description;
+    d["build_claim"] = s->build_claim;
+    d["query_claim"] = s->query_claim;
+    py::list params;
+    for (const ParamSpec& p : s->params) params.append(param_dict(p));
+    d["params"] = params;
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_pcrt, m) {
+  m.doc() = "pcrt: ray tracing point clouds with the methods of the 2019 survey";
+  static py::exception<InputError> error(m, "Error", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      error(e.what());
+    }
+  });
+
+  py::class_<PointCloud, std::shared_ptr<PointCloud>>(m, "Cloud")
+      .def_property_readonly("name", [](const PointCloud& c) { return c.name; })
+      .def("__len__", &PointCloud::size)
+      .def_property_readonly(
+          "positions",
+          [](py::object self) {
+            const auto& c = self.cast<const PointCloud&>();
+            return view(c.positions.data()->data(), c.size(), 3, sizeof(Vec3), self);
+          },
+          "(n, 3) float32, read-only, no copy")
+      .def_property_readonly(
+          "normals",
+          [](py::object self) -> py::object {
+            const auto& c = self.cast<const PointCloud&>();
+            if (!c.has_normals()) return py::none();
+            return view(c.normals.data()->data(), c.size(), 3, sizeof(Vec3), self);
+          },
+          "(n, 3) float32 unit normals, read-only, or None")
+      .def_property_readonly(
+          "radii",
+          [](py::object self) -> py::object {
+            const auto& c = self.cast<const PointCloud&>();
+            if (!c.has_radii()) return py::none();
+            return view(c.radii.data(), c.size(), 1, sizeof(float), self);
+          },
+          "(n,) float32 splat radii, read-only, or None")
+      .def_property_readonly(
+          "colours",
+          [](py::object self) -> py::object {
+            const auto& c = self.cast<const PointCloud&>();
+            if (!c.has_colours()) return py::none();
+            return view(&c.colours.data()->r, c.size(), 3, sizeof(Rgb8), self);
+          },
+          "(n, 3) uint8, read-only, or None")
+      .def_property_readonly("bounds",
+                             [](const PointCloud& c) {
+                               const Aabb b = c.bounds();
+                               return py::make_tuple(py::make_tuple(b.lo.x(), b.lo.y(), b.lo.z()),
+                                                     py::make_tuple(b.hi.x(), b.hi.y(), b.hi.z()));
+                             })
+      .def("__repr__", [](const PointCloud& c) {
+        return fmt::format("<pcrt.Cloud {} points from {}>", c.size(), c.name);
+      });
+
+  m.def(
+      "load",
+      [](const std::string& spec) {
+        py::gil_scoped_release unlocked;
+        return std::make_shared<PointCloud>(load_dataset(spec).cloud);
+      },
+      py::arg("data"), "A file (.ply .xyz .pwn .off) or a generator spec such as 'sphere:n=1e5'");
+  m.def("from_arrays", &cloud_from_arrays, py::arg("positions"), py::arg("normals") = py::none(),
+        py::arg("radii") = py::none(), py::arg("name") = "arrays",
+        "A cloud copied from numpy arrays (validated as a loaded file is)");
+
+  py::class_<Scene>(m, "Scene")
+      .def(py::init<std::shared_ptr<const PointCloud>, const std::string&, const std::string&,
+                    const py::kwargs&>(),
+           py::arg("cloud"), py::arg("method"), py::arg("structure") = "",
+           "A method on a structure (default: its paper's) over a cloud; keyword arguments set "
+           "method or structure parameters")
+      .def("trace", &Scene::trace, py::arg("origins"), py::arg("directions"),
+           py::arg("threads") = 0,
+           "Closest hits: a dict of numpy arrays hit, t, position, normal, primitive (-1: none)")
+      .def("render", &Scene::render, py::arg("width") = 512, py::arg("height") = 512,
+           py::arg("spp") = 1, py::arg("bounces") = 1, py::arg("seed") = 1,
+           py::arg("point_light") = true, py::arg("threads") = 0,
+           "A frame as an (height, width, 3) float32 array of linear radiance")
+      .def_property_readonly("method", &Scene::method)
+      .def_property_readonly("structure", &Scene::structure)
+      .def_property_readonly("structure_bytes", &Scene::structure_bytes)
+      .def_property_readonly("prepare_counters", &Scene::prepare_counters)
+      .def_property_readonly("counters", &Scene::counters,
+                             "operation counters of the last trace or render");
+
+  m.def("methods", &methods, "every method with its parameters and the thesis's claims");
+  m.def("structures", &structures, "every structure with its parameters and claims");
+}

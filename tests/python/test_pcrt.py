@@ -1,0 +1,170 @@
+"""The Python module against the command line: the same hits, counters and errors on the same
+input, zero-copy views, thread-count independence, the registry and sweep reading."""
+import csv
+import json
+import os
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import pcrt
+
+EXE = os.environ["PCRT_EXE"]
+
+
+def sphere_rays(n, seed=1):
+    """Rays from a shell of radius 3 towards jittered points near the unit sphere's centre."""
+    rng = np.random.default_rng(seed)
+    o = rng.normal(size=(n, 3))
+    o = 3 * o / np.linalg.norm(o, axis=1, keepdims=True)
+    d = rng.normal(scale=0.4, size=(n, 3)) - o
+    return o.astype(np.float32), d.astype(np.float32)
+
+
+def cli_trace(tmp_path, data, method, structure, o, d):
+    rays = tmp_path / "rays.csv"
+    with open(rays, "w") as f:
+        f.write("ox,oy,oz,dx,dy,dz\n")
+        for a, b in zip(o, d):
+            f.write(",".join(f"{v:.9g}" for v in (*a, *b)) + "\n")
+    hits, stats = tmp_path / "hits.csv", tmp_path / "stats.json"
+    subprocess.run([EXE, "trace", "--method", method, "--structure", structure, "--data", data,
+                    "--rays", str(rays), "--out", str(hits), "--stats", str(stats)],
+                   check=True, capture_output=True)
+    with open(hits) as f:
+        rows = list(csv.DictReader(f))
+    return rows, json.load(open(stats))
+
+
+def test_load_gives_read_only_views_without_copies():
+    cloud = pcrt.load("sphere:n=2000,seed=3")
+    assert len(cloud) == 2000 and cloud.name == "sphere:n=2000,seed=3"
+    p = cloud.positions
+    assert p.shape == (2000, 3) and p.dtype == np.float32
+    assert np.shares_memory(p, cloud.positions)  # both views of the cloud's own array
+    assert np.allclose(np.linalg.norm(p, axis=1), 1, atol=1e-5)
+    assert np.allclose(np.linalg.norm(cloud.normals, axis=1), 1, atol=1e-5)
+    with pytest.raises(ValueError):
+        p[0, 0] = 5
+    del cloud  # the view keeps the cloud alive
+    assert np.isfinite(p).all() and p.shape == (2000, 3)
+
+
+def test_from_arrays_validates_like_a_file():
+    cloud = pcrt.load("sphere:n=500")
+    copy = pcrt.from_arrays(cloud.positions, normals=cloud.normals, name="mine")
+    assert np.array_equal(copy.positions, cloud.positions) and copy.name == "mine"
+    bad = np.array(cloud.positions)
+    bad[7, 1] = np.nan
+    with pytest.raises(pcrt.Error, match="mine"):
+        pcrt.from_arrays(bad, name="mine")
+    with pytest.raises(pcrt.Error, match="positions: expected an array of shape"):
+        pcrt.from_arrays(np.zeros((4, 2)))
+
+
+@pytest.mark.parametrize("method,structure", [("reference_splat", "kd_tree"),
+                                              ("goradia_2010", "octree")])
+def test_trace_matches_the_command_line(tmp_path, method, structure):
+    data = "sphere:n=20000,seed=2,noise=0.001"
+    o, d = sphere_rays(3000)
+    rows, stats = cli_trace(tmp_path, data, method, structure, o, d)
+    scene = pcrt.Scene(pcrt.load(data), method=method, structure=structure)
+    hits = scene.trace(o, d)
+    cli_hit = np.array([r["hit"] == "1" for r in rows])
+    assert np.array_equal(hits["hit"], cli_hit) and 0.3 < cli_hit.mean() < 1
+    t = np.array([float(r["t"]) if r["hit"] == "1" else np.inf for r in rows], dtype=np.float32)
+    assert np.array_equal(hits["t"], t)
+    p = np.array([[float(r[k]) for k in ("px", "py", "pz")] for r in rows if r["hit"] == "1"],
+                 dtype=np.float32)
+    assert np.array_equal(hits["position"][cli_hit], p)
+    assert (hits["primitive"][~cli_hit] == -1).all() and (hits["primitive"][cli_hit] >= 0).all()
+    assert scene.counters == stats["counters"]
+    assert scene.prepare_counters == stats["prepare_counters"]
+
+
+def test_counters_do_not_depend_on_threads():
+    scene = pcrt.Scene(pcrt.load("sphere:n=5000"), method="hubo_2006")
+    o, d = sphere_rays(2000, seed=5)
+    one = scene.trace(o, d, threads=1)
+    c1 = scene.counters
+    two = scene.trace(o, d, threads=2)
+    assert scene.counters == c1 and c1["rays_cast"] == 2000
+    assert np.array_equal(one["t"], two["t"])
+
+
+def test_trace_runs_beside_python_threads():
+    scene = pcrt.Scene(pcrt.load("sphere:n=5000"), method="reference_splat")
+    o, d = sphere_rays(4000)
+    results = []
+    threads = [threading.Thread(target=lambda: results.append(scene.trace(o, d)["t"]))
+               for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(results) == 2 and np.array_equal(results[0], results[1])
+
+
+def test_render_matches_the_command_line_counters(tmp_path):
+    data = "sphere:n=5000"
+    scene = pcrt.Scene(pcrt.load(data), method="reference_splat")
+    image = scene.render(width=40, height=30, spp=2, bounces=1)
+    assert image.shape == (30, 40, 3) and image.dtype == np.float32
+    assert np.isfinite(image).all() and (image >= 0).all() and image.max() > 0
+    stats = tmp_path / "s.json"
+    subprocess.run([EXE, "render", "--method", "reference_splat", "--data", data, "--width", "40",
+                    "--height", "30", "--spp", "2", "--bounces", "1", "--out",
+                    str(tmp_path / "f.png"), "--stats", str(stats)], check=True,
+                   capture_output=True)
+    assert scene.counters == json.load(open(stats))["counters"]
+    assert scene.counters["primary_rays"] == 40 * 30 * 2
+
+
+def test_errors_are_the_command_lines_one_line_errors():
+    cloud = pcrt.load("sphere:n=500")
+    with pytest.raises(pcrt.Error, match="unknown method 'nope'"):
+        pcrt.Scene(cloud, method="nope")
+    with pytest.raises(pcrt.Error, match="leaf_siz"):
+        pcrt.Scene(cloud, method="reference_splat", leaf_siz=4)
+    with pytest.raises(pcrt.Error, match="no such file"):
+        pcrt.load("/nonexistent/cloud.ply")
+    scene = pcrt.Scene(cloud, method="reference_splat")
+    o, d = sphere_rays(3)
+    d[1] = 0
+    with pytest.raises(pcrt.Error, match="ray 1: zero direction"):
+        scene.trace(o, d)
+    with pytest.raises(pcrt.Error, match="origins has 3 rows but directions 2"):
+        scene.trace(o, d[:2])
+    proc = subprocess.run([EXE, "render", "--method", "nope", "--data", "sphere:n=500", "--out",
+                           "/tmp/never.png"], capture_output=True, text=True)
+    assert "unknown method 'nope'" in proc.stderr and proc.returncode == 1
+
+
+def test_methods_and_structures_come_from_the_registry():
+    listed = json.loads(subprocess.run([EXE, "list", "--json"], check=True, capture_output=True,
+                                       text=True).stdout)
+    methods = pcrt.methods()
+    assert [m["id"] for m in methods] == [m["id"] for m in listed["methods"]]
+    assert sum(m["thesis_ref"] != "-" for m in methods) == 16
+    for m in methods:
+        for p in m["params"]:
+            assert p["min"] <= p["default"] <= p["max"], (m["id"], p)
+    assert {"kd_tree", "octree", "grid"} <= {s["id"] for s in pcrt.structures()}
+
+
+def test_read_sweep(tmp_path):
+    config = tmp_path / "c.json"
+    config.write_text(json.dumps({"name": "py", "experiments": [
+        {"name": "e", "kind": "build", "datasets": ["sphere"], "grid": {"N": [1000, 2000, 4000]}}]}))
+    subprocess.run([EXE, "sweep", str(config), "--out", str(tmp_path / "s")], check=True,
+                   capture_output=True)
+    runs = pcrt.read_sweep(str(tmp_path / "s"))
+    try:
+        import pandas
+        assert isinstance(runs, pandas.DataFrame) and list(runs["N"]) == [1000, 2000, 4000]
+    except ImportError:
+        assert [int(r["N"]) for r in runs] == [1000, 2000, 4000]
+    with pytest.raises(pcrt.Error, match="a sweep directory"):
+        pcrt.read_sweep(str(tmp_path))
