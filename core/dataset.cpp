@@ -7,6 +7,8 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
+#include "core/morton.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/rng.hpp"
 
@@ -230,6 +232,13 @@ ParamValues parse_generator_spec(const std::string& spec, const GeneratorInfo** 
 }
 
 Dataset load_dataset(const std::string& spec) {
+  Dataset d = load_dataset_in_input_order(spec);
+  require_memory(morton_sort_bytes(d.cloud.size()), spec);
+  morton_sort(d.cloud);
+  return d;
+}
+
+Dataset load_dataset_in_input_order(const std::string& spec) {
   if (spec.empty()) input_error("dataset '': empty name");
   std::error_code ec;
   if (std::filesystem::exists(spec, ec)) return Dataset{read_point_cloud(spec), nullptr};
@@ -239,6 +248,10 @@ Dataset load_dataset(const std::string& spec) {
   if (looks_like_path) input_error("{}: no such file", spec);
   const GeneratorInfo* info = nullptr;
   const auto values = parse_generator_spec(spec, &info);
+  // Positions (and normals for surfaces), then the Morton sort's scratch: checked before any work.
+  const auto n = size_t(values.at("n"));
+  const size_t per_point = sizeof(Vec3) * (is_volume_generator(info->name) ? 1 : 2);
+  require_memory(n * per_point + morton_sort_bytes(n), spec);
   Dataset d;
   if (is_volume_generator(info->name)) {
     d.cloud = generate_volume(info->name, values, spec);

@@ -26,9 +26,12 @@ struct GeneratorInfo {
 
 const std::vector<GeneratorInfo>& generators();
 
-// Loads a file if `spec` names one, else parses and runs a generator. Throws InputError naming the
-// spec for unknown generators, unknown keys, malformed or out-of-range values.
+// Loads a file if `spec` names one, else parses and runs a generator, and puts the cloud in Morton
+// order (core/morton.hpp): point i of the result is not the input's point i. Throws InputError
+// naming the spec for unknown generators, unknown keys, malformed or out-of-range values.
 Dataset load_dataset(const std::string& spec);
+// The same in the file's or the generator's own order (tests of order independence, convert).
+Dataset load_dataset_in_input_order(const std::string& spec);
 
 // n points drawn uniformly by area from `surface` with its exact normals, thinned so that density
 // falls linearly along x from 1 to 1 - density, moved by isotropic Gaussian noise of standard

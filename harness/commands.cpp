@@ -17,6 +17,7 @@
 #include "core/exr_output.hpp"
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
+#include "core/process_usage.hpp"
 #include "core/ray_io.hpp"
 #include "harness/accuracy.hpp"
 #include "harness/claims.hpp"
@@ -243,6 +244,7 @@ int command_render(const Args& args) {
     if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
 
   const auto loaded = load_scene(a, "render");
+  const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
   Timings& timings = loaded->timings;
   RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
   timings["render"] = r.seconds;
@@ -259,12 +261,17 @@ int command_render(const Args& args) {
                  {"seed", rs.seed},
                  {"point_light", rs.point_light},
                  {"threads", rs.threads}});
-  const json stats = {{"params", params},
-                      {"counters", counters_json(r.counters)},
-                      {"prepare_counters", counters_json(loaded->prepare)},
-                      {"timings", timings},
-                      {"structure_bytes", loaded->structure_bytes()},
-                      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0}};
+  const json stats = {
+      {"params", params},
+      {"counters", counters_json(r.counters)},
+      {"prepare_counters", counters_json(loaded->prepare)},
+      {"timings", timings},
+      {"structure_bytes", loaded->structure_bytes()},
+      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0},
+      {"process",
+       {{"setup_cpu_seconds", setup_cpu},
+        {"peak_rss_bytes", peak_rss_bytes()},
+        {"estimated_scene_bytes", loaded->points ? loaded->points->estimated_bytes() : 0}}}};
   if (a.has("stats")) outputs.stage(a.get("stats"), json_writer(stats));
   outputs.commit();
   std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),
@@ -860,7 +867,7 @@ int command_convert(const Args& args) {
   if (!a.parse(args)) return 0;
   const std::string out = a.require("out");
   check_output_path(out, "--out");
-  const Dataset d = load_dataset(a.positional()[0]);
+  const Dataset d = load_dataset_in_input_order(a.positional()[0]);  // a file keeps its order
   write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(),
               fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());

@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
+#include "harness/memory_estimate.hpp"
 
 namespace pcrt {
 
@@ -44,6 +46,10 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   method_params_ = resolve_params(method_info_->params, for_method, "method " + method_info_->id);
   structure_params_ = resolve_params(sinfo.params, for_structure, "structure " + structure_id_);
 
+  // Refused before any work if it cannot fit (the cloud is already in memory).
+  estimated_bytes_ = estimate_scene_bytes(*method_info_, structure_id_, cloud, method_params_);
+  require_memory(estimated_bytes_, fmt::format("{} with {} on {} points", cloud.name,
+                                               method_info_->id, cloud.size()));
   method_ = method_info_->create(method_params_);
   {
     PrepareContext ctx{counters, timings};

@@ -51,6 +51,8 @@ class PointScene final : public SceneIntersector {
   [[nodiscard]] size_t structure_bytes() const {
     return structure_ ? structure_->memory_bytes() : 0;
   }
+  // What the method and structure were estimated to add to the cloud (harness/memory_estimate).
+  [[nodiscard]] size_t estimated_bytes() const { return estimated_bytes_; }
 
  private:
   const MethodInfo* method_info_;
@@ -59,6 +61,7 @@ class PointScene final : public SceneIntersector {
   ParamValues method_params_, structure_params_;
   std::unique_ptr<Method> method_;
   std::unique_ptr<Structure> structure_;
+  size_t estimated_bytes_ = 0;
 };
 
 // Closest hits of `rays` on all threads TBB may use (a tbb::global_control bounds them);

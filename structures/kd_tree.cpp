@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 
+#include "core/offsets.hpp"
 #include "structures/structure.hpp"
 
 namespace pcrt {
@@ -31,6 +32,7 @@ struct Subtree {
   std::vector<uint32_t> refs;
 
   void append(const Subtree& sub) {
+    (void)offset32(refs.size() + sub.refs.size(), "kd_tree");  // every shifted offset fits
     const auto node_base = uint32_t(nodes.size()), ref_base = uint32_t(refs.size());
     for (KdNode n : sub.nodes) {
       n.a += n.axis == 3 ? ref_base : node_base;
@@ -131,7 +133,7 @@ class KdTree final : public Structure {
 
  private:
   static void make_leaf(Subtree& out, const std::vector<uint32_t>& items) {
-    out.nodes.push_back(KdNode{0, 3, uint32_t(out.refs.size()), uint32_t(items.size())});
+    out.nodes.push_back(KdNode{0, 3, offset32(out.refs.size(), "kd_tree"), uint32_t(items.size())});
     out.refs.insert(out.refs.end(), items.begin(), items.end());
   }
 

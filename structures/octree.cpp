@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 
+#include "core/offsets.hpp"
 #include "structures/structure.hpp"
 
 namespace pcrt {
@@ -154,7 +155,7 @@ class Octree final : public Structure {
   }
 
   void make_leaf(uint32_t node, const std::vector<uint32_t>& items) {
-    nodes_[node] = OctNode{uint32_t(refs_.size()), uint32_t(items.size())};
+    nodes_[node] = OctNode{offset32(refs_.size(), "octree"), uint32_t(items.size())};
     refs_.insert(refs_.end(), items.begin(), items.end());
   }
 

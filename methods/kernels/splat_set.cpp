@@ -77,6 +77,7 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
     radii = estimate_radii(cloud.positions, *knn, static_cast<size_t>(params.at("radius_k")),
                            static_cast<float>(params.at("radius_scale")), ctx.counters);
   }
+  knn.reset();  // build-only: freed before the layout's own peak
   const std::vector<Vec3>& n_src = need_normals ? normals : cloud.normals;
   if (fixed_radius > 0) radii.assign(cloud.size(), fixed_radius);
   const std::vector<float>& r_src = need_radii || fixed_radius > 0 ? radii : cloud.radii;

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# The scale benchmark (issue 16): each method at each N on a generated sphere, one `pcrt render`
+# per run (512x512 primary rays, no bounces, no light) under /usr/bin/time -v. Per run it records
+# peak resident memory (bytes per point = peak RSS / N, so the cloud, the method's data, the
+# structure and the process's own ~10 MB all count), setup CPU seconds (user + system CPU of the
+# process, all threads, when load, prepare and build are done), the phases' wall times and
+# primary rays per second. One JSON line per run appended to OUT/runs.jsonl; OUT/summary.md is
+# regenerated from it. Clouds are generated, never committed.
+# Usage: scripts/scale.sh OUT "N ..." "METHOD[@k=v] ..." [build/bin/pcrt]
+# METHOD may name a structure after '/' and carry --set values after '@', comma separated
+# (e.g. reference_splat/kd_tree, hubo_2006@quantized=1).
+set -euo pipefail
+out=$1
+sizes=$2
+methods=$3
+pcrt=${4:-build/bin/pcrt}
+threads=${PCRT_THREADS:-2}
+mkdir -p "$out"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+for n in $sizes; do
+  for spec in $methods; do
+    m=${spec%%@*}
+    sets=()
+    if [[ $m == */* ]]; then
+      sets+=(--structure "${m#*/}")
+      m=${m%%/*}
+    fi
+    if [[ $spec == *@* ]]; then
+      IFS=',' read -ra kv <<<"${spec#*@}"
+      for x in "${kv[@]}"; do sets+=(--set "$x"); done
+    fi
+    data="sphere:n=$n,seed=1"
+    set +e
+    /usr/bin/time -v -o "$tmp/time" "$pcrt" render --method "$m" "${sets[@]}" --data "$data" \
+      --out "$tmp/frame.png" --width 512 --height 512 --bounces 0 --no-light \
+      --threads "$threads" --stats "$tmp/stats.json" >/dev/null 2>"$tmp/err"
+    rc=$?
+    set -e
+    /usr/bin/python3 - "$tmp" "$spec" "$n" "$rc" "$threads" "$(git rev-parse --short HEAD)" \
+      >>"$out/runs.jsonl" <<'PY'
+import json, re, sys
+from pathlib import Path
+tmp, spec, n, rc, threads, commit = Path(sys.argv[1]), sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), sys.argv[6]
+t = (tmp / "time").read_text()
+def field(name):
+    m = re.search(re.escape(name) + r":\s*([0-9.:]+)", t)
+    return m.group(1) if m else None
+rss_kb = int(field("Maximum resident set size (kbytes)"))
+cpu = float(field("User time (seconds)")) + float(field("System time (seconds)"))
+row = {"method": spec, "N": n, "exit": rc, "commit": commit, "threads": threads,
+       "peak_rss_bytes": rss_kb * 1024, "bytes_per_point": rss_kb * 1024 / n, "cpu_seconds": cpu}
+if rc == 0:
+    s = json.loads((tmp / "stats.json").read_text())
+    tm = s["timings"]
+    render = tm.get("render", 0.0)
+    row["timings"] = tm
+    row["setup_cpu_seconds"] = s["process"]["setup_cpu_seconds"]
+    if "estimated_scene_bytes" in s["process"]:
+        row["estimated_scene_bytes"] = s["process"]["estimated_scene_bytes"]
+    row["structure_bytes"] = s.get("structure_bytes")
+    rays = s["counters"].get("rays_cast", 0)
+    row["primary_rays_per_second"] = rays / render if render > 0 else None
+else:
+    row["error"] = (tmp / "err").read_text().strip().splitlines()[-1:]
+print(json.dumps(row))
+PY
+    tail -1 "$out/runs.jsonl"
+  done
+done
+/usr/bin/python3 - "$out" <<'PY'
+import json, sys
+from pathlib import Path
+out = Path(sys.argv[1])
+rows = [json.loads(l) for l in (out / "runs.jsonl").read_text().splitlines() if l.strip()]
+lines = ["| method | N | commit | peak RSS (MiB) | bytes/point | estimate (B/point, + cloud) | setup CPU-s | setup wall s | primary Mrays/s | exit |",
+         "|---|---|---|---|---|---|---|---|---|---|"]
+for r in rows:
+    tm = r.get("timings", {})
+    wall = sum(v for k, v in tm.items() if k in ("load", "prepare", "build"))
+    rps = r.get("primary_rays_per_second")
+    est = f"{r['estimated_scene_bytes'] / r['N'] + 24:.0f}" if "estimated_scene_bytes" in r else "-"
+    lines.append(f"| {r['method']} | {r['N']:.0e} | {r['commit']} | {r['peak_rss_bytes']/2**20:.0f} | "
+                 f"{r['bytes_per_point']:.1f} | {est} | {r.get('setup_cpu_seconds', float('nan')):.1f} | {wall:.1f} | "
+                 f"{(rps or 0)/1e6:.2f} | {r['exit']} |")
+(out / "summary.md").write_text("\n".join(lines) + "\n")
+print("\n".join(lines))
+PY
