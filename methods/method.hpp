@@ -57,6 +57,14 @@ class Method : public LeafIntersector {
   }
 };
 
+// What kind of surface a method's leaf kernel intersects, so that comparisons pick like with like
+// by type, never by matching names (`pcrt anchor` times the splat family against Embree's discs).
+enum class LeafFamily {
+  kOther,       // MLS, implicit, triangle fans, ...: a different surface
+  kSplat,       // oriented discs: a disc hit (or a blend of the disc hits within a depth window)
+  kProjection,  // points projected onto the ray through their tangent planes (cylinder, cone)
+};
+
 // A complexity claim of the thesis about one method.
 struct MethodClaim {
   std::string quantity;                // "leaf intersection" or "frame"
@@ -80,6 +88,7 @@ struct MethodInfo {
   // The counters of this method's own leaf work (weighted-plane terms, MLS neighbours, march
   // steps, ...): with the traversal's nodes and items, the work frame claims are judged on.
   std::vector<const Counter*> work = {};
+  LeafFamily family = LeafFamily::kOther;
 };
 
 using MethodRegistry = Registry<MethodInfo>;

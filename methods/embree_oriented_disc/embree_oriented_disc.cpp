@@ -84,7 +84,9 @@ const RegisterMethod kRegister{MethodInfo{
     }(),
     {},
     [](const ParamValues& p) { return std::make_unique<EmbreeOrientedDisc>(p); },
-    "embree_bvh"}};
+    "embree_bvh",
+    {},
+    LeafFamily::kSplat}};
 
 }  // namespace
 }  // namespace pcrt

@@ -57,7 +57,8 @@ const RegisterMethod kRegister{
                {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
                [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); },
                {},
-               {&kSplatTests}}};
+               {&kSplatTests},
+               LeafFamily::kSplat}};
 
 }  // namespace
 }  // namespace pcrt
