@@ -75,5 +75,9 @@ inline const Counter kPrimaryRays{"primary_rays", "camera rays"};
 inline const Counter kBounceRays{"bounce_rays", "secondary rays sampled from the BRDF"};
 inline const Counter kShadowRays{"shadow_rays", "rays towards the point light"};
 inline const Counter kRayHits{"ray_hits", "rays that found a closest hit"};
+inline const Counter kAnyHitRays{"any_hit_rays",
+                                 "occlusion queries (shadow rays; also in rays_cast): any hit "
+                                 "ends them"};
+inline const Counter kRaysOccluded{"rays_occluded", "occlusion queries that found a blocker"};
 
 }  // namespace pcrt

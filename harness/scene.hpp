@@ -44,6 +44,7 @@ class PointScene final : public SceneIntersector {
              Timings& timings);
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
+  bool any_hit(const Ray& ray, OpCounters& counters) const override;
   [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
                                                           OpCounters& counters) const override {
     return method_->primary_pass(camera, counters);

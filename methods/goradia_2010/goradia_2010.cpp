@@ -49,7 +49,7 @@ const RegisterMethod kRegister{MethodInfo{
     [](const ParamValues& p) { return std::make_unique<Goradia2010>(p); },
     {},
     {&kProjectionTests, &kSplatTests},
-    LeafFamily::kSplat}};
+    LeafFamily::kSplatBlend}};
 
 }  // namespace
 }  // namespace pcrt

@@ -144,7 +144,7 @@ const RegisterMethod kRegister{MethodInfo{
     [](const ParamValues& p) { return std::make_unique<Kashyap2010Splat>(p); },
     {},
     {&kProjectionTests, &kSplatTests},
-    LeafFamily::kSplat}};
+    LeafFamily::kSplatBlend}};
 
 }  // namespace
 }  // namespace pcrt

@@ -174,7 +174,7 @@ const RegisterMethod kRegister{MethodInfo{
     [](const ParamValues& p) { return std::make_unique<Linsen2007>(p); },
     {},
     {&kProjectionTests, &kSplatTests},
-    LeafFamily::kSplat}};
+    LeafFamily::kSplatBlend}};
 
 }  // namespace
 }  // namespace pcrt
