@@ -37,7 +37,13 @@ size_t registered_counter_count();
 
 class OpCounters {
  public:
-  void add(const Counter& c, uint64_t n = 1) { values_[c.id()] += n; }
+  void add(const Counter& c, uint64_t n = 1) {
+#ifndef PCRT_NO_COUNTERS
+    values_[c.id()] += n;
+#else
+    (void)c, (void)n;  // a build that measures what counting costs (PCRT_COUNTERS=OFF)
+#endif
+  }
   [[nodiscard]] uint64_t get(const Counter& c) const { return values_[c.id()]; }
   void merge(const OpCounters& other) {
     for (size_t i = 0; i < kMaxCounters; ++i) values_[i] += other.values_[i];
