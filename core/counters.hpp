@@ -37,7 +37,13 @@ size_t registered_counter_count();
 
 class OpCounters {
  public:
-  void add(const Counter& c, uint64_t n = 1) { values_[c.id()] += n; }
+  void add(const Counter& c, uint64_t n = 1) {
+#ifndef PCRT_NO_COUNTERS
+    values_[c.id()] += n;
+#else
+    (void)c, (void)n;  // a build that measures what counting costs (PCRT_COUNTERS=OFF)
+#endif
+  }
   [[nodiscard]] uint64_t get(const Counter& c) const { return values_[c.id()]; }
   void merge(const OpCounters& other) {
     for (size_t i = 0; i < kMaxCounters; ++i) values_[i] += other.values_[i];
@@ -75,5 +81,9 @@ inline const Counter kPrimaryRays{"primary_rays", "camera rays"};
 inline const Counter kBounceRays{"bounce_rays", "secondary rays sampled from the BRDF"};
 inline const Counter kShadowRays{"shadow_rays", "rays towards the point light"};
 inline const Counter kRayHits{"ray_hits", "rays that found a closest hit"};
+inline const Counter kAnyHitRays{"any_hit_rays",
+                                 "occlusion queries (shadow rays; also in rays_cast): any hit "
+                                 "ends them"};
+inline const Counter kRaysOccluded{"rays_occluded", "occlusion queries that found a blocker"};
 
 }  // namespace pcrt

@@ -63,6 +63,19 @@ class EmbreeScene {
     rtcIntersect1(scene_, &context, &rh);
     return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
   }
+  // Whether anything lies within [ray.tmin, ray.tmax) (rtcOccluded1: stops at the first hit).
+  bool occluded(const Ray& ray) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r{};
+    r.org_x = ray.o.x(), r.org_y = ray.o.y(), r.org_z = ray.o.z();
+    r.dir_x = ray.d.x(), r.dir_y = ray.d.y(), r.dir_z = ray.d.z();
+    r.tnear = ray.tmin;
+    r.tfar = ray.tmax;
+    r.mask = ~0u;
+    rtcOccluded1(scene_, &context, &r);
+    return r.tfar < 0;  // Embree sets tfar to -inf on a hit
+  }
   // Bytes Embree holds (its BVH above all).
   [[nodiscard]] size_t bytes() const { return size_t(std::max<int64_t>(bytes_.load(), 0)); }
 

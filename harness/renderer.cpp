@@ -58,10 +58,9 @@ Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, H
       const Vec3 l = to_light / dist;
       const float cos_l = n.dot(l);
       if (cos_l > 0) {
-        Ray shadow{x, l, 0.0f, dist};
-        Hit blocker;
+        const Ray shadow{x, l, 0.0f, dist};
         counters.add(kShadowRays);
-        if (!scene.closest_hit(shadow, blocker, counters))
+        if (!scene.any_hit(shadow, counters))
           result += throughput.cwiseProduct(f) * (lighting.light_intensity * cos_l / (dist * dist));
       }
     }

@@ -60,6 +60,7 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   structure_ = structure_info_->create(structure_params_);
   ScopedTimer t(timings, "build");
   structure_->build(method_->items(), counters);
+  method_->bind_leaf_references(structure_->leaf_references());
 }
 
 bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const {
@@ -67,6 +68,15 @@ bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) con
   const bool found = structure_ ? structure_->closest_hit(ray, *method_, hit, counters)
                                 : method_->own_closest_hit(ray, hit, counters);
   if (found) counters.add(kRayHits);
+  return found;
+}
+
+bool PointScene::any_hit(const Ray& ray, OpCounters& counters) const {
+  counters.add(kRaysCast);
+  counters.add(kAnyHitRays);
+  const bool found = structure_ ? structure_->any_hit(ray, *method_, counters)
+                                : method_->own_any_hit(ray, counters);
+  if (found) counters.add(kRaysOccluded);
   return found;
 }
 

@@ -17,6 +17,13 @@ class SceneIntersector {
  public:
   virtual ~SceneIntersector() = default;
   virtual bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const = 0;
+  // Whether anything blocks the ray within [ray.tmin, ray.tmax) (shadow rays). This default asks
+  // for a closest hit; scenes with a cheaper occlusion query override it.
+  virtual bool any_hit(const Ray& ray, OpCounters& counters) const {
+    Hit h;
+    h.t = ray.tmax;
+    return closest_hit(ray, h, counters);
+  }
   // A primary pass replacing camera-ray tracing for this frame, or nullptr (Method::primary_pass).
   [[nodiscard]] virtual std::unique_ptr<PrimaryPass> primary_pass(const Camera& /*camera*/,
                                                                   OpCounters& /*counters*/) const {
@@ -38,6 +45,7 @@ class PointScene final : public SceneIntersector {
              Timings& timings);
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
+  bool any_hit(const Ray& ray, OpCounters& counters) const override;
   [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
                                                           OpCounters& counters) const override {
     return method_->primary_pass(camera, counters);

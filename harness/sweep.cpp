@@ -32,6 +32,7 @@
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
 #include "harness/workloads.hpp"
+#include "methods/kernels/disc_lanes.hpp"
 #include "methods/method.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/reconstruction.hpp"
@@ -888,6 +889,7 @@ json machine_context(const json& config) {
           {"compiler", fmt::format("{} {}", PCRT_COMPILER_ID, PCRT_COMPILER_VERSION)},
           {"flags", PCRT_CXX_FLAGS},
           {"build_type", PCRT_BUILD_TYPE},
+          {"leaf_simd", disc_lanes_name()},
           {"dependencies", PCRT_DEPENDENCY_VERSIONS},
           {"git_commit", commit},
           {"git_dirty", dirty},

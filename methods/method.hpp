@@ -45,10 +45,19 @@ class Method : public LeafIntersector {
   virtual void prepare(const PointCloud& cloud, PrepareContext& ctx) = 0;
   // What the structure indexes: a position, bounding radius and (optionally) box per item.
   [[nodiscard]] virtual ItemSet items() const = 0;
+  // Called once the structure over items() is built, with its leaf references
+  // (Structure::leaf_references), for methods that lay their data out in leaf order.
+  virtual void bind_leaf_references(std::span<const uint32_t> /*refs*/) {}
   // For methods that trace whole rays through an acceleration of their own (MethodInfo::
   // own_structure, e.g. Embree's BVH): the closest hit, in place of structure + leaf.
   virtual bool own_closest_hit(const Ray& /*ray*/, Hit& /*hit*/, OpCounters& /*counters*/) const {
     return false;
+  }
+  // The occlusion query of such methods (Embree's rtcOccluded1); this default asks for a hit.
+  virtual bool own_any_hit(const Ray& ray, OpCounters& counters) const {
+    Hit h;
+    h.t = ray.tmax;
+    return own_closest_hit(ray, h, counters);
   }
   // Methods with a primary pass of their own return it; nullptr: camera rays are traced.
   [[nodiscard]] virtual std::unique_ptr<PrimaryPass> primary_pass(const Camera& /*camera*/,
@@ -56,6 +65,21 @@ class Method : public LeafIntersector {
     return nullptr;
   }
 };
+
+// What kind of surface a method's leaf kernel intersects, so that comparisons pick like with like
+// by type, never by matching names (`pcrt anchor` times the splat family against Embree's discs,
+// and headlines the methods whose surface is exactly Embree's: one disc per point).
+enum class LeafFamily {
+  kOther,       // MLS, implicit, triangle fans, ...: a different surface
+  kDisc,        // one oriented disc per point (normal, radius), the nearest disc hit wins
+  kSplatBlend,  // splats of the method's own making, hits blended within a depth window
+  kProjection,  // points projected onto the ray through their tangent planes (cylinder, cone)
+};
+
+// The splat family: methods that intersect oriented discs.
+inline bool splat_family(LeafFamily f) {
+  return f == LeafFamily::kDisc || f == LeafFamily::kSplatBlend;
+}
 
 // A complexity claim of the thesis about one method.
 struct MethodClaim {
@@ -80,6 +104,7 @@ struct MethodInfo {
   // The counters of this method's own leaf work (weighted-plane terms, MLS neighbours, march
   // steps, ...): with the traversal's nodes and items, the work frame claims are judged on.
   std::vector<const Counter*> work = {};
+  LeafFamily family = LeafFamily::kOther;
 };
 
 using MethodRegistry = Registry<MethodInfo>;

@@ -1,10 +1,13 @@
 // Our triangle BVH: binned surface-area-heuristic splits (16 bins over centroids, Wald 2007), at
-// most 4 triangles per leaf, nearer child first. It reports into the same counters as the point
-// structures (nodes, leaves, triangle tests), so triangle tracing and direct point tracing are
-// compared operation by operation.
+// most 4 triangles per leaf; both children's boxes tested when their parent is visited and the
+// nearer (by entry distance) walked first; triangles stored in leaf order with their vertices. It
+// reports into the same counters as the point structures (nodes, leaves, triangle tests), so
+// triangle tracing and direct point tracing are compared operation by operation.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <limits>
 
 #include "reconstruction/mesh_engine.hpp"
 #include "structures/structure.hpp"
@@ -22,11 +25,33 @@ int bin_of(float c, float lo, float ext) {
   return b >= 0 ? int(std::min(b, float(kBins - 1))) : 0;
 }
 
+// A triangle as a leaf stores it: its vertices and its index in the mesh.
+struct LeafTriangle {
+  Vec3 v[3];
+  uint32_t prim;
+};
+
+// The next float above t (std::nextafter(t, inf) without the library call).
+inline float next_up(float t) {
+  if (!(t < kInfinity)) return t;
+  if (t == 0) return std::numeric_limits<float>::denorm_min();
+  const auto b = std::bit_cast<uint32_t>(t);
+  return std::bit_cast<float>(t > 0 ? b + 1 : b - 1);
+}
+
 struct Node {
   Aabb box;
   uint32_t first = 0;  // leaf: first triangle in order_; inner: right child (left is next)
   uint32_t count = 0;  // leaf: triangles; inner: 0
 };
+
+// The slab test of a node's box against [ray.tmin, t_max].
+inline bool box_hit(const Node& n, const Ray& ray, const Vec3& inv, float t_max, float& t0,
+                    float& t1) {
+  Ray clipped = ray;
+  clipped.tmax = t_max;
+  return n.box.intersect(clipped, inv, t0, t1);
+}
 
 class TriangleBvh final : public MeshEngine {
  public:
@@ -42,46 +67,62 @@ class TriangleBvh final : public MeshEngine {
     }
     nodes_.reserve(2 * n / kLeafSize + 1);
     build(0, uint32_t(n), 0);
+    // The triangles copied in leaf order, vertices inline: a leaf reads one contiguous block
+    // instead of an index, a triangle and three vertices each.
+    leaf_triangles_.resize(n);
+    for (uint32_t k = 0; k < n; ++k) {
+      const auto& t = mesh.triangles[order_[k]];
+      leaf_triangles_[k] = {{mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]},
+                            order_[k]};
+    }
+    order_ = {};
+    boxes_ = {};
+    centroids_ = {};
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, n);
   }
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
     const Vec3 inv = ray.d.cwiseInverse();
-    std::array<uint32_t, 64> stack;
+    struct Todo {
+      uint32_t node;
+      float t0;
+    };
+    std::array<Todo, 64> stack;
     size_t top = 0;
-    stack[top++] = 0;
     float t_max = std::min(ray.tmax, hit.t);
+    float t0 = 0, t1 = 0;
+    if (nodes_.empty() || !box_hit(nodes_[0], ray, inv, t_max, t0, t1)) return false;
+    stack[top++] = Todo{0, t0};
     bool found = false;
     uint64_t nodes = 0, leaves = 0, tests = 0;
     while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
+      const Todo cur = stack[--top];
+      if (cur.t0 > t_max) continue;  // entered beyond the hit found since it was pushed
+      const Node& node = nodes_[cur.node];
       ++nodes;
-      float t0 = 0, t1 = 0;
-      Ray clipped = ray;
-      clipped.tmax = t_max;
-      if (!node.box.intersect(clipped, inv, t0, t1)) continue;
       if (node.count > 0) {
         ++leaves;
+        tests += node.count;
         for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-          const auto& tri = mesh_.triangles[order_[k]];
-          ++tests;
+          const LeafTriangle& tri = leaf_triangles_[k];
           // Up to and including t_max, so that a tie in t goes to the lower triangle index
           // whatever the traversal order.
-          const float t = intersect_triangle(ray, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]],
-                                             mesh_.vertices[tri[2]], ray.tmin,
-                                             std::nextafter(t_max, kInfinity));
-          if (t == kInfinity || (t == t_max && order_[k] > hit.prim)) continue;
-          t_max = t, hit.t = t, hit.prim = order_[k], found = true;
+          const float t =
+              intersect_triangle(ray, tri.v[0], tri.v[1], tri.v[2], ray.tmin, next_up(t_max));
+          if (t == kInfinity || (t == t_max && tri.prim > hit.prim)) continue;
+          t_max = t, hit.t = t, hit.prim = tri.prim, found = true;
         }
         continue;
       }
-      // Nearer child last on the stack, so it is visited first.
-      const uint32_t left = uint32_t(&node - nodes_.data()) + 1, right = node.first;
-      const int axis = split_axis_[size_t(&node - nodes_.data())];
-      const bool left_first = ray.d[axis] >= 0;
-      stack[top++] = left_first ? right : left;
-      stack[top++] = left_first ? left : right;
+      // Both children's boxes are tested now (at push), and the nearer is walked first: a
+      // missed child is never pushed, a far one is dropped at pop once a hit lies before it.
+      Todo kids[2];
+      int nk = 0;
+      for (uint32_t c : {cur.node + 1, node.first})
+        if (box_hit(nodes_[c], ray, inv, t_max, t0, t1)) kids[nk++] = Todo{c, t0};
+      if (nk == 2 && kids[0].t0 < kids[1].t0) std::swap(kids[0], kids[1]);
+      for (int k = 0; k < nk; ++k) stack[top++] = kids[k];
     }
     counters.add(kNodesVisited, nodes);
     counters.add(kLeavesVisited, leaves);
@@ -95,7 +136,7 @@ class TriangleBvh final : public MeshEngine {
   }
 
   [[nodiscard]] size_t memory_bytes() const override {
-    return nodes_.size() * sizeof(Node) + order_.size() * sizeof(uint32_t) + split_axis_.size();
+    return nodes_.size() * sizeof(Node) + leaf_triangles_.size() * sizeof(LeafTriangle);
   }
 
  private:
@@ -103,7 +144,6 @@ class TriangleBvh final : public MeshEngine {
   uint32_t build(uint32_t begin, uint32_t end, int depth) {
     const uint32_t index = uint32_t(nodes_.size());
     nodes_.emplace_back();
-    split_axis_.push_back(0);
     Aabb box, cbox;
     for (uint32_t k = begin; k < end; ++k)
       box.extend(boxes_[order_[k]]), cbox.extend(centroids_[order_[k]]);
@@ -115,7 +155,6 @@ class TriangleBvh final : public MeshEngine {
       nodes_[index].count = end - begin;
       return index;
     }
-    split_axis_[index] = uint8_t(axis);
     build(begin, mid, depth + 1);
     const uint32_t right = build(mid, end, depth + 1);
     nodes_[index].first = right;
@@ -183,7 +222,7 @@ class TriangleBvh final : public MeshEngine {
 
   const TriangleMesh& mesh_;
   std::vector<Node> nodes_;
-  std::vector<uint8_t> split_axis_;
+  std::vector<LeafTriangle> leaf_triangles_;
   std::vector<uint32_t> order_;
   std::vector<Aabb> boxes_;
   std::vector<Vec3> centroids_;

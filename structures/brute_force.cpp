@@ -20,6 +20,7 @@ class BruteForce final : public Structure {
     return leaf_intersector.intersect_leaf(ray, LeafVisit{items_, ray.tmin, ray.tmax}, hit,
                                            counters);
   }
+  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return items_; }
   [[nodiscard]] size_t memory_bytes() const override { return items_.size() * sizeof(uint32_t); }
 
  private:

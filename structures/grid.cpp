@@ -96,6 +96,7 @@ class Grid final : public Structure {
     return found;
   }
 
+  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return refs_; }
   [[nodiscard]] size_t memory_bytes() const override {
     return start_.capacity() * sizeof(uint32_t) + refs_.capacity() * sizeof(uint32_t);
   }

@@ -47,7 +47,9 @@ constexpr size_t kParallelBuildItems = 50000;
 class KdTree final : public Structure {
  public:
   explicit KdTree(const ParamValues& p)
-      : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
+      : leaf_size_(size_t(p.at("leaf_size"))),
+        max_depth_(int(p.at("max_depth"))),
+        max_straddle_(p.at("max_straddle")) {}
 
   // Sum over leaves of references x levels from the root (the build's partitioning work).
   [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
@@ -75,6 +77,24 @@ class KdTree final : public Structure {
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
+    return walk<false>(ray, leaf, hit, counters);
+  }
+
+  bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
+    Hit hit;
+    hit.t = ray.tmax;
+    return walk<true>(ray, leaf, hit, counters);
+  }
+
+  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return refs_; }
+  [[nodiscard]] size_t memory_bytes() const override {
+    return nodes_.capacity() * sizeof(KdNode) + refs_.capacity() * sizeof(uint32_t);
+  }
+
+ private:
+  // kAny: an occlusion query, ended by the first leaf that reports a hit.
+  template <bool kAny>
+  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
     if (nodes_.empty()) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     float tmin = 0, tmax = 0;
@@ -115,8 +135,12 @@ class KdTree final : public Structure {
       if (n.b > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, n.b);
-        found |= leaf.intersect_leaf(ray, LeafVisit{{refs_.data() + n.a, n.b}, tmin, tmax}, hit,
-                                     counters);
+        const LeafVisit visit{{refs_.data() + n.a, n.b}, tmin, tmax};
+        if constexpr (kAny) {
+          if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+        } else {
+          found |= leaf.intersect_leaf(ray, visit, hit, counters);
+        }
       }
       if (top == 0) break;
       const Todo& t = stack[size_t(--top)];
@@ -127,11 +151,6 @@ class KdTree final : public Structure {
     return found;
   }
 
-  [[nodiscard]] size_t memory_bytes() const override {
-    return nodes_.capacity() * sizeof(KdNode) + refs_.capacity() * sizeof(uint32_t);
-  }
-
- private:
   static void make_leaf(Subtree& out, const std::vector<uint32_t>& items) {
     out.nodes.push_back(KdNode{0, 3, offset32(out.refs.size(), "kd_tree"), uint32_t(items.size())});
     out.refs.insert(out.refs.end(), items.begin(), items.end());
@@ -169,10 +188,10 @@ class KdTree final : public Structure {
       if (b.lo[ax] <= split) left.push_back(i);
       if (b.hi[ax] >= split) right.push_back(i);
     }
-    // A split must pay: if over 40% of the items straddle the plane (footprints wider than the
-    // cell, or identical points) the children would only duplicate references; stop here (such
-    // leaves exceed leaf_size) rather than recurse to max_depth.
-    if (left.size() + right.size() >= items.size() + items.size() * 2 / 5 + 1)
+    // A split must pay: if over max_straddle of the items straddle the plane (footprints wider
+    // than the cell, or identical points) the children would only duplicate references; stop
+    // here (such leaves exceed leaf_size) rather than recurse to max_depth.
+    if (left.size() + right.size() > items.size() + size_t(double(items.size()) * max_straddle_))
       return make_leaf(out, items);
     items.clear();
     items.shrink_to_fit();
@@ -237,6 +256,7 @@ class KdTree final : public Structure {
 
   size_t leaf_size_;
   int max_depth_;
+  double max_straddle_;
   ItemSet items_;
   Aabb bounds_;
   std::vector<KdNode> nodes_;
@@ -251,7 +271,9 @@ const RegisterStructure kRegister{
                   "O(log N)",
                   {{"leaf_size", 8, 1, 1e6,
                     "stop splitting at this many items (K of the leaf-based methods)", true},
-                   {"max_depth", 40, 0, 100, "maximum depth", true}},
+                   {"max_depth", 40, 0, 100, "maximum depth", true},
+                   {"max_straddle", 0.4, 0, 0.9,
+                    "stop splitting when more than this fraction of the items straddle the plane"}},
                   [](const ParamValues& p) { return std::make_unique<KdTree>(p); }}};
 
 }  // namespace

@@ -114,6 +114,7 @@ class Octree final : public Structure {
     return found;
   }
 
+  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return refs_; }
   [[nodiscard]] size_t memory_bytes() const override {
     return nodes_.capacity() * sizeof(OctNode) + refs_.capacity() * sizeof(uint32_t);
   }

@@ -99,6 +99,7 @@ class SphereTree final : public Structure {
     return found;
   }
 
+  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return order_; }
   [[nodiscard]] size_t memory_bytes() const override {
     return nodes_.capacity() * sizeof(SphereNode) + order_.capacity() * sizeof(uint32_t);
   }

@@ -54,6 +54,15 @@ class LeafIntersector {
   // t_exit: a splat reaches into several leaves); on success it narrows hit and returns true.
   virtual bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                               OpCounters& counters) const = 0;
+  // Whether any item of the leaf blocks the ray within [ray.tmin, t_max) (shadow rays): the leaf
+  // may stop at its first hit. Reports true exactly when intersect_leaf, given a hit at t_max,
+  // would. This default is that closest-hit query.
+  virtual bool occluded_leaf(const Ray& ray, const LeafVisit& leaf, float t_max,
+                             OpCounters& counters) const {
+    Hit h;
+    h.t = t_max;
+    return intersect_leaf(ray, leaf, h, counters);
+  }
 };
 
 class Structure {
@@ -64,7 +73,19 @@ class Structure {
   // Visits leaves in front-to-back order of t_enter until the next leaf starts beyond hit.t.
   virtual bool closest_hit(const Ray& ray, const LeafIntersector& leaf_intersector, Hit& hit,
                            OpCounters& counters) const = 0;
+  // Whether anything blocks the ray within [ray.tmin, ray.tmax): the walk stops at the first leaf
+  // that reports a hit (LeafIntersector::occluded_leaf). This default asks for a closest hit;
+  // structures override it with an early exit.
+  virtual bool any_hit(const Ray& ray, const LeafIntersector& leaf_intersector,
+                       OpCounters& counters) const {
+    Hit h;
+    h.t = ray.tmax;
+    return closest_hit(ray, leaf_intersector, h, counters);
+  }
   [[nodiscard]] virtual size_t memory_bytes() const = 0;
+  // The array every LeafVisit::items of this structure is a piece of (item references in leaf
+  // order), so that a method may lay its data out in the same order (leaf blocks).
+  [[nodiscard]] virtual std::span<const uint32_t> leaf_references() const = 0;
 };
 
 struct StructureInfo {

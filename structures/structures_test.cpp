@@ -2,6 +2,7 @@
 // intersector, on synthetic and real clouds and on degenerate input.
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <filesystem>
 
@@ -14,7 +15,7 @@ using namespace pcrt;
 
 namespace {
 
-const char* kStructures[] = {"kd_tree", "octree", "sphere_tree", "grid"};
+const char* kStructures[] = {"kd_tree", "octree", "sphere_tree", "grid", "bvh"};
 
 // Primary-like rays from outside aimed at cloud points, incoherent rays from inside the bounds,
 // and rays from far away aimed at random spots of the box: a third each.
@@ -76,6 +77,26 @@ Traced trace_all(const Structure& s, const Method& m, const std::vector<Ray>& ra
   return out;
 }
 
+// Occlusion queries agree with the closest hits: a segment ending just past the closest hit is
+// blocked, one ending just before it is not, an unbounded ray is blocked exactly when it hits.
+void check_any_hit(const Structure& s, const Method& m, const std::vector<Ray>& rays,
+                   const Traced& oracle) {
+  size_t wrong = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    OpCounters c;
+    Ray r = rays[i];
+    bool ok = s.any_hit(r, m, c) == bool(oracle.found[i]);
+    if (oracle.found[i] && oracle.hits[i].t > r.tmin) {
+      r.tmax = oracle.hits[i].t * 1.001f;
+      ok = ok && s.any_hit(r, m, c);
+      r.tmax = oracle.hits[i].t * 0.999f;
+      ok = ok && !s.any_hit(r, m, c);
+    }
+    if (!ok && wrong++ < 3) UNSCOPED_INFO("any_hit disagrees on ray " << i);
+  }
+  REQUIRE(wrong == 0);
+}
+
 void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const std::string& label,
                                bool expect_pruning = true) {
   auto method =
@@ -113,6 +134,7 @@ void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const 
                              << oracle.hits[i].prim);
     }
     REQUIRE(mismatches == 0);
+    check_any_hit(*make(id), *method, rays, oracle);
     if (expect_pruning) REQUIRE(got.items * 4 < oracle.items);  // the structure prunes
   }
   REQUIRE(hits > rays.size() / 10);  // the rays do exercise the surface
@@ -185,5 +207,48 @@ TEST_CASE("structure parameters and memory", "[structures]") {
     REQUIRE(s->memory_bytes() > 0);
     REQUIRE(s->memory_bytes() < 64 * d.cloud.size());  // indices, not copies of points
     REQUIRE(c.get(kBuildItemRefs) >= d.cloud.size());
+  }
+}
+
+namespace {
+
+// Records the largest leaf handed over; never reports a hit, so every leaf a ray crosses is seen.
+class LeafSizes final : public LeafIntersector {
+ public:
+  bool intersect_leaf(const Ray&, const LeafVisit& leaf, Hit&, OpCounters&) const override {
+    size_t seen = largest.load();
+    while (leaf.items.size() > seen && !largest.compare_exchange_weak(seen, leaf.items.size())) {
+    }
+    return false;
+  }
+  mutable std::atomic<size_t> largest{0};
+};
+
+size_t largest_leaf(const std::string& id, const ItemSet& items, ParamValues set,
+                    const std::vector<Ray>& rays) {
+  const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
+  auto s = info.create(resolve_params(info.params, set, id));
+  OpCounters c;
+  s->build(items, c);
+  LeafSizes sizes;
+  for (const Ray& r : rays) {
+    Hit h;
+    s->closest_hit(r, sizes, h, c);
+  }
+  return sizes.largest.load();
+}
+
+}  // namespace
+
+TEST_CASE("bvh leaves hold at most leaf_size items", "[structures]") {
+  const Dataset d = load_dataset("sphere:n=20000,seed=7");
+  std::vector<float> radii(d.cloud.size(), 0.04f);  // each disc overlaps about 8 neighbours
+  const ItemSet items{d.cloud.positions, radii, {}};
+  const auto rays = random_rays(d.cloud, 3000, 5);
+  for (double k : {1.0, 4.0, 8.0}) {
+    const size_t got = largest_leaf("bvh", items, {{"leaf_size", k}}, rays);
+    INFO("leaf_size " << k << ": largest leaf " << got);
+    REQUIRE(got <= size_t(k));
+    REQUIRE(got >= 1);
   }
 }

@@ -58,6 +58,11 @@ class EmbreeOrientedDisc final : public Method {
     return true;
   }
 
+  bool own_any_hit(const Ray& ray, OpCounters& counters) const override {
+    counters.add(kEmbreeRays);
+    return embree_->occluded(ray);
+  }
+
  private:
   static inline const Counter kEmbreeRays{
       "embree_rays", "rays traced by Embree (its internal work is not counted)"};
@@ -84,7 +89,9 @@ const RegisterMethod kRegister{MethodInfo{
     }(),
     {},
     [](const ParamValues& p) { return std::make_unique<EmbreeOrientedDisc>(p); },
-    "embree_bvh"}};
+    "embree_bvh",
+    {},
+    LeafFamily::kDisc}};
 
 }  // namespace
 }  // namespace pcrt

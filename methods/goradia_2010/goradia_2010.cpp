@@ -48,7 +48,8 @@ const RegisterMethod kRegister{MethodInfo{
      {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
     [](const ParamValues& p) { return std::make_unique<Goradia2010>(p); },
     {},
-    {&kProjectionTests, &kSplatTests}}};
+    {&kProjectionTests, &kSplatTests},
+    LeafFamily::kSplatBlend}};
 
 }  // namespace
 }  // namespace pcrt

@@ -1,8 +1,7 @@
 // reference_splat: every point an oriented disc of its radius facing its normal; the closest disc
 // hit is the hit. Not a surveyed method: the oracle the renderer and the structures are checked
 // with, and the baseline splat surface.
-#include <cmath>
-
+#include "methods/kernels/splat_blocks.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
@@ -19,21 +18,26 @@ class ReferenceSplat final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
+  void bind_leaf_references(std::span<const uint32_t> refs) override {
+    blocks_.bind(refs, splats_.packed);
+  }
+
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    int best = -1;
-    float t_limit = std::nextafter(hit.t, kInfinity);  // ties are resolved by closer()
-    for (uint32_t k : leaf.items) {
-      const PackedSplat& s = splats_.packed[k];
-      const float t = intersect_splat(ray, s, ray.tmin, t_limit);
-      if (t != kInfinity && closer(t, s.index, hit)) {
-        hit.t = t;
-        hit.prim = s.index;
-        best = int(k);
-        t_limit = std::nextafter(t, kInfinity);
-      }
-    }
     counters.add(kSplatTests, leaf.items.size());
+    int best = -1;
+    for_each_disc_candidate(blocks_, splats_.packed, leaf.items, disc_query(ray, hit.t),
+                            [&](uint32_t i) {
+                              const uint32_t k = leaf.items[i];
+                              const PackedSplat& s = splats_.packed[k];
+                              const float t = disc_t(ray, s);
+                              if (t >= ray.tmin && closer(t, s.index, hit)) {
+                                hit.t = t;
+                                hit.prim = s.index;
+                                best = int(k);
+                              }
+                              return true;
+                            });
     if (best < 0) return false;
     hit.p = ray.at(hit.t);
     hit.n = splats_.normals[size_t(best)];
@@ -41,9 +45,24 @@ class ReferenceSplat final : public Method {
     return true;
   }
 
+  // Stops at the first disc that blocks; counts the whole leaf, as the lanes test it whole.
+  bool occluded_leaf(const Ray& ray, const LeafVisit& leaf, float t_max,
+                     OpCounters& counters) const override {
+    counters.add(kSplatTests, leaf.items.size());
+    bool blocked = false;
+    for_each_disc_candidate(blocks_, splats_.packed, leaf.items, disc_query(ray, t_max),
+                            [&](uint32_t i) {
+                              const float t = disc_t(ray, splats_.packed[leaf.items[i]]);
+                              blocked = t >= ray.tmin && t <= t_max;
+                              return !blocked;
+                            });
+    return blocked;
+  }
+
  private:
   ParamValues params_;
   SplatSet splats_;
+  SplatLeafBlocks blocks_;
 };
 
 const RegisterMethod kRegister{
@@ -57,7 +76,8 @@ const RegisterMethod kRegister{
                {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
                [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); },
                {},
-               {&kSplatTests}}};
+               {&kSplatTests},
+               LeafFamily::kDisc}};
 
 }  // namespace
 }  // namespace pcrt

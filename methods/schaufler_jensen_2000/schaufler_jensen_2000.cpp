@@ -67,7 +67,8 @@ const RegisterMethod kRegister{MethodInfo{
      {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
     [](const ParamValues& p) { return std::make_unique<SchauflerJensen>(p); },
     {},
-    {&kProjectionTests}}};
+    {&kProjectionTests},
+    LeafFamily::kProjection}};
 
 }  // namespace
 }  // namespace pcrt

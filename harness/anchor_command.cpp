@@ -1,0 +1,305 @@
+// `pcrt anchor`: our splat family against Embree's oriented discs on the same rays, in one process.
+// Honest by construction: every splat-family method (splat_family(): kDisc, kSplatBlend) on every
+// structure, Embree given both our Morton order and the cloud's order, passes alternated
+// (candidate and references in turn, the order reversed every pass) and ratios taken pass by pass
+// before the median, on primary, bounce and shadow rays.
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "harness/cli_args.hpp"
+#include "harness/command_helpers.hpp"
+#include "harness/commands.hpp"
+#include "harness/renderer.hpp"
+#include "harness/scene.hpp"
+#include "methods/kernels/disc_lanes.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/triangle_mesh.hpp"
+
+namespace pcrt {
+namespace {
+
+using json = nlohmann::json;
+
+// Shadow rays ask whether anything blocks them; the others ask for the closest hit.
+enum class Query { kClosest, kAny };
+
+struct RaySet {
+  const char* name;
+  Query query;
+  std::vector<Ray> rays;
+};
+
+// One timed pass of all rays; returns Mrays/s and counts hits and work into `hits`, `counters`.
+double timed_pass(const SceneIntersector& scene, const RaySet& set, size_t& hits,
+                  OpCounters& counters) {
+  std::vector<char> found(set.rays.size());
+  tbb::combinable<OpCounters> per_thread;
+  const auto start = std::chrono::steady_clock::now();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, set.rays.size(), 1024),
+                    [&](const tbb::blocked_range<size_t>& br) {
+                      OpCounters& c = per_thread.local();
+                      for (size_t i = br.begin(); i != br.end(); ++i) {
+                        Hit h;
+                        h.t = set.rays[i].tmax;
+                        found[i] = set.query == Query::kAny ? scene.any_hit(set.rays[i], c)
+                                                            : scene.closest_hit(set.rays[i], h, c);
+                      }
+                    });
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  hits = size_t(std::count(found.begin(), found.end(), 1));
+  counters = OpCounters{};
+  per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
+  return double(set.rays.size()) / s / 1e6;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Scenes timed together: [0] the candidate, then the references. Pass 0 warms up; every later
+// pass times all scenes, in reverse order on odd passes, so drift (turbo, other load) falls on
+// both sides of each ratio alike.
+json alternated(const std::vector<const SceneIntersector*>& scenes, const RaySet& set, int reps) {
+  const size_t n = scenes.size();
+  std::vector<std::vector<double>> rate(n);
+  std::vector<size_t> hits(n);
+  OpCounters work;
+  for (int r = 0; r <= reps; ++r)
+    for (size_t j = 0; j < n; ++j) {
+      const size_t s = r % 2 ? n - 1 - j : j;
+      OpCounters c;
+      const double mr = timed_pass(*scenes[s], set, hits[s], c);
+      if (r > 0) rate[s].push_back(mr);
+      if (r == 0 && s == 0) work = c;
+    }
+  json out = {{"rays", set.rays.size()},
+              {"query", set.query == Query::kAny ? "any_hit" : "closest_hit"},
+              {"mrays_per_s", median(rate[0])},
+              {"hits", hits[0]}};
+  // Work per ray of the candidate (operation counts are exact, so one pass tells).
+  json per_ray;
+  for (const auto& [name, v] : work.to_map())
+    per_ray[name] = double(v) / double(std::max<size_t>(set.rays.size(), 1));
+  out["work_per_ray"] = per_ray;
+  json refs = json::array();
+  for (size_t s = 1; s < n; ++s) {
+    std::vector<double> ratio;
+    for (size_t k = 0; k < rate[0].size(); ++k) ratio.push_back(rate[0][k] / rate[s][k]);
+    std::sort(ratio.begin(), ratio.end());
+    refs.push_back({{"mrays_per_s", median(rate[s])},
+                    {"hits", hits[s]},
+                    {"ratio", median(ratio)},
+                    {"ratio_min", ratio.front()},
+                    {"ratio_max", ratio.back()}});
+  }
+  out["references"] = refs;
+  return out;
+}
+
+// Bounce and shadow rays from the reference's primary hits, as the renderer makes them: lifted
+// off the surface, a cosine-sampled bounce and a ray to the renderer's point light.
+void secondary_rays(const SceneIntersector& reference, const std::vector<Ray>& primary,
+                    const Aabb& bounds, RaySet& bounce, RaySet& shadow) {
+  const float diag = std::max(bounds.diagonal(), 1e-6f);
+  const RenderSettings rs;
+  const Vec3 up = rs.up.normalized(), view = rs.view.normalized();
+  const Vec3 side = view.cross(up).normalized();
+  const Vec3 light = bounds.center() + diag * (0.9f * view + 1.2f * up - 0.6f * side);
+  OpCounters c;
+  for (size_t i = 0; i < primary.size(); ++i) {
+    Hit h;
+    if (!reference.closest_hit(primary[i], h, c)) continue;
+    const Vec3 n = h.n.dot(primary[i].d) > 0 ? Vec3(-h.n) : h.n;
+    const Vec3 x = h.p + std::max(1e-3f * diag, 0.5f * h.footprint) * n;
+    Rng rng = Rng::for_sample(1, i, 0);
+    bounce.rays.push_back(Ray{x, cosine_direction(n, rng), 0.0f, kInfinity});
+    const Vec3 to_light = light - x;
+    const float dist = to_light.norm();
+    if (n.dot(to_light) > 0) shadow.rays.push_back(Ray{x, to_light / dist, 0.0f, dist});
+  }
+}
+
+// Our triangle BVH against Embree's triangles on the same mesh and rays (--mesh).
+json mesh_anchor(const std::string& path, int w, int h, int reps) {
+  const TriangleMesh mesh = read_mesh(path);
+  PointCloud frame;
+  frame.positions = mesh.vertices;
+  const Aabb bounds = frame.bounds();
+  const Camera cam = Camera::framing(bounds, w, h);
+  RaySet primary{"primary", Query::kClosest, {}}, bounce{"bounce", Query::kClosest, {}},
+      shadow{"shadow", Query::kAny, {}};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) primary.rays.push_back(cam.ray(float(x) + 0.5f, float(y) + 0.5f));
+  OpCounters prep;
+  Timings t;
+  const MeshScene ours(mesh, "bvh", prep, t), embree(mesh, "embree", prep, t);
+  secondary_rays(embree, primary.rays, bounds, bounce, shadow);
+  json j = {{"mesh", path},
+            {"triangles", mesh.triangles.size()},
+            {"reps", reps},
+            {"engine", "bvh"},
+            {"reference", "embree"}};
+  for (const RaySet* set : {&primary, &bounce, &shadow})
+    j[set->name] = alternated({&ours, &embree}, *set, reps);
+  return j;
+}
+
+}  // namespace
+
+int command_anchor(const Args& args) {
+  CliArgs a(
+      "anchor",
+      "pcrt anchor --data DATA [--method M] [--structure S] [--set NAME=VALUE] [--width W "
+      "--height H --threads T --reps R] [--json]",
+      {{"data", "DATA", "point cloud file or generator spec"},
+       {"mesh", "MESH.ply",
+        "instead of --data: our triangle BVH against Embree's triangles on this mesh"},
+       {"method", "M", "only this splat-family method (default: all of them)"},
+       {"structure", "S", "only this structure (default: all but brute_force)"},
+       {"set", "NAME=VALUE", "a parameter of the candidates' method or structure (repeatable)"},
+       {"width", "W", "image width (default 512)"},
+       {"height", "H", "image height (default 512)"},
+       {"reps", "R",
+        "timed passes of each scene after one warm-up; medians are reported (default 7)"},
+       {"threads", "N", "worker threads (default: all cores)"},
+       {"json", "", "print JSON"}},
+      0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const int w = int(a.integer("width", 512, 1, 16384)),
+            hgt = int(a.integer("height", 512, 1, 16384));
+  const int reps = int(a.integer("reps", 7, 1, 1000));
+  if (a.has("mesh")) {
+    if (a.has("data")) input_error("pcrt anchor: --mesh and --data exclude each other");
+    const json j = mesh_anchor(a.get("mesh"), w, hgt, reps);
+    if (a.has("json")) {
+      std::printf("%s\n", j.dump(2).c_str());
+      return 0;
+    }
+    for (const char* k : {"primary", "bounce", "shadow"})
+      std::printf("  %-8s bvh %6.2f Mrays/s, embree %6.2f Mrays/s: x%.3f\n", k,
+                  j[k]["mrays_per_s"].get<double>(),
+                  j[k]["references"][0]["mrays_per_s"].get<double>(),
+                  j[k]["references"][0]["ratio"].get<double>());
+    return 0;
+  }
+  const std::string data = a.require("data");
+  const Dataset d = load_dataset(data);
+  const Aabb bounds = d.cloud.bounds();
+  ParamValues overrides;
+  for (const std::string& s : a.all("set")) {
+    auto [name, value] = parse_assignment(s);
+    if (overrides.count(name)) input_error("--set {} given twice", name);
+    overrides[name] = value;
+  }
+  if (a.has("method") &&
+      !splat_family(MethodRegistry::instance().get(a.get("method"), "method").family))
+    input_error("pcrt anchor: --method {} is not of the splat family", a.get("method"));
+  if (a.has("structure"))
+    (void)StructureRegistry::instance().get(a.get("structure"), "structure");  // known id?
+  const Camera cam = Camera::framing(bounds, w, hgt);
+  RaySet primary{"primary", Query::kClosest, {}}, bounce{"bounce", Query::kClosest, {}},
+      shadow{"shadow", Query::kAny, {}};
+  for (int y = 0; y < hgt; ++y)
+    for (int x = 0; x < w; ++x) primary.rays.push_back(cam.ray(float(x) + 0.5f, float(y) + 0.5f));
+
+  // The references: Embree's discs in our Morton order (the headline) and in the cloud's order.
+  Timings t;
+  OpCounters prep;
+  const PointScene embree_morton(
+      d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 1}}}, prep, t);
+  const PointScene embree_cloud(
+      d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 0}}}, prep, t);
+  secondary_rays(embree_morton, primary.rays, bounds, bounce, shadow);
+  const std::vector<const RaySet*> sets = {&primary, &bounce, &shadow};
+
+  json candidates = json::array();
+  for (const MethodInfo& m : MethodRegistry::instance().all()) {
+    if (!splat_family(m.family) || !m.own_structure.empty()) continue;
+    if (a.has("method") && a.get("method") != m.id) continue;
+    for (const StructureInfo& s : StructureRegistry::instance().all()) {
+      if (s.id == "brute_force" || (a.has("structure") && a.get("structure") != s.id)) continue;
+      Timings ct;
+      OpCounters cp;
+      const PointScene scene(d.cloud, SceneOptions{m.id, s.id, overrides}, cp, ct);
+      json e = {{"method", m.id},
+                {"same_discs", m.family == LeafFamily::kDisc},
+                {"structure", s.id},
+                {"build_s", ct["build"]},
+                {"refs_per_item", double(cp.get(kBuildItemRefs)) / double(d.cloud.size())},
+                {"structure_bytes", scene.structure_bytes()}};
+      for (const RaySet* set : sets)
+        e[set->name] = alternated({&scene, &embree_morton, &embree_cloud}, *set, reps);
+      candidates.push_back(e);
+      if (!a.has("json")) {
+        std::printf("  %-20s %-12s", m.id.c_str(), s.id.c_str());
+        for (const RaySet* set : sets) {
+          const json& r = e[set->name];
+          std::printf("  %s %6.2f Mrays/s x%.2f", set->name, r["mrays_per_s"].get<double>(),
+                      r["references"][0]["ratio"].get<double>());
+        }
+        std::printf("\n");
+      }
+    }
+  }
+  // The best candidates by their primary-ray ratio against Embree in Morton order: of all, and of
+  // those tracing exactly Embree's surface (one disc per point; the blending methods trace splats
+  // of their own making, often fewer than the points).
+  auto best_of = [&](bool same_discs_only) {
+    json best;
+    for (const json& c : candidates)
+      if ((!same_discs_only || c["same_discs"].get<bool>()) &&
+          (best.is_null() || c["primary"]["references"][0]["ratio"].get<double>() >
+                                 best["primary"]["references"][0]["ratio"].get<double>()))
+        best = c;
+    return best;
+  };
+  const json best = best_of(false), best_same = best_of(true);
+  auto headline = [](const json& b) {
+    return b.is_null() ? json()
+                       : json{{"method", b["method"]},
+                              {"structure", b["structure"]},
+                              {"primary", b["primary"]},
+                              {"bounce", b["bounce"]},
+                              {"shadow", b["shadow"]}};
+  };
+  const json j = {{"dataset", data},
+                  {"N", d.cloud.size()},
+                  {"width", w},
+                  {"height", hgt},
+                  {"reps", reps},
+                  {"set", overrides},
+                  {"leaf_simd", disc_lanes_name()},
+                  {"references",
+                   {"embree_oriented_disc morton_order=1", "embree_oriented_disc morton_order=0"}},
+                  {"best", headline(best)},
+                  {"best_same_discs", headline(best_same)},
+                  {"candidates", candidates}};
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    for (const auto& [label, b] :
+         {std::pair{"best", best}, std::pair{"best, same discs", best_same}})
+      if (!b.is_null())
+        std::printf("%s: %s on %s, primary rays x%.3f Embree (Morton order), x%.3f (cloud order)\n",
+                    label, b["method"].get<std::string>().c_str(),
+                    b["structure"].get<std::string>().c_str(),
+                    b["primary"]["references"][0]["ratio"].get<double>(),
+                    b["primary"]["references"][1]["ratio"].get<double>());
+  }
+  return 0;
+}
+
+}  // namespace pcrt

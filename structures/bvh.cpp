@@ -1,0 +1,357 @@
+// Binned-SAH bounding volume hierarchy (Wald 2007, "On fast construction of SAH-based bounding
+// volume hierarchies"; pbrt-v4's BVHAggregate): the industrial baseline. An object partition over
+// the items' footprint boxes: every item sits in exactly one leaf, so no reference is duplicated.
+// Build: at each node the item box centres are binned (kBins per axis) and the split with the
+// least surface area heuristic cost is taken, until a node holds leaf_size items or fewer, so
+// leaves hold what leaf_size says. The binary tree is then collapsed into 4-wide nodes (Embree's
+// BVH4). Traversal: a node's four child boxes are tested at once (SSE) when it is visited, the
+// children hit are pushed farthest first so the nearest is walked next, and a waiting one is
+// dropped once its entry lies beyond the hit so far (boxes overlap, so the walk cannot stop at
+// the first hit).
+#include <tbb/parallel_invoke.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <array>
+
+#include "structures/structure.hpp"
+
+namespace pcrt {
+namespace {
+
+// 32 bytes; the left child follows its parent, so a node and its left child share a cache line
+// half the time.
+struct BvhNode {
+  Vec3 lo;
+  uint32_t index = 0;  // inner: right child; leaf: first item in order_
+  Vec3 hi;
+  uint32_t count = 0;  // leaf: items (> 0); inner: 0
+};
+
+// Four children's boxes in structure-of-arrays layout (lo[axis][child]), for one SSE slab test.
+struct alignas(16) WideNode {
+  float lo[3][4];
+  float hi[3][4];
+  uint32_t child[4] = {};  // inner child: wide node index; leaf child: first item in order_
+  uint32_t count[4] = {};  // leaf child: items (> 0); inner child or empty slot: 0
+};
+
+constexpr int kBins = 16;
+constexpr uint32_t kParallelBuildItems = 50000;
+constexpr int kMaxDepth = 64;
+
+// Nodes of a subtree, child indices relative to its own array; large subtrees are built in
+// parallel and spliced in order, so the layout and every count are the same for any thread count.
+struct Subtree {
+  std::vector<BvhNode> nodes;
+  void append(const Subtree& sub) {
+    const auto base = uint32_t(nodes.size());
+    for (BvhNode n : sub.nodes) {
+      if (n.count == 0) n.index += base;
+      nodes.push_back(n);
+    }
+  }
+};
+
+class Bvh final : public Structure {
+ public:
+  explicit Bvh(const ParamValues& p) : leaf_size_(uint32_t(p.at("leaf_size"))) {}
+
+  void build(const ItemSet& set, OpCounters& counters) override {
+    const auto n = uint32_t(set.size());
+    boxes_.resize(n);
+    centres_.resize(n);
+    order_.resize(n);
+    for (uint32_t i = 0; i < n; ++i) {
+      boxes_[i] = set.box(i);
+      centres_[i] = boxes_[i].center();
+      order_[i] = i;
+    }
+    Subtree tree;
+    if (n > 0) build_node(tree, 0, n, 0);
+    nodes_ = std::move(tree.nodes);
+    boxes_ = {};
+    centres_ = {};
+    counters.add(kBuildNodes, nodes_.size());
+    counters.add(kBuildItemRefs, order_.size());
+    counters.add(kBuildItemVisits, nodes_.empty() ? 0 : item_visits(0, 1));
+    // Traversal runs on the binary tree collapsed into 4-wide nodes (Embree's BVH4): a node's
+    // four child boxes are tested at once with SSE.
+    wide_.clear();
+    if (!nodes_.empty()) collapse(0);
+    wide_.shrink_to_fit();
+    nodes_ = {};
+  }
+
+  bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+                   OpCounters& counters) const override {
+    return walk<false>(ray, leaf, hit, counters);
+  }
+
+  bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
+    Hit hit;
+    hit.t = ray.tmax;
+    return walk<true>(ray, leaf, hit, counters);
+  }
+
+  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return order_; }
+  [[nodiscard]] size_t memory_bytes() const override {
+    return wide_.capacity() * sizeof(WideNode) + order_.capacity() * sizeof(uint32_t);
+  }
+
+ private:
+  // Sum over leaves of items x levels from the root (the build's partitioning work).
+  [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
+    const BvhNode& n = nodes_[node];
+    if (n.count > 0) return uint64_t(n.count) * level;
+    return item_visits(node + 1, level + 1) + item_visits(n.index, level + 1);
+  }
+
+  // Makes the wide node for binary inner node b (or, for a leaf root, one holding just it):
+  // its children are b's children, the largest-area inner one replaced by its own two children
+  // until four are gathered. Returns the wide node's index.
+  uint32_t collapse(uint32_t b) {
+    std::array<uint32_t, 4> kids{};
+    int nk = 0;
+    if (nodes_[b].count > 0) {
+      kids[size_t(nk++)] = b;
+    } else {
+      kids[size_t(nk++)] = b + 1;
+      kids[size_t(nk++)] = nodes_[b].index;
+    }
+    while (nk < 4) {
+      int open = -1;
+      float best = -1;
+      for (int k = 0; k < nk; ++k) {
+        const BvhNode& c = nodes_[kids[size_t(k)]];
+        const float a = area(Aabb{c.lo, c.hi});
+        if (c.count == 0 && a > best) best = a, open = k;
+      }
+      if (open < 0) break;
+      const uint32_t c = kids[size_t(open)];
+      kids[size_t(open)] = c + 1;
+      kids[size_t(nk++)] = nodes_[c].index;
+    }
+    const auto me = uint32_t(wide_.size());
+    wide_.emplace_back();
+    for (int k = 0; k < 4; ++k) {
+      WideNode& w = wide_[me];
+      if (k >= nk) {  // an empty slot: child 0 and count 0 (the root is no one's child)
+        for (int a = 0; a < 3; ++a) w.lo[a][k] = kInfinity, w.hi[a][k] = -kInfinity;
+        continue;
+      }
+      const BvhNode& c = nodes_[kids[size_t(k)]];
+      for (int a = 0; a < 3; ++a) w.lo[a][k] = c.lo[a], w.hi[a][k] = c.hi[a];
+      w.count[k] = c.count;
+      w.child[k] = c.count > 0 ? c.index : 0;
+    }
+    for (int k = 0; k < nk; ++k) {
+      const BvhNode& c = nodes_[kids[size_t(k)]];
+      if (c.count == 0) {
+        const uint32_t child = collapse(kids[size_t(k)]);
+        wide_[me].child[k] = child;
+      }
+    }
+    return me;
+  }
+
+  template <bool kAny>
+  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
+    if (wide_.empty()) return false;
+    // Per ray: the slab planes as t = plane * inv - o * inv, near and far planes chosen by the
+    // sign of each direction component (no min/max per box).
+    const Vec3 inv = ray.d.cwiseInverse();
+    __m128 inv4[3], oinv4[3];
+    bool neg[3];
+    for (int a = 0; a < 3; ++a) {
+      inv4[a] = _mm_set1_ps(inv[a]);
+      oinv4[a] = _mm_set1_ps(ray.o[a] * inv[a]);
+      neg[a] = inv[a] < 0;
+    }
+    struct Todo {
+      uint32_t index;  // wide node, or first item of a leaf
+      uint32_t count;  // leaf: items; 0: a wide node
+      float t0, t1;
+    };
+    std::array<Todo, 3 * kMaxDepth + 4> stack;
+    int top = 0;
+    stack[size_t(top++)] = Todo{0, 0, ray.tmin, ray.tmax};
+    bool found = false;
+    while (top > 0) {
+      const Todo cur = stack[size_t(--top)];
+      if (!may_improve(cur.t0, hit.t)) continue;
+      counters.add(kNodesVisited);
+      if (cur.count > 0) {
+        counters.add(kLeavesVisited);
+        counters.add(kItemsVisited, cur.count);
+        const LeafVisit visit{{order_.data() + cur.index, cur.count}, cur.t0, cur.t1};
+        if constexpr (kAny) {
+          if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+        } else {
+          found |= leaf.intersect_leaf(ray, visit, hit, counters);
+        }
+        continue;
+      }
+      const WideNode& n = wide_[cur.index];
+      const float limit = std::min(ray.tmax, hit.t * (1.0f + 1e-5f) + 1e-30f);
+      __m128 tn = _mm_set1_ps(ray.tmin), tf = _mm_set1_ps(limit);
+      for (int a = 0; a < 3; ++a) {
+        const __m128 lo = _mm_load_ps(n.lo[a]), hi = _mm_load_ps(n.hi[a]);
+        const __m128 near = _mm_sub_ps(_mm_mul_ps(neg[a] ? hi : lo, inv4[a]), oinv4[a]);
+        const __m128 far = _mm_sub_ps(_mm_mul_ps(neg[a] ? lo : hi, inv4[a]), oinv4[a]);
+        // Widened by 3 ulps (pbrt's 1 + 2 gamma(3)) and the plane-minus-origin rounding of
+        // this form, so a footprint on a box face is never culled; NaN (0 * inf) keeps the
+        // interval (max/min return their second operand then).
+        const __m128 far_w =
+            _mm_add_ps(far, _mm_mul_ps(_mm_set1_ps(1e-6f),
+                                       _mm_add_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), far),
+                                                  _mm_andnot_ps(_mm_set1_ps(-0.0f), oinv4[a]))));
+        const __m128 near_w =
+            _mm_sub_ps(near, _mm_mul_ps(_mm_set1_ps(1e-6f),
+                                        _mm_add_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), near),
+                                                   _mm_andnot_ps(_mm_set1_ps(-0.0f), oinv4[a]))));
+        tn = _mm_max_ps(near_w, tn);
+        tf = _mm_min_ps(far_w, tf);
+      }
+      int mask = _mm_movemask_ps(_mm_cmple_ps(tn, tf));
+      if (!mask) continue;
+      alignas(16) float t0s[4], t1s[4];
+      _mm_store_ps(t0s, tn);
+      _mm_store_ps(t1s, tf);
+      // Push the hit children farthest first, so the nearest is walked next.
+      Todo kids[4];
+      int nk = 0;
+      for (; mask; mask &= mask - 1) {
+        const int k = __builtin_ctz(unsigned(mask));
+        if (n.child[k] == 0 && n.count[k] == 0) continue;  // an empty slot (NaN may let it pass)
+        Todo t{n.child[k], n.count[k], t0s[k], t1s[k]};
+        int j = nk++;
+        for (; j > 0 && kids[j - 1].t0 < t.t0; --j) kids[j] = kids[j - 1];
+        kids[j] = t;
+      }
+      for (int k = 0; k < nk; ++k) stack[size_t(top++)] = kids[k];
+    }
+    return found;
+  }
+
+  // Recursion depth is bounded by kMaxDepth (then the node becomes a leaf).
+  void build_node(Subtree& out, uint32_t begin, uint32_t end, int depth) {
+    const auto me = uint32_t(out.nodes.size());
+    out.nodes.emplace_back();
+    Aabb box, cbox;
+    for (uint32_t k = begin; k < end; ++k) {
+      box.extend(boxes_[order_[k]]);
+      cbox.extend(centres_[order_[k]]);
+    }
+    out.nodes[me].lo = box.lo;
+    out.nodes[me].hi = box.hi;
+    const uint32_t n = end - begin;
+    if (n <= leaf_size_ || depth >= kMaxDepth) {
+      out.nodes[me].index = begin;
+      out.nodes[me].count = n;
+      return;
+    }
+    const uint32_t mid = split(begin, end, cbox);
+    if (n < kParallelBuildItems) {
+      build_node(out, begin, mid, depth + 1);
+      out.nodes[me].index = uint32_t(out.nodes.size());
+      build_node(out, mid, end, depth + 1);
+      return;
+    }
+    Subtree lsub, rsub;
+    tbb::parallel_invoke([&] { build_node(lsub, begin, mid, depth + 1); },
+                         [&] { build_node(rsub, mid, end, depth + 1); });
+    out.append(lsub);
+    out.nodes[me].index = uint32_t(out.nodes.size());
+    out.append(rsub);
+  }
+
+  // Partitions order_[begin, end) at the binned split of least SAH cost (by box centres) and
+  // returns the first index of the right part. Where the centres coincide or every bin split
+  // leaves a side empty, splits at the median index (an object partition always progresses).
+  uint32_t split(uint32_t begin, uint32_t end, const Aabb& cbox) {
+    const Vec3 ext = cbox.extent();
+    float best_cost = kInfinity;
+    int best_axis = -1, best_bin = 0;
+    for (int ax = 0; ax < 3; ++ax) {
+      if (!(ext[ax] > 0)) continue;
+      const float scale = float(kBins) / ext[ax];
+      std::array<Aabb, kBins> bins;
+      std::array<uint32_t, kBins> counts{};
+      for (uint32_t k = begin; k < end; ++k) {
+        const uint32_t i = order_[k];
+        const int b = bin_of(centres_[i][ax], cbox.lo[ax], scale);
+        bins[size_t(b)].extend(boxes_[i]);
+        ++counts[size_t(b)];
+      }
+      // Sweep from the right for the right-side areas, then from the left for the costs.
+      std::array<float, kBins> right_area{};
+      std::array<uint32_t, kBins> right_count{};
+      Aabb acc;
+      uint32_t cnt = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        acc.extend(bins[size_t(b)]);
+        cnt += counts[size_t(b)];
+        right_area[size_t(b)] = area(acc);
+        right_count[size_t(b)] = cnt;
+      }
+      acc = Aabb{};
+      cnt = 0;
+      for (int b = 1; b < kBins; ++b) {
+        acc.extend(bins[size_t(b - 1)]);
+        cnt += counts[size_t(b - 1)];
+        if (cnt == 0 || right_count[size_t(b)] == 0) continue;
+        const float cost =
+            float(cnt) * area(acc) + float(right_count[size_t(b)]) * right_area[size_t(b)];
+        if (cost < best_cost) best_cost = cost, best_axis = ax, best_bin = b;
+      }
+    }
+    const auto first = order_.begin() + begin, last = order_.begin() + end;
+    if (best_axis >= 0) {
+      const int ax = best_axis;
+      const float scale = float(kBins) / ext[ax];
+      const auto mid = std::stable_partition(first, last, [&](uint32_t i) {
+        return bin_of(centres_[i][ax], cbox.lo[ax], scale) < best_bin;
+      });
+      return uint32_t(mid - order_.begin());
+    }
+    const uint32_t mid = begin + (end - begin) / 2;
+    int ax = 0;
+    if (ext.y() > ext[ax]) ax = 1;
+    if (ext.z() > ext[ax]) ax = 2;
+    std::nth_element(first, order_.begin() + mid, last, [&](uint32_t a, uint32_t b) {
+      const float pa = centres_[a][ax], pb = centres_[b][ax];
+      return pa < pb || (pa == pb && a < b);
+    });
+    return mid;
+  }
+
+  static int bin_of(float x, float lo, float scale) {
+    return std::clamp(int((x - lo) * scale), 0, kBins - 1);
+  }
+  static float area(const Aabb& b) {
+    if (b.empty()) return 0;
+    const Vec3 e = b.extent();
+    return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
+  }
+
+  uint32_t leaf_size_;
+  std::vector<Aabb> boxes_;     // build only
+  std::vector<Vec3> centres_;   // build only
+  std::vector<BvhNode> nodes_;  // the binary tree, build only
+  std::vector<WideNode> wide_;
+  std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
+};
+
+const RegisterStructure kRegister{StructureInfo{
+    "bvh",
+    "binned-SAH bounding volume hierarchy over the item boxes, one leaf per item, children tested "
+    "at push and walked nearer first",
+    "O(N log N)",
+    "O(log N)",
+    {{"leaf_size", 8, 1, 1e6, "largest leaf (K of the leaf-based methods; 8: one AVX2 lane group)",
+      true}},
+    [](const ParamValues& p) { return std::make_unique<Bvh>(p); }}};
+
+}  // namespace
+}  // namespace pcrt
