@@ -14,8 +14,8 @@
 namespace pcrt {
 
 // The 63-bit key of p: 21 bits per axis over `bounds`, bits interleaved x, y, z from the lowest.
-// The same key as the splat layout's (methods/kernels/splat_set.cpp), so a sorted cloud's splats
-// keep its order.
+// The splat layout (methods/kernels/splat_set.cpp) orders splats with morton_order too, so a
+// sorted cloud's splats keep its order.
 uint64_t morton_key(const Vec3& p, const Aabb& bounds);
 
 // The permutation that sorts `positions` by key, ties by x, y, z and then by index: for distinct

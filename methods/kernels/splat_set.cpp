@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "core/morton.hpp"
 #include "preprocess/point_attributes.hpp"
 #include "structures/knn_index.hpp"
 
@@ -21,39 +22,6 @@ std::vector<ParamSpec> splat_params() {
           {"estimate_normals", 0, 0, 1, "1: estimate normals even if the cloud has them", true},
           {"estimate_radii", 0, 0, 1, "1: estimate radii even if the cloud has them", true}};
 }
-
-namespace {
-
-// Spreads the low 21 bits of x to every third bit.
-uint64_t spread_bits(uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffull;
-  x = (x | x << 16) & 0x1f0000ff0000ffull;
-  x = (x | x << 8) & 0x100f00f00f00f00full;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-  x = (x | x << 2) & 0x1249249249249249ull;
-  return x;
-}
-
-std::vector<uint32_t> morton_order(std::span<const Vec3> positions) {
-  Aabb b;
-  for (const Vec3& p : positions) b.extend(p);
-  const Vec3 scale =
-      (b.extent().array() > 0).select(Vec3::Constant(2097151.0f).cwiseQuotient(b.extent()), 0.0f);
-  std::vector<std::pair<uint64_t, uint32_t>> keyed(positions.size());
-  for (uint32_t i = 0; i < positions.size(); ++i) {
-    const Vec3 q = (positions[i] - b.lo).cwiseProduct(scale);
-    keyed[i] = {spread_bits(uint64_t(q.x())) | spread_bits(uint64_t(q.y())) << 1 |
-                    spread_bits(uint64_t(q.z())) << 2,
-                i};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<uint32_t> order(positions.size());
-  for (size_t k = 0; k < keyed.size(); ++k) order[k] = keyed[k].second;
-  return order;
-}
-
-}  // namespace
 
 SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx,
                         float fixed_radius) {
