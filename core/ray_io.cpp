@@ -9,12 +9,16 @@
 
 namespace pcrt {
 
-Ray make_user_ray(const Vec3& o, const Vec3& d, const std::string& where) {
-  if (!o.allFinite() || !d.allFinite()) input_error("{}: non-finite value", where);
+const char* user_ray_problem(const Vec3& o, const Vec3& d) {
+  static const std::string beyond = fmt::format("origin coordinate beyond +-{:g}", kMaxCoordinate);
+  if (!o.allFinite() || !d.allFinite()) return "non-finite value";
   // Embree aborts on origins beyond 1.8e18; every structure loses the ray's t long before.
-  if (!within_coordinate_range(o))
-    input_error("{}: origin coordinate beyond +-{:g}", where, kMaxCoordinate);
-  if (!(d.cast<double>().norm() > 0)) input_error("{}: zero direction", where);
+  if (!within_coordinate_range(o)) return beyond.c_str();
+  if (!(d.cast<double>().norm() > 0)) return "zero direction";
+  return nullptr;
+}
+
+Ray user_ray(const Vec3& o, const Vec3& d) {
   Ray r;
   r.o = o;
   // In double: the float norm of a direction near 1e38 (or 1e-38) overflows (or underflows).
@@ -46,7 +50,9 @@ std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path
       input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
     const Vec3 o(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
     const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
-    const Ray r = make_user_ray(o, d, fmt::format("{}: line {}", path, lines.line()));
+    if (const char* why = user_ray_problem(o, d))
+      input_error("{}: line {}: {}", path, lines.line(), why);
+    const Ray r = user_ray(o, d);
     rays.push_back(r);
   }
   if (!header) input_error("{}: empty; expected the header 'ox,oy,oz,dx,dy,dz'", path);

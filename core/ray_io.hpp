@@ -8,10 +8,12 @@
 
 namespace pcrt {
 
-// A ray a user gave (a CSV line, a row of a numpy array): its direction normalised. Throws
-// InputError "<where>: ..." for a non-finite value, an origin beyond kMaxCoordinate or a zero
-// direction.
-Ray make_user_ray(const Vec3& o, const Vec3& d, const std::string& where);
+// A ray a user gave (a CSV line, a row of a numpy array): why pcrt cannot take it (a non-finite
+// value, an origin beyond kMaxCoordinate, a zero direction), or nullptr. The caller names the
+// place; nothing is formatted per ray.
+const char* user_ray_problem(const Vec3& o, const Vec3& d);
+// The ray from o along d normalised; (o, d) must have no user_ray_problem.
+Ray user_ray(const Vec3& o, const Vec3& d);
 
 // Directions are normalised. Throws InputError naming the file and line for a wrong header, a
 // malformed or non-finite value, a zero direction or an origin beyond kMaxCoordinate.

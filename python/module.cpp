@@ -90,7 +90,15 @@ class Scene {
         const std::string& structure, const py::kwargs& params)
       : cloud_(std::move(cloud)) {
     SceneOptions options{method, structure, {}};
-    for (const auto& [k, v] : params) options.set[py::cast<std::string>(k)] = py::cast<double>(v);
+    for (const auto& [k, v] : params) {
+      const auto name = py::cast<std::string>(k);
+      try {
+        options.set[name] = py::cast<double>(v);
+      } catch (const py::cast_error&) {
+        input_error("parameter {}: expected a number, got {}", name,
+                    py::str(v).cast<std::string>());
+      }
+    }
     py::gil_scoped_release unlocked;
     scene_ = std::make_unique<PointScene>(*cloud_, options, prepare_, timings_);
   }
@@ -102,9 +110,11 @@ class Scene {
     const size_t n = size_t(o.shape(0));
     std::vector<Ray> rays(n);
     auto ro = o.unchecked<2>(), rd = d.unchecked<2>();
-    for (size_t i = 0; i < n; ++i)
-      rays[i] = make_user_ray(Vec3(ro(i, 0), ro(i, 1), ro(i, 2)),
-                              Vec3(rd(i, 0), rd(i, 1), rd(i, 2)), fmt::format("ray {}", i));
+    for (size_t i = 0; i < n; ++i) {
+      const Vec3 origin(ro(i, 0), ro(i, 1), ro(i, 2)), direction(rd(i, 0), rd(i, 1), rd(i, 2));
+      if (const char* why = user_ray_problem(origin, direction)) input_error("ray {}: {}", i, why);
+      rays[i] = user_ray(origin, direction);
+    }
     std::vector<Hit> hits(n);
     std::vector<char> found(n, 0);
     {

@@ -128,6 +128,8 @@ def test_errors_are_the_command_lines_one_line_errors():
         pcrt.Scene(cloud, method="nope")
     with pytest.raises(pcrt.Error, match="leaf_siz"):
         pcrt.Scene(cloud, method="reference_splat", leaf_siz=4)
+    with pytest.raises(pcrt.Error, match="parameter leaf_size: expected a number, got big"):
+        pcrt.Scene(cloud, method="reference_splat", structure="kd_tree", leaf_size="big")
     with pytest.raises(pcrt.Error, match="no such file"):
         pcrt.load("/nonexistent/cloud.ply")
     scene = pcrt.Scene(cloud, method="reference_splat")
