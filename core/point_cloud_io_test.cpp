@@ -8,6 +8,7 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "tests/test_helpers.hpp"
+#include "tests/test_paths.hpp"
 
 using namespace pcrt;
 using pcrt::test::write_text;
@@ -154,7 +155,7 @@ TEST_CASE("unknown extensions, missing files and duplicates", "[io]") {
 }
 
 TEST_CASE("real scans load when fetched", "[io][data]") {
-  const std::filesystem::path dir = PCRT_DATA_DIR;
+  const std::filesystem::path dir = pcrt::test::data_dir();
   if (!std::filesystem::exists(dir / "cgal")) {
     WARN("data/ not fetched (scripts/fetch_data.sh); skipping real scans");
     return;

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/rng.hpp"
+#include "tests/test_paths.hpp"
 
 using namespace pcrt;
 
@@ -87,7 +88,7 @@ TEST_CASE("verdicts: a neighbour the data cannot rule out is inconclusive", "[fi
 // design, through the same fit_growth as `pcrt fit`.
 TEST_CASE("verdict power on the thesis designs: false exceeds <= 5%, one class up >= 90%",
           "[fit][power]") {
-  std::ifstream in(std::string(PCRT_SOURCE_DIR) + "/configs/thesis.json");
+  std::ifstream in(pcrt::test::source_dir() / "configs/thesis.json");
   REQUIRE(in);
   const nlohmann::json config = nlohmann::json::parse(in);
   int designs = 0;

@@ -25,12 +25,14 @@
 #include "core/json_input.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/rng.hpp"
+#include "harness/build_info.hpp"
 #include "harness/claims.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/crossover.hpp"
 #include "harness/fit.hpp"
 #include "harness/renderer.hpp"
 #include "harness/scene.hpp"
+#include "harness/slurm.hpp"
 #include "harness/workloads.hpp"
 #include "methods/kernels/disc_lanes.hpp"
 #include "methods/method.hpp"
@@ -836,26 +838,24 @@ namespace {
 // The source tree's commit and whether tracked files differ from it (results made from a dirty
 // tree cannot be reproduced from the commit alone). Asks git; "unknown" without it.
 std::pair<std::string, json> source_revision() {
-  std::string quoted = "'";
-  for (char ch : std::string(PCRT_SOURCE_DIR))
-    quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  quoted += "'";
-  auto run = [](const std::string& cmd, bool& ok) {
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return ok = false, out;
-    char buf[4096];
-    for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
-    ok = pclose(p) == 0;
-    return out;
+  // Run without a shell, so no path needs quoting; "unknown" when git is missing or fails.
+  auto git = [](std::vector<std::string> args, bool& ok) {
+    args.insert(args.begin(), {"git", "-C", build_info().source_dir});
+    try {
+      CommandOutput out = run_command(args);
+      ok = out.exit_code == 0;
+      return out.out;
+    } catch (const InputError&) {
+      ok = false;
+      return std::string();
+    }
   };
   bool ok = false;
-  std::string commit = run("git -C " + quoted + " rev-parse HEAD 2>/dev/null", ok);
+  std::string commit = git({"rev-parse", "HEAD"}, ok);
   while (!commit.empty() && std::isspace(static_cast<unsigned char>(commit.back())))
     commit.pop_back();
   if (!ok || commit.empty()) return {"unknown", nullptr};
-  const std::string status =
-      run("git -C " + quoted + " status --porcelain --untracked-files=no 2>/dev/null", ok);
+  const std::string status = git({"status", "--porcelain", "--untracked-files=no"}, ok);
   return {commit, ok ? json(!status.empty()) : json(nullptr)};
 }
 
@@ -886,11 +886,11 @@ json machine_context(const json& config) {
             {"cores", std::thread::hardware_concurrency()},
             {"memory", first_line_of("/proc/meminfo", "MemTotal")},
             {"governor", read_all("/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor")}}},
-          {"compiler", fmt::format("{} {}", PCRT_COMPILER_ID, PCRT_COMPILER_VERSION)},
-          {"flags", PCRT_CXX_FLAGS},
-          {"build_type", PCRT_BUILD_TYPE},
+          {"compiler", build_info().compiler},
+          {"flags", build_info().flags},
+          {"build_type", build_info().build_type},
           {"leaf_simd", disc_lanes_name()},
-          {"dependencies", PCRT_DEPENDENCY_VERSIONS},
+          {"dependencies", build_info().dependencies},
           {"git_commit", commit},
           {"git_dirty", dirty},
           {"config", config}};

@@ -16,10 +16,12 @@
 #include "core/error.hpp"
 #include "core/file_output.hpp"
 #include "core/json_input.hpp"
+#include "harness/build_info.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "harness/fit.hpp"
 #include "harness/shard_plan.hpp"
+#include "harness/slurm.hpp"
 #include "harness/sweep.hpp"
 #include "harness/workloads.hpp"
 
@@ -296,10 +298,12 @@ int command_report(const Args& args) {
   if (!a.parse(args)) return 0;
   const std::string dir = a.positional()[0];
   if (!fs::exists(dir + "/fits.json")) command_fit({dir});
-  const std::string script = std::string(PCRT_SOURCE_DIR) + "/scripts/report.py";
-  const std::string cmd = python() + " '" + script + "' '" + dir + "'";
-  const int rc = std::system(cmd.c_str());
-  if (rc != 0) input_error("report: {} failed (exit {})", script, rc);
+  // Run without a shell, so that no quote in a path can break the command.
+  const std::string script = build_info().source_dir + "/scripts/report.py";
+  const CommandOutput out = run_command({python(), script, dir});
+  std::fputs(out.out.c_str(), stdout);
+  std::fputs(out.err.c_str(), stderr);
+  if (out.exit_code != 0) input_error("report: {} failed (exit {})", script, out.exit_code);
   return 0;
 }
 

@@ -10,6 +10,7 @@
 #include "core/rng.hpp"
 #include "harness/renderer.hpp"
 #include "reconstruction/mesh_engine.hpp"
+#include "tests/test_paths.hpp"
 
 using namespace pcrt;
 
@@ -111,7 +112,7 @@ TEST_CASE("Meshes round-trip through PLY, and bad meshes are refused", "[reconst
   REQUIRE(back.triangles == m.triangles);
   REQUIRE(back.boundary_edges() == 4);
   std::filesystem::remove(path);
-  REQUIRE_THROWS_AS(read_mesh(std::string(PCRT_DATA_DIR) + "/no_such_mesh.ply"), InputError);
+  REQUIRE_THROWS_AS(read_mesh((pcrt::test::data_dir() / "no_such_mesh.ply").string()), InputError);
 }
 
 TEST_CASE("Mesh rendering is the same at 1 and 2 threads on every engine", "[reconstruction]") {

@@ -10,6 +10,7 @@
 #include "core/rng.hpp"
 #include "methods/method.hpp"
 #include "structures/structure.hpp"
+#include "tests/test_paths.hpp"
 
 using namespace pcrt;
 
@@ -153,7 +154,7 @@ TEST_CASE("structures return brute force's closest hits on synthetic clouds", "[
 }
 
 TEST_CASE("structures return brute force's closest hits on real scans", "[structures][data]") {
-  const std::filesystem::path dir = PCRT_DATA_DIR;
+  const std::filesystem::path dir = pcrt::test::data_dir();
   size_t used = 0;
   for (const char* f :
        {"cgal/points_3/kitten.xyz", "cgal/points_3/building.ply", "bunny/bunny.ply"}) {

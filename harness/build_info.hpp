@@ -1,0 +1,20 @@
+// How this pcrt was built, recorded in every sweep's context.json. The values are compiled into
+// one translation unit only (build_info.cpp), so that the rest of the code does not depend on
+// where the source tree lies (and a compiler cache can share it between checkouts).
+#pragma once
+
+#include <string>
+
+namespace pcrt {
+
+struct BuildInfo {
+  std::string compiler;      // "GNU 12.2.0"
+  std::string flags;         // CMAKE_CXX_FLAGS plus the build type's flags
+  std::string build_type;    // "Release", ...
+  std::string dependencies;  // the versions CMake found
+  std::string source_dir;    // the source tree (scripts/, git revision)
+};
+
+const BuildInfo& build_info();
+
+}  // namespace pcrt
