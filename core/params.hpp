@@ -2,8 +2,10 @@
 // generators, so that `--set name=value` and `pcrt list` treat them all alike.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace pcrt {
@@ -32,5 +34,55 @@ std::pair<std::string, double> parse_assignment(const std::string& text);
 
 // Parses a finite number, or throws InputError "<what>: '<text>' is not a number".
 double parse_number(const std::string& text, const std::string& what);
+
+// A typed parameter struct's fields, declared once: each field's name, default, range and doc
+// (its ParamSpec) with the member it fills. `pcrt list`, `--set`, the sweep validator, the Python
+// module and the method READMEs' tables all read specs(); the method reads its values only through
+// read(), so a misspelt name is a compile error, not a lookup failing at run time.
+//
+//   struct MyParams {
+//     float front_depth = 0;
+//     static const ParamList<MyParams>& list() {
+//       static const auto l = ParamList<MyParams>().add(&MyParams::front_depth,
+//           {"front_depth", 0.5, 0, 20, "blend window, in median splat radii"});
+//       return l;
+//     }
+//   };
+template <class P>
+class ParamList {
+ public:
+  // An integral or bool member makes the parameter an integer one (whatever spec.integer says).
+  template <class T>
+  ParamList&& add(T P::*member, ParamSpec spec) && {
+    static_assert(std::is_arithmetic_v<T>, "parameters are numbers");
+    spec.integer = std::is_integral_v<T>;
+    specs_.push_back(std::move(spec));
+    setters_.push_back([member](P& p, double v) { p.*member = static_cast<T>(v); });
+    return std::move(*this);
+  }
+  // The fields of a shared group (splat, MLS, iteration parameters) inside this struct.
+  template <class G>
+  requires std::is_class_v<G> ParamList && add(G P::*member, const ParamList<G>& group) && {
+    for (size_t i = 0; i < group.specs_.size(); ++i) {
+      specs_.push_back(group.specs_[i]);
+      setters_.push_back([member, set = group.setters_[i]](P& p, double v) { set(p.*member, v); });
+    }
+    return std::move(*this);
+  }
+  [[nodiscard]] const std::vector<ParamSpec>& specs() const { return specs_; }
+  // The defaults overridden by `given`; throws InputError "<context>: ..." as resolve_params.
+  [[nodiscard]] P read(const ParamValues& given, const std::string& context) const {
+    const ParamValues values = resolve_params(specs_, given, context);
+    P p{};
+    for (size_t i = 0; i < specs_.size(); ++i) setters_[i](p, values.at(specs_[i].name));
+    return p;
+  }
+
+ private:
+  template <class>
+  friend class ParamList;
+  std::vector<ParamSpec> specs_;
+  std::vector<std::function<void(P&, double)>> setters_;
+};
 
 }  // namespace pcrt

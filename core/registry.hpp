@@ -1,5 +1,8 @@
-// A list of self-registered entries (methods, structures) looked up by id, in the style of
-// Google Benchmark: each entry registers itself from a static object in its own file.
+// A list of entries (methods, structures, mesh engines, reconstructions) looked up by id. pcrt's
+// own entries are listed once, explicitly, by the register_builtins() overload of each kind (as
+// pbrt and Mitsuba list their plugins), called on first use: no static initializer has to survive
+// the linker, so the registries are full in any program the library is linked into. Code of one's
+// own adds entries with instance().add(...).
 #pragma once
 
 #include <algorithm>
@@ -14,7 +17,11 @@ template <typename Info>
 class Registry {
  public:
   static Registry& instance() {
-    static Registry r;
+    static Registry r = [] {
+      Registry builtin;
+      register_builtins(builtin);  // found by argument-dependent lookup: one overload per kind
+      return builtin;
+    }();
     return r;
   }
   void add(Info info) {

@@ -18,11 +18,11 @@
 #include "harness/cli_args.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
-#include "harness/renderer.hpp"
-#include "harness/scene.hpp"
 #include "methods/kernels/disc_lanes.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/triangle_mesh.hpp"
+#include "render/renderer.hpp"
+#include "render/scene.hpp"
 
 namespace pcrt {
 namespace {

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "core/point_cloud.hpp"
-#include "harness/renderer.hpp"
-#include "harness/scene.hpp"
+#include "render/renderer.hpp"
+#include "render/scene.hpp"
 
 namespace pcrt {
 

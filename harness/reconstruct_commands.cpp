@@ -10,10 +10,10 @@
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "harness/crossover.hpp"
-#include "harness/renderer.hpp"
-#include "harness/scene.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/reconstruction.hpp"
+#include "render/renderer.hpp"
+#include "render/scene.hpp"
 
 namespace pcrt {
 

@@ -30,14 +30,14 @@
 #include "harness/command_helpers.hpp"
 #include "harness/crossover.hpp"
 #include "harness/fit.hpp"
-#include "harness/renderer.hpp"
-#include "harness/scene.hpp"
 #include "harness/slurm.hpp"
 #include "harness/workloads.hpp"
 #include "methods/kernels/disc_lanes.hpp"
 #include "methods/method.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/reconstruction.hpp"
+#include "render/renderer.hpp"
+#include "render/scene.hpp"
 
 extern char** environ;
 

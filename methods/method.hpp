@@ -107,10 +107,18 @@ struct MethodInfo {
   LeafFamily family = LeafFamily::kOther;
 };
 
+// MethodInfo::create for a method constructed from its typed parameters (declared by `list`).
+template <class M, class P>
+std::function<std::unique_ptr<Method>(const ParamValues&)> create_from(const ParamList<P>& list,
+                                                                       const char* id) {
+  return [&list, id](const ParamValues& given) -> std::unique_ptr<Method> {
+    return std::make_unique<M>(list.read(given, id));
+  };
+}
+
 using MethodRegistry = Registry<MethodInfo>;
 
-struct RegisterMethod {
-  explicit RegisterMethod(MethodInfo info) { MethodRegistry::instance().add(std::move(info)); }
-};
+// The methods pcrt ships (methods/builtin_methods.cpp, the one list).
+void register_builtins(MethodRegistry& registry);
 
 }  // namespace pcrt

@@ -13,9 +13,9 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/ray_io.hpp"
-#include "harness/renderer.hpp"
-#include "harness/scene.hpp"
 #include "methods/method.hpp"
+#include "render/renderer.hpp"
+#include "render/scene.hpp"
 
 namespace py = pybind11;
 using namespace pcrt;

@@ -112,16 +112,6 @@ ReconstructionReport run_afsr(const PointCloud& cloud) {
   return r;
 }
 
-const RegisterReconstruction kDelaunay{ReconstructionInfo{
-    "delaunay", "CGAL Delaunay_triangulation_3 of all N points (range insertion, spatially sorted)",
-    "O(N log N) expected for uniform points, O(N^2) worst case (thesis 5.1.1)", run_delaunay}};
-
-const RegisterReconstruction kAfsr{ReconstructionInfo{
-    "afsr",
-    "CGAL advancing front surface reconstruction (Cohen-Steiner and Da 2004) to a triangle mesh; "
-    "builds a full 3D Delaunay first",
-    "O(N log N) expected, O(N^2) worst case (its Delaunay, thesis 5.1.1)", run_afsr}};
-
 // A mesh's triangles in CGAL's kernel and the AABB tree over them: the cgal_aabb engine's and the
 // distance tree's.
 struct TriangleTree {
@@ -182,14 +172,29 @@ class CgalAabbEngine final : public MeshEngine {
   TriangleTree tris_;
 };
 
-const RegisterMeshEngine kCgalEngine{
-    MeshEngineInfo{"cgal_aabb", "CGAL AABB_tree over the triangles, first_intersection per ray",
-                   [](const TriangleMesh& mesh, OpCounters&, Timings& timings) {
-                     ScopedTimer t(timings, "build");
-                     return std::unique_ptr<MeshEngine>(std::make_unique<CgalAabbEngine>(mesh));
-                   }}};
-
 }  // namespace
+
+void register_cgal_backend_reconstructions(ReconstructionRegistry& registry) {
+  registry.add(ReconstructionInfo{
+      "delaunay",
+      "CGAL Delaunay_triangulation_3 of all N points (range insertion, spatially sorted)",
+      "O(N log N) expected for uniform points, O(N^2) worst case (thesis 5.1.1)", run_delaunay});
+  registry.add(ReconstructionInfo{
+      "afsr",
+      "CGAL advancing front surface reconstruction (Cohen-Steiner and Da 2004) to a triangle mesh; "
+      "builds a full 3D Delaunay first",
+      "O(N log N) expected, O(N^2) worst case (its Delaunay, thesis 5.1.1)", run_afsr});
+}
+
+void register_cgal_backend_engine(MeshEngineRegistry& registry) {
+  registry.add(
+      MeshEngineInfo{"cgal_aabb", "CGAL AABB_tree over the triangles, first_intersection per ray",
+                     [](const TriangleMesh& mesh, OpCounters&, Timings& timings) {
+                       ScopedTimer t(timings, "build");
+                       return std::unique_ptr<MeshEngine>(std::make_unique<CgalAabbEngine>(mesh));
+                     }});
+}
+
 // TriangleDistanceTree: the same tree, for nearest points and box queries.
 struct TriangleDistanceTree::Impl : TriangleTree {
   using TriangleTree::TriangleTree;

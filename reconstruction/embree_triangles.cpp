@@ -51,12 +51,15 @@ class EmbreeTriangles final : public MeshEngine {
   EmbreeScene embree_{"embree"};
 };
 
-const RegisterMeshEngine kRegister{MeshEngineInfo{
-    "embree", "Embree 3 triangles, high-quality BVH build (the industrial reference)",
-    [](const TriangleMesh& mesh, OpCounters&, Timings& timings) {
-      ScopedTimer t(timings, "build");
-      return std::unique_ptr<MeshEngine>(std::make_unique<EmbreeTriangles>(mesh));
-    }}};
-
 }  // namespace
+
+void register_embree_triangles(MeshEngineRegistry& registry) {
+  registry.add(MeshEngineInfo{
+      "embree", "Embree 3 triangles, high-quality BVH build (the industrial reference)",
+      [](const TriangleMesh& mesh, OpCounters&, Timings& timings) {
+        ScopedTimer t(timings, "build");
+        return std::unique_ptr<MeshEngine>(std::make_unique<EmbreeTriangles>(mesh));
+      }});
+}
+
 }  // namespace pcrt

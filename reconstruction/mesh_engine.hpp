@@ -12,8 +12,8 @@
 #include "core/error.hpp"
 #include "core/point_cloud.hpp"
 #include "core/registry.hpp"
-#include "harness/scene.hpp"
 #include "reconstruction/triangle_mesh.hpp"
+#include "render/scene.hpp"
 
 namespace pcrt {
 
@@ -36,11 +36,8 @@ struct MeshEngineInfo {
 
 using MeshEngineRegistry = Registry<MeshEngineInfo>;
 
-struct RegisterMeshEngine {
-  explicit RegisterMeshEngine(MeshEngineInfo info) {
-    MeshEngineRegistry::instance().add(std::move(info));
-  }
-};
+// The mesh engines pcrt ships (reconstruction/builtin_reconstruction.cpp, the one list).
+void register_builtins(MeshEngineRegistry& registry);
 
 class MeshScene final : public SceneIntersector {
  public:

@@ -2,7 +2,7 @@
 // bunny) for `pcrt accuracy --truth`. Distances are to the nearest point on the mesh (CGAL's
 // AABB_tree), first hits come from a triangle engine (the ones `pcrt render --mesh` uses), samples
 // are drawn by area. Implementing Surface lets the synthetic and the mesh truths share one
-// evaluator (harness/accuracy.cpp).
+// evaluator (render/accuracy.cpp).
 #pragma once
 
 #include <memory>

@@ -5,8 +5,8 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
-#include "harness/accuracy.hpp"
-#include "harness/mesh_truth.hpp"
+#include "render/accuracy.hpp"
+#include "render/mesh_truth.hpp"
 
 using namespace pcrt;
 

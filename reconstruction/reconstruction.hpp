@@ -36,10 +36,7 @@ struct ReconstructionInfo {
 
 using ReconstructionRegistry = Registry<ReconstructionInfo>;
 
-struct RegisterReconstruction {
-  explicit RegisterReconstruction(ReconstructionInfo info) {
-    ReconstructionRegistry::instance().add(std::move(info));
-  }
-};
+// The reconstructions pcrt ships (reconstruction/builtin_reconstruction.cpp, the one list).
+void register_builtins(ReconstructionRegistry& registry);
 
 }  // namespace pcrt

@@ -8,8 +8,8 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/rng.hpp"
-#include "harness/renderer.hpp"
 #include "reconstruction/mesh_engine.hpp"
+#include "render/renderer.hpp"
 #include "tests/test_paths.hpp"
 
 using namespace pcrt;

@@ -228,14 +228,17 @@ class TriangleBvh final : public MeshEngine {
   std::vector<Vec3> centroids_;
 };
 
-const RegisterMeshEngine kRegister{MeshEngineInfo{
-    "bvh",
-    "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, counted like the point "
-    "structures",
-    [](const TriangleMesh& mesh, OpCounters& counters, Timings& timings) {
-      ScopedTimer t(timings, "build");
-      return std::unique_ptr<MeshEngine>(std::make_unique<TriangleBvh>(mesh, counters));
-    }}};
-
 }  // namespace
+
+void register_triangle_bvh(MeshEngineRegistry& registry) {
+  registry.add(MeshEngineInfo{
+      "bvh",
+      "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, counted like the point "
+      "structures",
+      [](const TriangleMesh& mesh, OpCounters& counters, Timings& timings) {
+        ScopedTimer t(timings, "build");
+        return std::unique_ptr<MeshEngine>(std::make_unique<TriangleBvh>(mesh, counters));
+      }});
+}
+
 }  // namespace pcrt

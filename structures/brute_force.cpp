@@ -27,13 +27,16 @@ class BruteForce final : public Structure {
   std::vector<uint32_t> items_;
 };
 
-const RegisterStructure kRegister{StructureInfo{
-    "brute_force",
-    "every point in one leaf; O(N) per ray; the oracle other structures are checked against",
-    "O(N)",
-    "O(N)",
-    {},
-    [](const ParamValues&) { return std::make_unique<BruteForce>(); }}};
-
 }  // namespace
+
+void register_brute_force(StructureRegistry& registry) {
+  registry.add(StructureInfo{
+      "brute_force",
+      "every point in one leaf; O(N) per ray; the oracle other structures are checked against",
+      "O(N)",
+      "O(N)",
+      {},
+      [](const ParamValues&) { return std::make_unique<BruteForce>(); }});
+}
+
 }  // namespace pcrt

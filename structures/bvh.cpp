@@ -343,15 +343,19 @@ class Bvh final : public Structure {
   std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
 };
 
-const RegisterStructure kRegister{StructureInfo{
-    "bvh",
-    "binned-SAH bounding volume hierarchy over the item boxes, one leaf per item, children tested "
-    "at push and walked nearer first",
-    "O(N log N)",
-    "O(log N)",
-    {{"leaf_size", 8, 1, 1e6, "largest leaf (K of the leaf-based methods; 8: one AVX2 lane group)",
-      true}},
-    [](const ParamValues& p) { return std::make_unique<Bvh>(p); }}};
-
 }  // namespace
+
+void register_bvh(StructureRegistry& registry) {
+  registry.add(
+      StructureInfo{"bvh",
+                    "binned-SAH bounding volume hierarchy over the item boxes, one leaf per item, "
+                    "children tested "
+                    "at push and walked nearer first",
+                    "O(N log N)",
+                    "O(log N)",
+                    {{"leaf_size", 8, 1, 1e6,
+                      "largest leaf (K of the leaf-based methods; 8: one AVX2 lane group)", true}},
+                    [](const ParamValues& p) { return std::make_unique<Bvh>(p); }});
+}
+
 }  // namespace pcrt

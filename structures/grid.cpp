@@ -177,18 +177,22 @@ class Grid final : public Structure {
   std::vector<uint32_t> refs_;
 };
 
-const RegisterStructure kRegister{StructureInfo{
-    "grid",
-    "uniform grid of about N/c cubic cells, 3D-DDA traversal",
-    "O(N)",
-    "O(1)",
-    {{"points_per_cell", 2, 0.01, 1e6,
-      "c in G = N/c: average points per cell if they filled the volume"},
-     {"max_cells", 1 << 26, 1, 1 << 30, "upper bound on G (memory: 4 bytes per cell)"},
-     {"max_refs_per_point", 32, 1, 1e4,
-      "coarsen the grid (halving each axis) while footprints would need more cell references than "
-      "this per point"}},
-    [](const ParamValues& p) { return std::make_unique<Grid>(p); }}};
-
 }  // namespace
+
+void register_grid(StructureRegistry& registry) {
+  registry.add(StructureInfo{
+      "grid",
+      "uniform grid of about N/c cubic cells, 3D-DDA traversal",
+      "O(N)",
+      "O(1)",
+      {{"points_per_cell", 2, 0.01, 1e6,
+        "c in G = N/c: average points per cell if they filled the volume"},
+       {"max_cells", 1 << 26, 1, 1 << 30, "upper bound on G (memory: 4 bytes per cell)"},
+       {"max_refs_per_point", 32, 1, 1e4,
+        "coarsen the grid (halving each axis) while footprints would need more cell references "
+        "than "
+        "this per point"}},
+      [](const ParamValues& p) { return std::make_unique<Grid>(p); }});
+}
+
 }  // namespace pcrt

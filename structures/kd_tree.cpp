@@ -263,18 +263,21 @@ class KdTree final : public Structure {
   std::vector<uint32_t> refs_;
 };
 
-const RegisterStructure kRegister{
-    StructureInfo{"kd_tree",
-                  "spatial kd-tree, median split of the longest axis, items referenced in every "
-                  "leaf they overlap",
-                  "O(N log N)",
-                  "O(log N)",
-                  {{"leaf_size", 8, 1, 1e6,
-                    "stop splitting at this many items (K of the leaf-based methods)", true},
-                   {"max_depth", 40, 0, 100, "maximum depth", true},
-                   {"max_straddle", 0.4, 0, 0.9,
-                    "stop splitting when more than this fraction of the items straddle the plane"}},
-                  [](const ParamValues& p) { return std::make_unique<KdTree>(p); }}};
-
 }  // namespace
+
+void register_kd_tree(StructureRegistry& registry) {
+  registry.add(StructureInfo{
+      "kd_tree",
+      "spatial kd-tree, median split of the longest axis, items referenced in every "
+      "leaf they overlap",
+      "O(N log N)",
+      "O(log N)",
+      {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)",
+        true},
+       {"max_depth", 40, 0, 100, "maximum depth", true},
+       {"max_straddle", 0.4, 0, 0.9,
+        "stop splitting when more than this fraction of the items straddle the plane"}},
+      [](const ParamValues& p) { return std::make_unique<KdTree>(p); }});
+}
+
 }  // namespace pcrt

@@ -169,15 +169,18 @@ class Octree final : public Structure {
   std::vector<uint32_t> refs_;
 };
 
-const RegisterStructure kRegister{StructureInfo{
-    "octree",
-    "regular octree over the bounding cube, items referenced in every child they overlap",
-    "O(N log N)",
-    "O(log N)",
-    {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)",
-      true},
-     {"max_depth", 21, 0, 30, "maximum depth", true}},
-    [](const ParamValues& p) { return std::make_unique<Octree>(p); }}};
-
 }  // namespace
+
+void register_octree(StructureRegistry& registry) {
+  registry.add(StructureInfo{
+      "octree",
+      "regular octree over the bounding cube, items referenced in every child they overlap",
+      "O(N log N)",
+      "O(log N)",
+      {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)",
+        true},
+       {"max_depth", 21, 0, 30, "maximum depth", true}},
+      [](const ParamValues& p) { return std::make_unique<Octree>(p); }});
+}
+
 }  // namespace pcrt

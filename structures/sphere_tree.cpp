@@ -148,14 +148,17 @@ class SphereTree final : public Structure {
   std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
 };
 
-const RegisterStructure kRegister{
-    StructureInfo{"sphere_tree",
-                  "bounding sphere hierarchy, median object split, one leaf per item",
-                  "O(N log N)",
-                  "O(log N)",
-                  {{"leaf_size", 8, 1, 1e6, "largest leaf (K of the leaf-based methods)", true},
-                   {"max_depth", 64, 0, 64, "maximum depth", true}},
-                  [](const ParamValues& p) { return std::make_unique<SphereTree>(p); }}};
-
 }  // namespace
+
+void register_sphere_tree(StructureRegistry& registry) {
+  registry.add(
+      StructureInfo{"sphere_tree",
+                    "bounding sphere hierarchy, median object split, one leaf per item",
+                    "O(N log N)",
+                    "O(log N)",
+                    {{"leaf_size", 8, 1, 1e6, "largest leaf (K of the leaf-based methods)", true},
+                     {"max_depth", 64, 0, 64, "maximum depth", true}},
+                    [](const ParamValues& p) { return std::make_unique<SphereTree>(p); }});
+}
+
 }  // namespace pcrt

@@ -99,11 +99,8 @@ struct StructureInfo {
 
 using StructureRegistry = Registry<StructureInfo>;
 
-struct RegisterStructure {
-  explicit RegisterStructure(StructureInfo info) {
-    StructureRegistry::instance().add(std::move(info));
-  }
-};
+// The structures pcrt ships (structures/builtin_structures.cpp, the one list).
+void register_builtins(StructureRegistry& registry);
 
 // Counters every structure reports into.
 inline const Counter kNodesVisited{"nodes_visited",

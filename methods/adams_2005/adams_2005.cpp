@@ -17,19 +17,38 @@ namespace {
 
 constexpr size_t kMaxK = 64;
 
+struct Adams2005Params {
+  SplatParams splat;
+  size_t K = 16;
+  float support = 2;
+  IterationParams iteration;
+};
+const ParamList<Adams2005Params>& adams_2005_params() {
+  using P = Adams2005Params;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::splat, SplatParams::list())
+          .add(&P::K, {"K", 16, 1, double(kMaxK), "surfels in each weighted average"})
+          .add(&P::support,
+               {"support", 2.0, 0.5, 10, "weight support of a surfel, in multiples of its radius"})
+          .add(&P::iteration, IterationParams::list(1e-3, 1, "surfel radii (|f|)", 10));
+  return l;
+}
+
 class Adams2005 final : public Method {
  public:
-  explicit Adams2005(ParamValues params) : params_(std::move(params)) {}
+  explicit Adams2005(const Adams2005Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    splats_ = prepare_splats(cloud, params_, ctx);
+    splats_ = prepare_splats(cloud, params_.splat, ctx);
     {
       ScopedTimer t(ctx.timings, "prepare/knn_build");
       knn_.emplace(splats_.centres);  // surfel order: k-NN results index splats_.packed
     }
-    k_ = size_t(params_.at("K"));
-    support_ = float(params_.at("support"));
-    newton_ = newton_settings(params_, 1.0f);  // tolerance scaled per surfel in intersect_leaf
+    k_ = params_.K;
+    support_ = params_.support;
+    newton_ =
+        newton_settings(params_.iteration, 1.0f);  // tolerance scaled per surfel in intersect_leaf
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
@@ -59,7 +78,7 @@ class Adams2005 final : public Method {
                           counters);
   }
 
-  ParamValues params_;
+  Adams2005Params params_;
   SplatSet splats_;
   std::optional<KnnIndex> knn_;
   size_t k_ = 16;
@@ -67,28 +86,24 @@ class Adams2005 final : public Method {
   NewtonSettings newton_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "adams_2005",
-    "B. Adams, R. Keiser, M. Pauly, L. Guibas, M. Gross and P. Dutre, Efficient raytracing of "
-    "deforming point-sampled surfaces, Computer Graphics Forum 24(3) (Eurographics 2005)",
-    "[1]",
-    "surfels in a sphere hierarchy; Newton steps (Algorithm 6) on the weighted-average plane of "
-    "the K nearest surfels, from the ray's entry into each surfel sphere",
-    "sphere_tree",
-    {"point normals", "surfel radii"},
-    [] {
-      auto p = splat_params();
-      p.push_back({"K", 16, 1, double(kMaxK), "surfels in each weighted average", true});
-      p.push_back(
-          {"support", 2.0, 0.5, 10, "weight support of a surfel, in multiples of its radius"});
-      for (auto& q : iteration_params(1e-3, 1, "surfel radii (|f|)", 10)) p.push_back(q);
-      return p;
-    }(),
-    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Adams2005>(p); },
-    {},
-    {&kKnnResults, &kWeightedPointTerms}}};
-
 }  // namespace
+
+void register_adams_2005(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "adams_2005",
+      "B. Adams, R. Keiser, M. Pauly, L. Guibas, M. Gross and P. Dutre, Efficient raytracing of "
+      "deforming point-sampled surfaces, Computer Graphics Forum 24(3) (Eurographics 2005)",
+      "[1]",
+      "surfels in a sphere hierarchy; Newton steps (Algorithm 6) on the weighted-average plane of "
+      "the K nearest surfels, from the ray's entry into each surfel sphere",
+      "sphere_tree",
+      {"point normals", "surfel radii"},
+      adams_2005_params().specs(),
+      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      create_from<Adams2005>(adams_2005_params(), "adams_2005"),
+      {},
+      {&kKnnResults, &kWeightedPointTerms}});
+}
+
 }  // namespace pcrt

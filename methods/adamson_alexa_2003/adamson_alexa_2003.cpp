@@ -13,9 +13,15 @@
 namespace pcrt {
 namespace {
 
+// Iterated MLS: up to 10 iterations, stopping at 0.01 h.
+const ParamList<MlsParams>& adamson_alexa_params() {
+  static const auto l = MlsParams::list(10, 0.01);
+  return l;
+}
+
 class AdamsonAlexa final : public Method {
  public:
-  explicit AdamsonAlexa(ParamValues params) : params_(std::move(params)) {}
+  explicit AdamsonAlexa(const MlsParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     mls_.prepare(cloud, params_, ctx.counters, ctx.timings);
@@ -28,24 +34,27 @@ class AdamsonAlexa final : public Method {
   }
 
  private:
-  ParamValues params_;
+  MlsParams params_;
   MlsPoints mls_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "adamson_alexa_2003",
-    "A. Adamson and M. Alexa, Ray tracing point set surfaces, Shape Modeling International 2003",
-    "[2]",
-    "balls around the points in a sphere hierarchy; iterated MLS (weighted plane, bivariate "
-    "quadratic, ray-polynomial root) until the hit stops moving (Algorithm 3)",
-    "sphere_tree",
-    {"positions only"},
-    mls_params(10, 0.01),
-    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<AdamsonAlexa>(p); },
-    {},
-    {&kKnnResults, &kMlsNeighbours}}};
-
 }  // namespace
+
+void register_adamson_alexa_2003(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "adamson_alexa_2003",
+      "A. Adamson and M. Alexa, Ray tracing point set surfaces, Shape Modeling International 2003",
+      "[2]",
+      "balls around the points in a sphere hierarchy; iterated MLS (weighted plane, bivariate "
+      "quadratic, ray-polynomial root) until the hit stops moving (Algorithm 3)",
+      "sphere_tree",
+      {"positions only"},
+      adamson_alexa_params().specs(),
+      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      create_from<AdamsonAlexa>(adamson_alexa_params(), "adamson_alexa_2003"),
+      {},
+      {&kKnnResults, &kMlsNeighbours}});
+}
+
 }  // namespace pcrt

@@ -20,15 +20,28 @@ inline const Counter kHeightStarts{"height_starts", "height-difference iteration
 inline const Counter kHeightSteps{"height_steps", "height-difference steps (each scans the leaf)"};
 inline const Counter kHeightConverged{"height_converged", "height-difference runs converged"};
 
+struct Cai2011Params {
+  SplatParams splat;
+  IterationParams iteration;
+};
+const ParamList<Cai2011Params>& cai_2011_params() {
+  using P = Cai2011Params;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::splat, SplatParams::list())
+          .add(&P::iteration, IterationParams::list(1e-3, 1, "start-splat radii (|height|)", 8));
+  return l;
+}
+
 class Cai2011 final : public Method {
  public:
-  explicit Cai2011(ParamValues params)
-      : params_(std::move(params)),
-        tolerance_(float(params_.at("tolerance"))),
-        max_iterations_(int(params_.at("max_iterations"))) {}
+  explicit Cai2011(const Cai2011Params& params)
+      : params_(params),
+        tolerance_(params.iteration.tolerance),
+        max_iterations_(params.iteration.max_iterations) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    splats_ = prepare_splats(cloud, params_, ctx);
+    splats_ = prepare_splats(cloud, params_.splat, ctx);
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
@@ -69,31 +82,30 @@ class Cai2011 final : public Method {
     return tolerance_ > 0 ? kInfinity : t;  // tolerance 0: exactly I steps, then the last point
   }
 
-  ParamValues params_;
+  Cai2011Params params_;
   SplatSet splats_;
   float tolerance_;
   int max_iterations_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "cai_2011",
-    "P. Cai, D. Kong, S. Wang and B. Yin, A height-difference-based ray tracing of point models, "
-    "VRCAI 2011",
-    "[14]",
-    "bounding spheres of splats; from each crossed sphere's midpoint, Newton steps on the "
-    "leaf's weighted average height difference along the averaged normal",
-    "kd_tree",
-    {"point normals", "splat radii"},
-    [] {
-      auto p = splat_params();
-      for (auto& q : iteration_params(1e-3, 1, "start-splat radii (|height|)", 8)) p.push_back(q);
-      return p;
-    }(),
-    {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Cai2011>(p); },
-    {},
-    {&kWeightedPointTerms}}};
-
 }  // namespace
+
+void register_cai_2011(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "cai_2011",
+      "P. Cai, D. Kong, S. Wang and B. Yin, A height-difference-based ray tracing of point models, "
+      "VRCAI 2011",
+      "[14]",
+      "bounding spheres of splats; from each crossed sphere's midpoint, Newton steps on the "
+      "leaf's weighted average height difference along the averaged normal",
+      "kd_tree",
+      {"point normals", "splat radii"},
+      cai_2011_params().specs(),
+      {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      create_from<Cai2011>(cai_2011_params(), "cai_2011"),
+      {},
+      {&kWeightedPointTerms}});
+}
+
 }  // namespace pcrt

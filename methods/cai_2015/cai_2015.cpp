@@ -21,17 +21,36 @@ inline const Counter kFanTriangles{"fan_triangles", "triangles of k-NN fans"};
 
 constexpr size_t kMaxFan = 32;
 
+struct Cai2015Params {
+  size_t K = 8;
+  float reach = 3.5f;     // in h
+  float min_step = 0.5f;  // in h
+  int max_steps = 256;
+};
+const ParamList<Cai2015Params>& cai_2015_params() {
+  using P = Cai2015Params;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::K, {"K", 8, 3, double(kMaxFan), "neighbours in the triangle fan"})
+          .add(&P::reach, {"reach", 3.5, 0.5, 50,
+                           "a sample surface lies within this distance of its nearest point, in h "
+                           "(sphere-tracing bound and projected-distance test)"})
+          .add(&P::min_step, {"min_step", 0.5, 0.01, 50, "smallest march step, in h"})
+          .add(&P::max_steps, {"max_steps", 256, 1, 100000, "cap on the march steps I per leaf"});
+  return l;
+}
+
 class Cai2015 final : public Method {
  public:
-  explicit Cai2015(ParamValues params) : params_(std::move(params)) {}
+  explicit Cai2015(const Cai2015Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const float h = prepare_spacing(cloud, ctx);
     positions_ = cloud.positions;
-    reach_ = float(params_.at("reach")) * h;
-    min_step_ = float(params_.at("min_step")) * h;
-    k_ = size_t(params_.at("K"));
-    max_steps_ = int(params_.at("max_steps"));
+    reach_ = params_.reach * h;
+    min_step_ = params_.min_step * h;
+    k_ = params_.K;
+    max_steps_ = params_.max_steps;
     radii_.assign(cloud.size(), reach_);
   }
   [[nodiscard]] ItemSet items() const override { return {positions_, radii_, {}}; }
@@ -117,7 +136,7 @@ class Cai2015 final : public Method {
     return sum.norm() > 0 ? Vec3(sum.normalized()) : plane_n;
   }
 
-  ParamValues params_;
+  Cai2015Params params_;
   std::span<const Vec3> positions_;
   std::vector<float> radii_;
   float reach_ = 0, min_step_ = 0;
@@ -125,26 +144,24 @@ class Cai2015 final : public Method {
   int max_steps_ = 256;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "cai_2015",
-    "P. Cai, D. Kong, S. Wang, B. Yin and Y. Huo, A K-neighbor-based ray tracing of point "
-    "clouds, Journal of Information & Computational Science 12.13 (2015)",
-    "[15]",
-    "sphere-tracing march to the nearest point in a grid cell; fan of triangles among its K "
-    "nearest neighbours for the normal; projected-distance test on that plane",
-    "grid",
-    {"positions only"},
-    {{"K", 8, 3, double(kMaxFan), "neighbours in the triangle fan", true},
-     {"reach", 3.5, 0.5, 50,
-      "a sample surface lies within this distance of its nearest point, in h (sphere-tracing "
-      "bound and projected-distance test)"},
-     {"min_step", 0.5, 0.01, 50, "smallest march step, in h"},
-     {"max_steps", 256, 1, 100000, "cap on the march steps I per leaf", true}},
-    {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Cai2015>(p); },
-    {},
-    {&kNeighbourTests, &kFanTriangles}}};
-
 }  // namespace
+
+void register_cai_2015(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "cai_2015",
+      "P. Cai, D. Kong, S. Wang, B. Yin and Y. Huo, A K-neighbor-based ray tracing of point "
+      "clouds, Journal of Information & Computational Science 12.13 (2015)",
+      "[15]",
+      "sphere-tracing march to the nearest point in a grid cell; fan of triangles among its K "
+      "nearest neighbours for the normal; projected-distance test on that plane",
+      "grid",
+      {"positions only"},
+      cai_2015_params().specs(),
+      {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      create_from<Cai2015>(cai_2015_params(), "cai_2015"),
+      {},
+      {&kNeighbourTests, &kFanTriangles}});
+}
+
 }  // namespace pcrt

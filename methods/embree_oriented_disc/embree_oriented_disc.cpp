@@ -11,11 +11,26 @@
 namespace pcrt {
 namespace {
 
+struct EmbreeDiscParams {
+  SplatParams splat;
+  bool morton_order = false;
+};
+const ParamList<EmbreeDiscParams>& embree_disc_params() {
+  using P = EmbreeDiscParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::splat, SplatParams::list())
+          .add(&P::morton_order,
+               {"morton_order", 0, 0, 1,
+                "1: hand Embree the points in Morton order (as our splat methods store them)"});
+  return l;
+}
+
 class EmbreeOrientedDisc final : public Method {
  public:
-  explicit EmbreeOrientedDisc(ParamValues params) : params_(std::move(params)) {}
+  explicit EmbreeOrientedDisc(const EmbreeDiscParams& params) : params_(params) {}
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    splats_ = prepare_splats(cloud, params_, ctx);
+    splats_ = prepare_splats(cloud, params_.splat, ctx);
     ScopedTimer t(ctx.timings, "prepare/embree_build");
     embree_ = std::make_unique<EmbreeScene>("embree_oriented_disc");
     RTCGeometry geom = embree_->new_geometry(RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
@@ -25,7 +40,7 @@ class EmbreeOrientedDisc final : public Method {
     auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), cloud.size()));
     // Embree gets the points in the cloud's own order unless morton_order=1 asks for ours.
-    morton_ = params_.at("morton_order") != 0;
+    morton_ = params_.morton_order;
     for (size_t k = 0; k < splats_.size(); ++k) {
       const size_t i = morton_ ? k : splats_.point[k];
       for (int a = 0; a < 3; ++a) v[4 * i + size_t(a)] = splats_.centres[k][a];
@@ -66,32 +81,29 @@ class EmbreeOrientedDisc final : public Method {
  private:
   static inline const Counter kEmbreeRays{
       "embree_rays", "rays traced by Embree (its internal work is not counted)"};
-  ParamValues params_;
+  EmbreeDiscParams params_;
   SplatSet splats_;
   bool morton_ = false;
   std::vector<uint32_t> item_of_point_;
   std::unique_ptr<EmbreeScene> embree_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "embree_oriented_disc",
-    "Embree 3 (Wald et al. 2014), RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT",
-    "-",
-    "industrial reference: Embree's oriented discs (radius and normal per point) in Embree's BVH",
-    "embree_bvh",
-    {"point normals", "point radii"},
-    [] {
-      auto p = splat_params();
-      p.push_back({"morton_order", 0, 0, 1,
-                   "1: hand Embree the points in Morton order (as our splat methods store them)",
-                   true});
-      return p;
-    }(),
-    {},
-    [](const ParamValues& p) { return std::make_unique<EmbreeOrientedDisc>(p); },
-    "embree_bvh",
-    {},
-    LeafFamily::kDisc}};
-
 }  // namespace
+
+void register_embree_oriented_disc(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "embree_oriented_disc",
+      "Embree 3 (Wald et al. 2014), RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT",
+      "-",
+      "industrial reference: Embree's oriented discs (radius and normal per point) in Embree's BVH",
+      "embree_bvh",
+      {"point normals", "point radii"},
+      embree_disc_params().specs(),
+      {},
+      create_from<EmbreeOrientedDisc>(embree_disc_params(), "embree_oriented_disc"),
+      "embree_bvh",
+      {},
+      LeafFamily::kDisc});
+}
+
 }  // namespace pcrt

@@ -9,13 +9,24 @@
 namespace pcrt {
 namespace {
 
+struct Goradia2010Params {
+  SplatParams splat;
+  float front_depth = 0.5f;
+};
+const ParamList<Goradia2010Params>& goradia_2010_params() {
+  using P = Goradia2010Params;
+  static const auto l =
+      ParamList<P>().add(&P::splat, SplatParams::list()).add(&P::front_depth, front_depth_spec());
+  return l;
+}
+
 class Goradia2010 final : public Method {
  public:
-  explicit Goradia2010(ParamValues params) : params_(std::move(params)) {}
+  explicit Goradia2010(const Goradia2010Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    splats_ = prepare_splats(cloud, params_, ctx);
-    settings_ = splat_blend_settings(splats_.radii, float(params_.at("front_depth")));
+    splats_ = prepare_splats(cloud, params_.splat, ctx);
+    settings_ = splat_blend_settings(splats_.radii, params_.front_depth);
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
@@ -25,31 +36,30 @@ class Goradia2010 final : public Method {
   }
 
  private:
-  ParamValues params_;
+  Goradia2010Params params_;
   SplatSet splats_;
   SplatBlendSettings settings_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "goradia_2010",
-    "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, GPU-based ray tracing of splats, "
-    "Pacific Graphics 2010",
-    "[24]",
-    "one splat per point (PCA normal, neighbour-distance radius) in a refined octree; the splats "
-    "hit in a leaf are blended by distance from their centres",
-    "octree",
-    {"point normals", "splat radii"},
-    [] {
-      auto p = splat_params();
-      p.push_back(front_depth_param());
-      return p;
-    }(),
-    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Goradia2010>(p); },
-    {},
-    {&kProjectionTests, &kSplatTests},
-    LeafFamily::kSplatBlend}};
-
 }  // namespace
+
+void register_goradia_2010(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "goradia_2010",
+      "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, GPU-based ray tracing of splats, "
+      "Pacific Graphics 2010",
+      "[24]",
+      "one splat per point (PCA normal, neighbour-distance radius) in a refined octree; the splats "
+      "hit in a leaf are blended by distance from their centres",
+      "octree",
+      {"point normals", "splat radii"},
+      goradia_2010_params().specs(),
+      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      create_from<Goradia2010>(goradia_2010_params(), "goradia_2010"),
+      {},
+      {&kProjectionTests, &kSplatTests},
+      LeafFamily::kSplatBlend});
+}
+
 }  // namespace pcrt

@@ -5,23 +5,23 @@
 #include "methods/kernels/implicit_cells.hpp"
 
 namespace pcrt {
-namespace {
 
-const RegisterMethod kRegister{MethodInfo{
-    "goradia_2011",
-    "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, Tracing specular light paths in "
-    "point-based scenes, The Visual Computer 27.12 (2011)",
-    "[25]",
-    "the implicit-surface octree intersection of Kashyap et al. 2010 (Algorithm 4); the "
-    "caustic sample map prepass is not implemented",
-    "octree",
-    {"point normals", "implicit octree"},
-    ImplicitCells::params(),
-    {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<ImplicitCellsMethod>(p); },
-    {},
-    {&kMarchingSteps}}};
+void register_goradia_2011(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "goradia_2011",
+      "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, Tracing specular light paths in "
+      "point-based scenes, The Visual Computer 27.12 (2011)",
+      "[25]",
+      "the implicit-surface octree intersection of Kashyap et al. 2010 (Algorithm 4); the "
+      "caustic sample map prepass is not implemented",
+      "octree",
+      {"point normals", "implicit octree"},
+      ImplicitCellsParams::list().specs(),
+      {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
+      create_from<ImplicitCellsMethod>(ImplicitCellsParams::list(), "goradia_2011"),
+      {},
+      {&kMarchingSteps}});
+}
 
-}  // namespace
 }  // namespace pcrt

@@ -13,17 +13,32 @@
 namespace pcrt {
 namespace {
 
+struct Hubo2006Params {
+  NormalParams normals;
+  GaussianParams gaussian;
+  IterationParams iteration;
+};
+const ParamList<Hubo2006Params>& hubo_2006_params() {
+  using P = Hubo2006Params;
+  static const auto l = ParamList<P>()
+                            .add(&P::normals, NormalParams::list())
+                            .add(&P::gaussian, GaussianParams::list())
+                            .add(&P::iteration, IterationParams::list(0.001, 10, "h (|f|)", 10));
+  return l;
+}
+
 class Hubo2006 final : public Method {
  public:
-  explicit Hubo2006(ParamValues params) : params_(std::move(params)) {}
+  explicit Hubo2006(const Hubo2006Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const float h = prepare_spacing(cloud, ctx);
-    sigma_ = float(params_.at("sigma")) * h;
-    cutoff_ = float(params_.at("cutoff"));
+    sigma_ = params_.gaussian.sigma * h;
+    cutoff_ = params_.gaussian.cutoff;
     reach_ = sigma_ * cutoff_;
-    newton_ = newton_settings(params_, h);
-    splats_ = prepare_splats(cloud, params_, ctx, reach_);  // item radius: the weight's reach
+    newton_ = newton_settings(params_.iteration, h);
+    splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx,
+                             reach_);  // item radius: the weight's reach
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
@@ -49,32 +64,31 @@ class Hubo2006 final : public Method {
   }
 
  private:
-  ParamValues params_;
+  Hubo2006Params params_;
   SplatSet splats_;
   float sigma_ = 0, cutoff_ = 3, reach_ = 0;
   NewtonSettings newton_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "hubo_2006",
-    "E. Hubo, T. Mertens, T. Haber and P. Bekaert, The quantized kd-tree: efficient ray tracing "
-    "of compressed point clouds, IEEE Symposium on Interactive Ray Tracing 2006",
-    "[28]",
-    "Newton steps (Algorithm 6) on the Gaussian-weighted average plane of a kd-tree leaf's points "
-    "(the quantized kd-tree's compression is not implemented)",
-    "kd_tree",
-    {"point normals"},
-    [] {
-      auto p = normal_params();
-      for (auto& q : gaussian_params()) p.push_back(q);
-      for (auto& q : iteration_params(0.001, 10, "h (|f|)", 10)) p.push_back(q);
-      return p;
-    }(),
-    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Hubo2006>(p); },
-    {},
-    {&kWeightedPointTerms}}};
-
 }  // namespace
+
+void register_hubo_2006(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "hubo_2006",
+      "E. Hubo, T. Mertens, T. Haber and P. Bekaert, The quantized kd-tree: efficient ray tracing "
+      "of compressed point clouds, IEEE Symposium on Interactive Ray Tracing 2006",
+      "[28]",
+      "Newton steps (Algorithm 6) on the Gaussian-weighted average plane of a kd-tree leaf's "
+      "points "
+      "(the quantized kd-tree's compression is not implemented)",
+      "kd_tree",
+      {"point normals"},
+      hubo_2006_params().specs(),
+      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      create_from<Hubo2006>(hubo_2006_params(), "hubo_2006"),
+      {},
+      {&kWeightedPointTerms}});
+}
+
 }  // namespace pcrt

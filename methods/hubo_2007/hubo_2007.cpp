@@ -27,21 +27,41 @@ struct Patch {
   float spread;  // largest distance of a point from the centre
 };
 
+struct Hubo2007Params {
+  NormalParams normals;
+  size_t patch_points = 32;
+  GaussianParams gaussian;
+  IterationParams iteration;
+  float front_depth = 1;  // in h
+};
+const ParamList<Hubo2007Params>& hubo_2007_params() {
+  using P = Hubo2007Params;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::normals, NormalParams::list())
+          .add(&P::patch_points, {"patch_points", 32, 1, 4096, "most points in one patch"})
+          .add(&P::gaussian, GaussianParams::list())
+          .add(&P::iteration, IterationParams::list(0.001, 10, "h (|f|)", 10))
+          .add(&P::front_depth, {"front_depth", 1.0, 0, 100,
+                                 "blend the patch hits within this many h of the front-most"});
+  return l;
+}
+
 class Hubo2007 final : public Method {
  public:
-  explicit Hubo2007(ParamValues params) : params_(std::move(params)) {}
+  explicit Hubo2007(const Hubo2007Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const float h = prepare_spacing(cloud, ctx);
-    sigma_ = float(params_.at("sigma")) * h;
-    reach_ = sigma_ * float(params_.at("cutoff"));
-    newton_ = newton_settings(params_, h);
-    depth_ = float(params_.at("front_depth")) * h;
-    const SplatSet pts = prepare_splats(cloud, params_, ctx, reach_);
+    sigma_ = params_.gaussian.sigma * h;
+    reach_ = sigma_ * params_.gaussian.cutoff;
+    newton_ = newton_settings(params_.iteration, h);
+    depth_ = params_.front_depth * h;
+    const SplatSet pts = prepare_splats(cloud, SplatParams{params_.normals}, ctx, reach_);
     ScopedTimer t(ctx.timings, "prepare/patches");
     std::vector<uint32_t> order(pts.size());
     for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-    const size_t max_points = size_t(params_.at("patch_points"));
+    const size_t max_points = params_.patch_points;
     octree_partition(
         pts.centres, std::span<uint32_t>(order),
         [&](const uint32_t* b, const uint32_t* e, int depth) {
@@ -58,7 +78,7 @@ class Hubo2007 final : public Method {
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    const GaussianWeight theta(sigma_, float(params_.at("cutoff")));
+    const GaussianWeight theta(sigma_, params_.gaussian.cutoff);
     // Pass 1: each patch's own hit; pass 2 blends those within depth_ of the front-most.
     float front = kInfinity;
     // (t, normal, weight) per patch hit; per-thread storage, so no allocation once warm.
@@ -145,7 +165,7 @@ class Hubo2007 final : public Method {
     return best;
   }
 
-  ParamValues params_;
+  Hubo2007Params params_;
   std::vector<PackedSplat> points_;    // grouped by patch
   std::vector<uint32_t> patch_items_;  // 0..n-1: the index span a patch hands the average
   std::vector<Patch> patches_;
@@ -155,30 +175,24 @@ class Hubo2007 final : public Method {
   NewtonSettings newton_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "hubo_2007",
-    "E. Hubo, T. Mertens, T. Haber and P. Bekaert, Self-similarity-based compression of point "
-    "clouds, with application to ray tracing, Symposium on Point-Based Graphics 2007",
-    "[29]",
-    "small patches (octree cells of a few points), each a Gaussian-weighted implicit surface "
-    "intersected by Newton steps (Algorithm 6); patch hits blended by distance to the centres",
-    "octree",
-    {"point normals", "implicit patches"},
-    [] {
-      auto p = normal_params();
-      p.push_back({"patch_points", 32, 1, 4096, "most points in one patch", true});
-      for (auto& q : gaussian_params()) p.push_back(q);
-      for (auto& q : iteration_params(0.001, 10, "h (|f|)", 10)) p.push_back(q);
-      p.push_back({"front_depth", 1.0, 0, 100,
-                   "blend the patch hits within this many h of the "
-                   "front-most"});
-      return p;
-    }(),
-    {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Hubo2007>(p); },
-    {},
-    {&kWeightedPointTerms}}};
-
 }  // namespace
+
+void register_hubo_2007(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "hubo_2007",
+      "E. Hubo, T. Mertens, T. Haber and P. Bekaert, Self-similarity-based compression of point "
+      "clouds, with application to ray tracing, Symposium on Point-Based Graphics 2007",
+      "[29]",
+      "small patches (octree cells of a few points), each a Gaussian-weighted implicit surface "
+      "intersected by Newton steps (Algorithm 6); patch hits blended by distance to the centres",
+      "octree",
+      {"point normals", "implicit patches"},
+      hubo_2007_params().specs(),
+      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      create_from<Hubo2007>(hubo_2007_params(), "hubo_2007"),
+      {},
+      {&kWeightedPointTerms}});
+}
+
 }  // namespace pcrt

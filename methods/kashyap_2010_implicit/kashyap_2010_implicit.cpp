@@ -5,23 +5,23 @@
 #include "methods/kernels/implicit_cells.hpp"
 
 namespace pcrt {
-namespace {
 
-const RegisterMethod kRegister{MethodInfo{
-    "kashyap_2010_implicit",
-    "S. Kashyap, R. Goradia, P. Chaudhuri and S. Chandran, Implicit surface octrees for ray "
-    "tracing point models, ICVGIP 2010",
-    "[33]",
-    "implicit-surface octree: Gaussian-weighted plane values and normals precomputed at cell "
-    "corners; k-step marching with trilinear interpolation and a linear root (Algorithm 4)",
-    "octree",
-    {"point normals", "implicit octree"},
-    ImplicitCells::params(),
-    {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<ImplicitCellsMethod>(p); },
-    {},
-    {&kMarchingSteps}}};
+void register_kashyap_2010_implicit(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "kashyap_2010_implicit",
+      "S. Kashyap, R. Goradia, P. Chaudhuri and S. Chandran, Implicit surface octrees for ray "
+      "tracing point models, ICVGIP 2010",
+      "[33]",
+      "implicit-surface octree: Gaussian-weighted plane values and normals precomputed at cell "
+      "corners; k-step marching with trilinear interpolation and a linear root (Algorithm 4)",
+      "octree",
+      {"point normals", "implicit octree"},
+      ImplicitCellsParams::list().specs(),
+      {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
+      create_from<ImplicitCellsMethod>(ImplicitCellsParams::list(), "kashyap_2010_implicit"),
+      {},
+      {&kMarchingSteps}});
+}
 
-}  // namespace
 }  // namespace pcrt

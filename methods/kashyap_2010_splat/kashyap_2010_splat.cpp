@@ -87,25 +87,48 @@ class SplatOctreeBuilder {
   LeafSplats out_;
 };
 
+struct Kashyap2010SplatParams {
+  SplatParams splat;
+  float error_tolerance = 0.05f;  // in h
+  size_t max_leaf_points = 64;
+  double max_normal_angle = 25;  // degrees
+  float front_depth = 0.5f;
+};
+const ParamList<Kashyap2010SplatParams>& kashyap_2010_splat_params() {
+  using P = Kashyap2010SplatParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::splat, SplatParams::list())
+          .add(&P::error_tolerance,
+               {"error_tolerance", 0.05, 0.001, 10,
+                "largest distance of a leaf's points from its splat plane, in mean spacings h"})
+          .add(&P::max_leaf_points,
+               {"max_leaf_points", 64, 1, 100000, "most points one splat may replace"})
+          .add(&P::max_normal_angle,
+               {"max_normal_angle", 25, 1, 180,
+                "largest angle between a leaf's splat normal and its points' normals (deg)"})
+          .add(&P::front_depth, front_depth_spec());
+  return l;
+}
+
 class Kashyap2010Splat final : public Method {
  public:
-  explicit Kashyap2010Splat(ParamValues params) : params_(std::move(params)) {}
+  explicit Kashyap2010Splat(const Kashyap2010SplatParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    const SplatSet base = prepare_splats(cloud, params_, ctx);
+    const SplatSet base = prepare_splats(cloud, params_.splat, ctx);
     std::vector<Vec3> normals;
     std::vector<float> cover;
     splat_attributes_by_point(base, normals, cover);
     const float h = prepare_spacing(cloud, ctx);
     ScopedTimer t(ctx.timings, "prepare/splat_octree");
-    SplatOctreeBuilder builder(cloud.positions, normals, cover,
-                               float(params_.at("error_tolerance")) * h,
-                               size_t(params_.at("max_leaf_points")),
-                               float(std::cos(params_.at("max_normal_angle") * M_PI / 180)));
+    SplatOctreeBuilder builder(cloud.positions, normals, cover, params_.error_tolerance * h,
+                               params_.max_leaf_points,
+                               float(std::cos(params_.max_normal_angle * M_PI / 180)));
     const LeafSplats leaves = builder.build(ctx.counters);
     ctx.counters.add(kSplatsGenerated, leaves.prim.size());
     splats_ = make_splat_set(leaves.centres, leaves.normals, leaves.radii, leaves.prim);
-    settings_ = splat_blend_settings(splats_.radii, float(params_.at("front_depth")));
+    settings_ = splat_blend_settings(splats_.radii, params_.front_depth);
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
@@ -115,36 +138,30 @@ class Kashyap2010Splat final : public Method {
   }
 
  private:
-  ParamValues params_;
+  Kashyap2010SplatParams params_;
   SplatSet splats_;
   SplatBlendSettings settings_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "kashyap_2010_splat",
-    "S. Kashyap, R. Goradia, P. Chaudhuri and S. Chandran, Real time ray tracing of point-based "
-    "models, I3D 2010",
-    "[34]",
-    "splat octree: cells refined until their points fit one plane, one fitted splat per leaf; "
-    "the splats hit in a leaf are blended by distance from their centres",
-    "octree",
-    {"point normals", "splat radii", "splat octree"},
-    [] {
-      auto p = splat_params();
-      p.push_back({"error_tolerance", 0.05, 0.001, 10,
-                   "largest distance of a leaf's points from its splat plane, in mean spacings h"});
-      p.push_back({"max_leaf_points", 64, 1, 100000, "most points one splat may replace", true});
-      p.push_back({"max_normal_angle", 25, 1, 180,
-                   "largest angle between a leaf's splat normal and its points' normals (deg)"});
-      p.push_back(front_depth_param());
-      return p;
-    }(),
-    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Kashyap2010Splat>(p); },
-    {},
-    {&kProjectionTests, &kSplatTests},
-    LeafFamily::kSplatBlend}};
-
 }  // namespace
+
+void register_kashyap_2010_splat(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "kashyap_2010_splat",
+      "S. Kashyap, R. Goradia, P. Chaudhuri and S. Chandran, Real time ray tracing of point-based "
+      "models, I3D 2010",
+      "[34]",
+      "splat octree: cells refined until their points fit one plane, one fitted splat per leaf; "
+      "the splats hit in a leaf are blended by distance from their centres",
+      "octree",
+      {"point normals", "splat radii", "splat octree"},
+      kashyap_2010_splat_params().specs(),
+      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      create_from<Kashyap2010Splat>(kashyap_2010_splat_params(), "kashyap_2010_splat"),
+      {},
+      {&kProjectionTests, &kSplatTests},
+      LeafFamily::kSplatBlend});
+}
+
 }  // namespace pcrt

@@ -28,22 +28,27 @@ void unpack(uint64_t key, int64_t& x, int64_t& y, int64_t& z) {
 
 }  // namespace
 
-std::vector<ParamSpec> ImplicitCells::params() {
-  auto p = normal_params();
-  p.push_back({"cell_size", 2.0, 0.25, 100, "edge of the finest octree cells, in h"});
-  p.push_back({"sigma", 1.0, 0.1, 50, "Gaussian weight standard deviation, in h"});
-  p.push_back({"K", 16, 1, double(kMaxK), "points averaged at each corner", true});
-  p.push_back({"k", 4, 1, 1000, "marching steps per cell", true});
-  return p;
+const ParamList<ImplicitCellsParams>& ImplicitCellsParams::list() {
+  using P = ImplicitCellsParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::normals, NormalParams::list())
+          .add(&P::cell_size,
+               {"cell_size", 2.0, 0.25, 100, "edge of the finest octree cells, in h"})
+          .add(&P::sigma, {"sigma", 1.0, 0.1, 50, "Gaussian weight standard deviation, in h"})
+          .add(&P::K, {"K", 16, 1, double(kMaxK), "points averaged at each corner"})
+          .add(&P::k, {"k", 4, 1, 1000, "marching steps per cell"});
+  return l;
 }
 
-void ImplicitCells::prepare(const PointCloud& cloud, const ParamValues& params,
+void ImplicitCells::prepare(const PointCloud& cloud, const ImplicitCellsParams& params,
                             PrepareContext& ctx) {
-  const SplatSet pts = prepare_splats(cloud, params, ctx, 1.0f);  // normals; radius unused
+  // Normals only; the radius is unused.
+  const SplatSet pts = prepare_splats(cloud, SplatParams{params.normals}, ctx, 1.0f);
   KnnIndex knn(pts.centres);
   const float h = std::max(float(mean_spacing(pts.centres, knn, ctx.counters)), 1e-30f);
-  size_ = float(params.at("cell_size")) * h;
-  steps_ = int(params.at("k"));
+  size_ = params.cell_size * h;
+  steps_ = params.k;
   Aabb b;
   for (const Vec3& p : pts.centres) b.extend(p);
   origin_ = b.lo - Vec3::Constant(2 * size_);
@@ -76,8 +81,8 @@ void ImplicitCells::prepare(const PointCloud& cloud, const ParamValues& params,
   std::sort(corners.begin(), corners.end());
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
   // Corner values: the Gaussian-weighted average plane of the K nearest points.
-  const size_t k = std::min(size_t(params.at("K")), kMaxK);
-  const double inv_two_sigma2 = 0.5 / std::pow(double(params.at("sigma")) * h, 2);
+  const size_t k = std::min(params.K, kMaxK);
+  const double inv_two_sigma2 = 0.5 / std::pow(params.sigma * h, 2);
   f_.resize(corners.size());
   n_.resize(corners.size());
   std::vector<uint32_t> corner_prim(corners.size());

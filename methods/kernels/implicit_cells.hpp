@@ -13,6 +13,7 @@
 #include "core/counters.hpp"
 #include "core/params.hpp"
 #include "core/point_cloud.hpp"
+#include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
 
 namespace pcrt {
@@ -24,10 +25,19 @@ inline const Counter kMarchingSteps{"implicit_march_steps",
                                     "trilinear evaluations while marching cells (k per cell)"};
 inline const Counter kCellsMarched{"implicit_cells_marched", "cells a ray marched through"};
 
+// Normals as the splat methods make them, and the octree's cell size, Gaussian and marching.
+struct ImplicitCellsParams {
+  NormalParams normals;
+  float cell_size = 2;  // in h
+  double sigma = 1;     // in h
+  size_t K = 16;
+  int k = 4;
+  static const ParamList<ImplicitCellsParams>& list();
+};
+
 class ImplicitCells {
  public:
-  static std::vector<ParamSpec> params();
-  void prepare(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx);
+  void prepare(const PointCloud& cloud, const ImplicitCellsParams& params, PrepareContext& ctx);
 
   // Cell items for a structure: centres and half-extents of the cells.
   [[nodiscard]] ItemSet items() const { return {centres_, radii_, half_extents_}; }
@@ -56,7 +66,7 @@ class ImplicitCells {
 // own citations).
 class ImplicitCellsMethod final : public Method {
  public:
-  explicit ImplicitCellsMethod(ParamValues params) : params_(std::move(params)) {}
+  explicit ImplicitCellsMethod(const ImplicitCellsParams& params) : params_(params) {}
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     cells_.prepare(cloud, params_, ctx);
   }
@@ -67,7 +77,7 @@ class ImplicitCellsMethod final : public Method {
   }
 
  private:
-  ParamValues params_;
+  ImplicitCellsParams params_;
   ImplicitCells cells_;
 };
 

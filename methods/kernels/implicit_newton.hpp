@@ -27,17 +27,26 @@ struct NewtonSettings {
   int max_iterations = 10;
 };
 
-// The tolerance (in `unit`) and cap parameters of an iterative method; tolerance 0 runs exactly
+// The tolerance (in a method's own unit) and cap of an iterative method; tolerance 0 runs exactly
 // max_iterations, so that a sweep can hold I fixed.
-inline std::vector<ParamSpec> iteration_params(double tolerance, double max_tolerance,
-                                               const std::string& unit, double max_iterations) {
-  return {{"tolerance", tolerance, 0, max_tolerance,
-           "residual at convergence, in " + unit + " (0: always run max_iterations)"},
-          {"max_iterations", max_iterations, 1, 100, "cap on the iterations I", true}};
-}
-// Those parameters with the tolerance scaled from `unit` to absolute length.
-inline NewtonSettings newton_settings(const ParamValues& p, float unit) {
-  return {float(p.at("tolerance")) * unit, int(p.at("max_iterations"))};
+struct IterationParams {
+  float tolerance = 0;
+  int max_iterations = 10;
+  // The declaration with the method's own defaults and unit.
+  static ParamList<IterationParams> list(double tolerance, double max_tolerance,
+                                         const std::string& unit, double max_iterations) {
+    using P = IterationParams;
+    return ParamList<P>()
+        .add(&P::tolerance,
+             {"tolerance", tolerance, 0, max_tolerance,
+              "residual at convergence, in " + unit + " (0: always run max_iterations)"})
+        .add(&P::max_iterations,
+             {"max_iterations", max_iterations, 1, 100, "cap on the iterations I"});
+  }
+};
+// Those parameters with the tolerance scaled from its unit to absolute length.
+inline NewtonSettings newton_settings(const IterationParams& p, float unit) {
+  return {p.tolerance * unit, p.max_iterations};
 }
 
 // The sign-change interval of f seen so far along the ray, once Newton has stood on both sides of

@@ -24,10 +24,19 @@ struct GaussianWeight {
 };
 
 // The parameters of GaussianWeight, in mean spacings h.
-inline std::vector<ParamSpec> gaussian_params() {
-  return {{"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h (smoothness)"},
-          {"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"}};
-}
+struct GaussianParams {
+  float sigma = 1;
+  float cutoff = 3;
+  static const ParamList<GaussianParams>& list() {
+    using P = GaussianParams;
+    static const auto l =
+        ParamList<P>()
+            .add(&P::sigma,
+                 {"sigma", 1.0, 0.1, 50, "Gaussian standard deviation, in h (smoothness)"})
+            .add(&P::cutoff, {"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
+    return l;
+  }
+};
 
 // theta(a) = max(1 - a, 0) with a = d / R (Wald and Seidel 2005).
 struct TentWeight {

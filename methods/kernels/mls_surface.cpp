@@ -145,7 +145,23 @@ bool mls_intersect_leaf(const Ray& ray, const LeafVisit& leaf, std::span<const V
   return nearest_ball_hit(ray, leaf.items, ball, run, hit);
 }
 
-void MlsPoints::prepare(const PointCloud& cloud, const ParamValues& params, OpCounters& counters,
+// The declaration with the method's own defaults for the iteration.
+ParamList<MlsParams> MlsParams::list(double max_iterations, double tolerance) {
+  using P = MlsParams;
+  return ParamList<P>()
+      .add(&P::K, {"K", 20, 6, double(kMaxMlsNeighbours), "neighbours in each MLS fit"})
+      .add(&P::weight_radius,
+           {"weight_radius", 2.0, 0.25, 50, "H of the Gaussian weight exp(-d^2/H^2), in h"})
+      .add(&P::ball_radius, {"ball_radius", 3.5, 0.5, 50,
+                             "radius of the ball around each point that starts an MLS run, in h"})
+      .add(&P::tolerance,
+           {"tolerance", tolerance, 0, 100,
+            "stop when the hit point moves less than this, in h (0: always run max_iterations)"})
+      .add(&P::max_iterations,
+           {"max_iterations", max_iterations, 1, 100, "cap on the MLS iterations I per run"});
+}
+
+void MlsPoints::prepare(const PointCloud& cloud, const MlsParams& params, OpCounters& counters,
                         std::map<std::string, double>& timings) {
   {
     ScopedTimer t(timings, "prepare/knn_build");
@@ -156,7 +172,7 @@ void MlsPoints::prepare(const PointCloud& cloud, const ParamValues& params, OpCo
     h = std::max(float(mean_spacing(cloud.positions, *knn, counters)), 1e-30f);
   }
   positions = cloud.positions;
-  ball = float(params.at("ball_radius")) * h;
+  ball = params.ball_radius * h;
   radii.assign(cloud.size(), ball);
   surface.emplace(positions, *knn, mls_settings(params, h));
 }

@@ -78,6 +78,17 @@ class MlsSurface {
 // What every MLS method prepares from positions alone: the k-NN index, the mean spacing h, a
 // ball of `ball_radius` h around each point (the items a structure indexes) and the MLS surface
 // with the parameters of mls_params() (methods/kernels/mls_method_params.hpp).
+// The MLS parameters in mean spacings h (declared in methods/kernels/mls_method_params.hpp, with
+// each method's own defaults for the iteration).
+struct MlsParams {
+  size_t K = 20;
+  float weight_radius = 2;
+  float ball_radius = 3.5f;
+  float tolerance = 0;
+  int max_iterations = 10;
+  static ParamList<MlsParams> list(double max_iterations, double tolerance);
+};
+
 struct MlsPoints {
   std::span<const Vec3> positions;
   std::vector<float> radii;
@@ -85,7 +96,7 @@ struct MlsPoints {
   std::optional<KnnIndex> knn;
   std::optional<MlsSurface> surface;
   // Times "prepare/knn_build" and "prepare/spacing" into `timings`.
-  void prepare(const PointCloud& cloud, const ParamValues& params, OpCounters& counters,
+  void prepare(const PointCloud& cloud, const MlsParams& params, OpCounters& counters,
                std::map<std::string, double>& timings);
 };
 

@@ -82,16 +82,17 @@ class ZBufferPass final : public PrimaryPass {
 
 }  // namespace
 
-std::vector<ParamSpec> RasterMlsMethod::params(double max_iterations, double tolerance) {
-  auto p = mls_params(max_iterations, tolerance);
-  p.push_back(
-      {"raster_radius", 3.0, 0.1, 50, "world radius of each point's disc in the z-buffer, in h"});
-  return p;
+ParamList<RasterMlsParams> RasterMlsParams::list(double max_iterations, double tolerance) {
+  using P = RasterMlsParams;
+  return ParamList<P>()
+      .add(&P::mls, MlsParams::list(max_iterations, tolerance))
+      .add(&P::raster_radius, {"raster_radius", 3.0, 0.1, 50,
+                               "world radius of each point's disc in the z-buffer, in h"});
 }
 
 void RasterMlsMethod::prepare(const PointCloud& cloud, PrepareContext& ctx) {
-  mls_.prepare(cloud, params_, ctx.counters, ctx.timings);
-  footprint_ = float(params_.at("raster_radius")) * mls_.h;
+  mls_.prepare(cloud, params_.mls, ctx.counters, ctx.timings);
+  footprint_ = params_.raster_radius * mls_.h;
 }
 
 std::unique_ptr<PrimaryPass> RasterMlsMethod::primary_pass(const Camera& camera,

@@ -19,10 +19,17 @@ inline const Counter kRasterPixels{"raster_pixels", "pixels a z-buffer pass dept
 inline const Counter kRasterMisses{"raster_mls_misses",
                                    "camera rays whose rasterized point gave no MLS hit"};
 
+// The MLS parameters and the z-buffer's disc size.
+struct RasterMlsParams {
+  MlsParams mls;
+  float raster_radius = 3;  // in h
+  // The declaration with the method's own defaults for the iteration.
+  static ParamList<RasterMlsParams> list(double max_iterations, double tolerance);
+};
+
 class RasterMlsMethod final : public Method {
  public:
-  explicit RasterMlsMethod(ParamValues params) : params_(std::move(params)) {}
-  static std::vector<ParamSpec> params(double max_iterations, double tolerance);
+  explicit RasterMlsMethod(const RasterMlsParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override;
   [[nodiscard]] ItemSet items() const override { return {mls_.positions, mls_.radii, {}}; }
@@ -39,7 +46,7 @@ class RasterMlsMethod final : public Method {
   bool refine(const Ray& ray, uint32_t i, Reach reach, Hit& hit, OpCounters& counters) const;
 
  private:
-  ParamValues params_;
+  RasterMlsParams params_;
   MlsPoints mls_;
   float footprint_ = 0;
 };

@@ -33,7 +33,7 @@ inline SplatBlendSettings splat_blend_settings(std::span<const float> radii, flo
 }
 
 // The blend window parameter of the splat methods.
-inline ParamSpec front_depth_param() {
+inline ParamSpec front_depth_spec() {
   return {"front_depth", 0.5, 0, 20,
           "blend the splat hits within this many median splat radii behind the front-most"};
 }

@@ -9,25 +9,35 @@
 
 namespace pcrt {
 
-std::vector<ParamSpec> normal_params() {
-  return {{"normal_k", 16, 3, 256, "neighbours in the PCA normal fit", true},
-          {"estimate_normals", 0, 0, 1, "1: estimate normals even if the cloud has them", true}};
+const ParamList<NormalParams>& NormalParams::list() {
+  using P = NormalParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::normal_k, {"normal_k", 16, 3, 256, "neighbours in the PCA normal fit"})
+          .add(&P::estimate_normals,
+               {"estimate_normals", 0, 0, 1, "1: estimate normals even if the cloud has them"});
+  return l;
 }
 
-std::vector<ParamSpec> splat_params() {
-  return {{"normal_k", 16, 3, 256, "neighbours in the PCA normal fit", true},
-          {"radius_k", 8, 1, 256,
-           "splat radius = radius_scale * distance to the radius_k-th neighbour", true},
-          {"radius_scale", 1.0, 0.01, 100, "factor on the neighbour distance for the splat radius"},
-          {"estimate_normals", 0, 0, 1, "1: estimate normals even if the cloud has them", true},
-          {"estimate_radii", 0, 0, 1, "1: estimate radii even if the cloud has them", true}};
+const ParamList<SplatParams>& SplatParams::list() {
+  using P = SplatParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::normals, NormalParams::list())
+          .add(&P::radius_k, {"radius_k", 8, 1, 256,
+                              "splat radius = radius_scale * distance to the radius_k-th "
+                              "neighbour"})
+          .add(&P::radius_scale, {"radius_scale", 1.0, 0.01, 100,
+                                  "factor on the neighbour distance for the splat radius"})
+          .add(&P::estimate_radii,
+               {"estimate_radii", 0, 0, 1, "1: estimate radii even if the cloud has them"});
+  return l;
 }
 
-SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx,
+SplatSet prepare_splats(const PointCloud& cloud, const SplatParams& params, PrepareContext& ctx,
                         float fixed_radius) {
-  const bool need_normals = !cloud.has_normals() || params.at("estimate_normals") != 0;
-  const bool need_radii =
-      fixed_radius <= 0 && (!cloud.has_radii() || params.at("estimate_radii") != 0);
+  const bool need_normals = !cloud.has_normals() || params.normals.estimate_normals;
+  const bool need_radii = fixed_radius <= 0 && (!cloud.has_radii() || params.estimate_radii);
   std::optional<KnnIndex> knn;
   if (need_normals || need_radii) {
     ScopedTimer t(ctx.timings, "prepare/knn_build");
@@ -37,13 +47,12 @@ SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, Prep
   std::vector<float> radii;
   if (need_normals) {
     ScopedTimer t(ctx.timings, "prepare/normals");
-    normals = estimate_normals(cloud.positions, *knn, static_cast<size_t>(params.at("normal_k")),
-                               ctx.counters);
+    normals = estimate_normals(cloud.positions, *knn, params.normals.normal_k, ctx.counters);
   }
   if (need_radii) {
     ScopedTimer t(ctx.timings, "prepare/radii");
-    radii = estimate_radii(cloud.positions, *knn, static_cast<size_t>(params.at("radius_k")),
-                           static_cast<float>(params.at("radius_scale")), ctx.counters);
+    radii =
+        estimate_radii(cloud.positions, *knn, params.radius_k, params.radius_scale, ctx.counters);
   }
   knn.reset();  // build-only: freed before the layout's own peak
   const std::vector<Vec3>& n_src = need_normals ? normals : cloud.normals;

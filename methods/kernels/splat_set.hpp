@@ -32,14 +32,25 @@ struct SplatSet {
   [[nodiscard]] ItemSet items() const { return {centres, radii, half_extents}; }
 };
 
-// The parameters that control splat preparation, for a method's parameter list.
-std::vector<ParamSpec> splat_params();
-// Only the normal parameters, for methods with one global radius.
-std::vector<ParamSpec> normal_params();
+// Normals from the cloud, or PCA over normal_k neighbours where it has none (or when asked).
+struct NormalParams {
+  size_t normal_k = 16;
+  bool estimate_normals = false;
+  static const ParamList<NormalParams>& list();
+};
+
+// Normals as above and radii from the radius_k-th neighbour distance: splat preparation.
+struct SplatParams {
+  NormalParams normals;
+  size_t radius_k = 8;
+  float radius_scale = 1;
+  bool estimate_radii = false;
+  static const ParamList<SplatParams>& list();
+};
 
 // Normals and radii from the cloud or estimated; `fixed_radius` (> 0) gives every splat that
-// radius instead (methods whose paper uses one global radius).
-SplatSet prepare_splats(const PointCloud& cloud, const ParamValues& params, PrepareContext& ctx,
+// radius instead (methods whose paper uses one global radius; only params.normals is read).
+SplatSet prepare_splats(const PointCloud& cloud, const SplatParams& params, PrepareContext& ctx,
                         float fixed_radius = 0);
 
 // The normals and radii of a SplatSet made by prepare_splats, back in the cloud's order (for

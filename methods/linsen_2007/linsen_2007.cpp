@@ -50,13 +50,39 @@ NormalField fit_normal_field(std::span<const Vec3> positions, std::span<const Ve
   return f;
 }
 
+struct Linsen2007Params {
+  SplatParams splat;
+  size_t field_k = 16;
+  float error_tolerance = 0.1f;  // in h
+  float max_radius_scale = 4;
+  bool reduce = true;
+  float front_depth = 0.5f;
+};
+const ParamList<Linsen2007Params>& linsen_2007_params() {
+  using P = Linsen2007Params;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::splat, SplatParams::list())
+          .add(&P::field_k, {"field_k", 16, 4, 256, "neighbours in each splat's normal-field fit"})
+          .add(&P::error_tolerance,
+               {"error_tolerance", 0.1, 0.001, 10,
+                "largest departure of a flat splat from the curved surface, in mean spacings "
+                "h: sets the radius sqrt(2 eps / curvature)"})
+          .add(&P::max_radius_scale,
+               {"max_radius_scale", 4, 1, 100,
+                "cap on a splat's radius, in multiples of its neighbour-distance radius"})
+          .add(&P::reduce, {"reduce", 1, 0, 1, "1: drop the points a larger splat already covers"})
+          .add(&P::front_depth, front_depth_spec());
+  return l;
+}
+
 class Linsen2007 final : public Method {
  public:
-  explicit Linsen2007(ParamValues params) : params_(std::move(params)) {}
+  explicit Linsen2007(const Linsen2007Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const size_t n = cloud.size();
-    const SplatSet base = prepare_splats(cloud, params_, ctx);
+    const SplatSet base = prepare_splats(cloud, params_.splat, ctx);
     std::vector<Vec3> normals;
     std::vector<float> cover;
     splat_attributes_by_point(base, normals, cover);
@@ -70,24 +96,23 @@ class Linsen2007 final : public Method {
     std::vector<float> radii(n);
     {
       ScopedTimer t(ctx.timings, "prepare/normal_field");
-      const float eps = float(params_.at("error_tolerance")) * h;
-      const float max_scale = float(params_.at("max_radius_scale"));
-      for_each_point_knn(cloud.positions, *knn, size_t(params_.at("field_k")), ctx.counters,
-                         [&](size_t i, auto nbrs, auto) {
-                           fields[i] =
-                               fit_normal_field(cloud.positions, normals, uint32_t(i), nbrs);
-                           // A flat disc of radius r departs from a surface of curvature kappa by
-                           // kappa r^2 / 2 at its rim: r = sqrt(2 eps / kappa) keeps that <= eps.
-                           const float kappa = fields[i].curvature;
-                           const float r = kappa > 0 ? std::sqrt(2 * eps / kappa) : kInfinity;
-                           radii[i] = std::clamp(r, cover[i], max_scale * cover[i]);
-                         });
+      const float eps = params_.error_tolerance * h;
+      const float max_scale = params_.max_radius_scale;
+      for_each_point_knn(
+          cloud.positions, *knn, params_.field_k, ctx.counters, [&](size_t i, auto nbrs, auto) {
+            fields[i] = fit_normal_field(cloud.positions, normals, uint32_t(i), nbrs);
+            // A flat disc of radius r departs from a surface of curvature kappa by
+            // kappa r^2 / 2 at its rim: r = sqrt(2 eps / kappa) keeps that <= eps.
+            const float kappa = fields[i].curvature;
+            const float r = kappa > 0 ? std::sqrt(2 * eps / kappa) : kInfinity;
+            radii[i] = std::clamp(r, cover[i], max_scale * cover[i]);
+          });
     }
     std::vector<uint32_t> kept;
     {
       ScopedTimer t(ctx.timings, "prepare/splat_reduction");
-      kept = params_.at("reduce") != 0 ? reduce(cloud.positions, normals, radii, cover, *knn, ctx)
-                                       : all_points(n);
+      kept = params_.reduce ? reduce(cloud.positions, normals, radii, cover, *knn, ctx)
+                            : all_points(n);
     }
     ctx.counters.add(kSplatsGenerated, kept.size());
     ScopedTimer t(ctx.timings, "prepare/splat_layout");
@@ -98,7 +123,7 @@ class Linsen2007 final : public Method {
     splats_ = make_splat_set(c, nn, r, kept);
     fields_.resize(kept.size());
     for (size_t k = 0; k < kept.size(); ++k) fields_[k] = fields[kept[splats_.point[k]]].m;
-    settings_ = splat_blend_settings(splats_.radii, float(params_.at("front_depth")));
+    settings_ = splat_blend_settings(splats_.radii, params_.front_depth);
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
@@ -142,39 +167,31 @@ class Linsen2007 final : public Method {
     return kept;
   }
 
-  ParamValues params_;
+  Linsen2007Params params_;
   SplatSet splats_;
   std::vector<Eigen::Matrix3f> fields_;  // item order
   SplatBlendSettings settings_;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "linsen_2007",
-    "L. Linsen, K. Mueller and P. Rosenthal, Splat-based ray tracing of point clouds, Journal of "
-    "WSCG 15 (2007)",
-    "[41]",
-    "splats sized by local curvature and reduced by a greedy cover; a linear normal field per "
-    "splat; the splats hit in a leaf are blended by distance from their centres",
-    "octree",
-    {"point normals", "splat radii", "normal field"},
-    [] {
-      auto p = splat_params();
-      p.push_back({"field_k", 16, 4, 256, "neighbours in each splat's normal-field fit", true});
-      p.push_back({"error_tolerance", 0.1, 0.001, 10,
-                   "largest departure of a flat splat from the curved surface, in mean spacings "
-                   "h: sets the radius sqrt(2 eps / curvature)"});
-      p.push_back({"max_radius_scale", 4, 1, 100,
-                   "cap on a splat's radius, in multiples of its neighbour-distance radius"});
-      p.push_back({"reduce", 1, 0, 1, "1: drop the points a larger splat already covers", true});
-      p.push_back(front_depth_param());
-      return p;
-    }(),
-    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<Linsen2007>(p); },
-    {},
-    {&kProjectionTests, &kSplatTests},
-    LeafFamily::kSplatBlend}};
-
 }  // namespace
+
+void register_linsen_2007(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "linsen_2007",
+      "L. Linsen, K. Mueller and P. Rosenthal, Splat-based ray tracing of point clouds, Journal of "
+      "WSCG 15 (2007)",
+      "[41]",
+      "splats sized by local curvature and reduced by a greedy cover; a linear normal field per "
+      "splat; the splats hit in a leaf are blended by distance from their centres",
+      "octree",
+      {"point normals", "splat radii", "normal field"},
+      linsen_2007_params().specs(),
+      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      create_from<Linsen2007>(linsen_2007_params(), "linsen_2007"),
+      {},
+      {&kProjectionTests, &kSplatTests},
+      LeafFamily::kSplatBlend});
+}
+
 }  // namespace pcrt

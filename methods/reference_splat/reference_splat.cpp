@@ -11,7 +11,7 @@ namespace {
 
 class ReferenceSplat final : public Method {
  public:
-  explicit ReferenceSplat(ParamValues params) : params_(std::move(params)) {}
+  explicit ReferenceSplat(const SplatParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     splats_ = prepare_splats(cloud, params_, ctx);
@@ -60,24 +60,27 @@ class ReferenceSplat final : public Method {
   }
 
  private:
-  ParamValues params_;
+  SplatParams params_;
   SplatSet splats_;
   SplatLeafBlocks blocks_;
 };
 
-const RegisterMethod kRegister{
-    MethodInfo{"reference_splat",
-               "none (oracle): flat oriented discs, as in Zwicker et al. 2001 surface splatting",
-               "-",
-               "each point is a disc of its radius facing its normal; the nearest disc hit wins",
-               "brute_force",
-               {"point normals", "point radii"},
-               splat_params(),
-               {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
-               [](const ParamValues& p) { return std::make_unique<ReferenceSplat>(p); },
-               {},
-               {&kSplatTests},
-               LeafFamily::kDisc}};
-
 }  // namespace
+
+void register_reference_splat(MethodRegistry& registry) {
+  registry.add(
+      MethodInfo{"reference_splat",
+                 "none (oracle): flat oriented discs, as in Zwicker et al. 2001 surface splatting",
+                 "-",
+                 "each point is a disc of its radius facing its normal; the nearest disc hit wins",
+                 "brute_force",
+                 {"point normals", "point radii"},
+                 SplatParams::list().specs(),
+                 {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
+                 create_from<ReferenceSplat>(SplatParams::list(), "reference_splat"),
+                 {},
+                 {&kSplatTests},
+                 LeafFamily::kDisc});
+}
+
 }  // namespace pcrt

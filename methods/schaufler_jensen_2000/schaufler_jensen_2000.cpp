@@ -13,16 +13,33 @@
 namespace pcrt {
 namespace {
 
+struct SchauflerJensenParams {
+  NormalParams normals;
+  float cylinder_radius = 3;  // in h
+  float front_depth = 1;      // in d
+};
+const ParamList<SchauflerJensenParams>& schaufler_jensen_params() {
+  using P = SchauflerJensenParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::normals, NormalParams::list())
+          .add(&P::cylinder_radius,
+               {"cylinder_radius", 3.0, 0.25, 50, "ray cylinder radius d in mean spacings h"})
+          .add(&P::front_depth, {"front_depth", 1.0, 0.0, 20,
+                                 "blend the points within this many d behind the front-most"});
+  return l;
+}
+
 class SchauflerJensen final : public Method {
  public:
-  explicit SchauflerJensen(ParamValues params) : params_(std::move(params)) {}
+  explicit SchauflerJensen(const SchauflerJensenParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     h_ = prepare_spacing(cloud, ctx);
-    d_ = float(params_.at("cylinder_radius")) * std::max(h_, 1e-30f);
-    depth_ = float(params_.at("front_depth")) * d_;
+    d_ = params_.cylinder_radius * std::max(h_, 1e-30f);
+    depth_ = params_.front_depth * d_;
     // Every point reaches rays passing within d: its bounding radius is d.
-    splats_ = prepare_splats(cloud, params_, ctx, d_);
+    splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, d_);
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
@@ -42,33 +59,30 @@ class SchauflerJensen final : public Method {
   }
 
  private:
-  ParamValues params_;
+  SchauflerJensenParams params_;
   SplatSet splats_;
   float h_ = 0, d_ = 0, depth_ = 0;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "schaufler_jensen_2000",
-    "G. Schaufler and H. W. Jensen, Ray tracing point sampled geometry, EGWR 2000",
-    "[55]",
-    "ray cylinder of radius d; points within it projected onto the ray through their tangent "
-    "planes; "
-    "front group blended (Algorithm 7)",
-    "octree",
-    {"point normals"},
-    [] {
-      auto p = normal_params();
-      p.push_back({"cylinder_radius", 3.0, 0.25, 50, "ray cylinder radius d in mean spacings h"});
-      p.push_back({"front_depth", 1.0, 0.0, 20,
-                   "blend the points within this many d behind the front-most"});
-      return p;
-    }(),
-    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<SchauflerJensen>(p); },
-    {},
-    {&kProjectionTests},
-    LeafFamily::kProjection}};
-
 }  // namespace
+
+void register_schaufler_jensen_2000(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "schaufler_jensen_2000",
+      "G. Schaufler and H. W. Jensen, Ray tracing point sampled geometry, EGWR 2000",
+      "[55]",
+      "ray cylinder of radius d; points within it projected onto the ray through their tangent "
+      "planes; "
+      "front group blended (Algorithm 7)",
+      "octree",
+      {"point normals"},
+      schaufler_jensen_params().specs(),
+      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      create_from<SchauflerJensen>(schaufler_jensen_params(), "schaufler_jensen_2000"),
+      {},
+      {&kProjectionTests},
+      LeafFamily::kProjection});
+}
+
 }  // namespace pcrt

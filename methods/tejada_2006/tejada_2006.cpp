@@ -8,21 +8,30 @@
 namespace pcrt {
 namespace {
 
-const RegisterMethod kRegister{
-    MethodInfo{"tejada_2006",
-               "E. Tejada, J. Gois, L. Nonato, A. Castelo and T. Ertl, Hardware-accelerated "
-               "extraction and rendering of point set surfaces, EuroVis 2006",
-               "[58]",
-               "primary hits from a z-buffer of the points, refined by iterated MLS (Algorithm 3); "
-               "secondary rays by brute force",
-               "brute_force",
-               {"positions only"},
-               RasterMlsMethod::params(10, 0.01),
-               {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-                {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
-               [](const ParamValues& p) { return std::make_unique<RasterMlsMethod>(p); },
-               {},
-               {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}}};
+// Iterated MLS: up to 10 iterations, stopping at 0.01 h.
+const ParamList<RasterMlsParams>& tejada_2006_params() {
+  static const auto l = RasterMlsParams::list(10, 0.01);
+  return l;
+}
 
 }  // namespace
+
+void register_tejada_2006(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "tejada_2006",
+      "E. Tejada, J. Gois, L. Nonato, A. Castelo and T. Ertl, Hardware-accelerated "
+      "extraction and rendering of point set surfaces, EuroVis 2006",
+      "[58]",
+      "primary hits from a z-buffer of the points, refined by iterated MLS (Algorithm 3); "
+      "secondary rays by brute force",
+      "brute_force",
+      {"positions only"},
+      tejada_2006_params().specs(),
+      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+       {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
+      create_from<RasterMlsMethod>(tejada_2006_params(), "tejada_2006"),
+      {},
+      {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}});
+}
+
 }  // namespace pcrt

@@ -23,17 +23,41 @@ inline const Counter kSupportTests{"support_tests", "ray-support ball tests befo
 inline const Counter kSampleEvaluations{"sample_evaluations",
                                         "implicit function samples (k per pass)"};
 
+struct WaldSeidelParams {
+  NormalParams normals;
+  float radius = 3.5f;  // in h
+  int k = 4;
+  float tolerance = 0.001f;  // in h
+  int max_iterations = 8;
+};
+const ParamList<WaldSeidelParams>& wald_seidel_params() {
+  using P = WaldSeidelParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::normals, NormalParams::list())
+          .add(&P::radius,
+               {"radius", 3.5, 0.25, 50, "R of theta(d / R), in h: each point's support"})
+          .add(&P::k, {"k", 4, 1, 1000, "regular samples per pass"})
+          .add(&P::tolerance,
+               {"tolerance", 0.001, 0, 10,
+                "|f| that ends the search, in h (0: always run max_iterations passes)"})
+          .add(&P::max_iterations,
+               {"max_iterations", 8, 1, 100,
+                "cap on the passes I; at the cap the last bracket's linear root is the hit"});
+  return l;
+}
+
 class WaldSeidel final : public Method {
  public:
-  explicit WaldSeidel(ParamValues params) : params_(std::move(params)) {}
+  explicit WaldSeidel(const WaldSeidelParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const float h = prepare_spacing(cloud, ctx);
-    radius_ = float(params_.at("radius")) * h;
-    tolerance_ = float(params_.at("tolerance")) * h;
-    samples_ = int(params_.at("k"));
-    max_refinements_ = int(params_.at("max_iterations"));
-    splats_ = prepare_splats(cloud, params_, ctx, radius_);
+    radius_ = params_.radius * h;
+    tolerance_ = params_.tolerance * h;
+    samples_ = params_.k;
+    max_refinements_ = params_.max_iterations;
+    splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, radius_);
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
@@ -129,37 +153,30 @@ class WaldSeidel final : public Method {
     return kInfinity;
   }
 
-  ParamValues params_;
+  WaldSeidelParams params_;
   SplatSet splats_;
   float radius_ = 0, tolerance_ = 0;
   int samples_ = 4, max_refinements_ = 8;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "wald_seidel_2005",
-    "I. Wald and H.-P. Seidel, Interactive ray tracing of point-based models, Symposium on "
-    "Point-Based Graphics 2005",
-    "[63]",
-    "k regular samples of the weighted-average implicit function (theta(a) = max(1 - a, 0)) in a "
-    "kd-tree leaf, the sign-change interval resampled until |f| < epsilon (Algorithm 5)",
-    "kd_tree",
-    {"point normals"},
-    [] {
-      auto p = normal_params();
-      p.push_back({"radius", 3.5, 0.25, 50, "R of theta(d / R), in h: each point's support"});
-      p.push_back({"k", 4, 1, 1000, "regular samples per pass", true});
-      p.push_back({"tolerance", 0.001, 0, 10,
-                   "|f| that ends the search, in h (0: always run max_iterations passes)"});
-      p.push_back({"max_iterations", 8, 1, 100,
-                   "cap on the passes I; at the cap the last bracket's linear root is the hit",
-                   true});
-      return p;
-    }(),
-    {{"leaf intersection", "O(kIK)", {"k", "I", "K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + kIK))", {"S", "M", "B", "N", "k", "I", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<WaldSeidel>(p); },
-    {},
-    {&kSupportTests, &kSampleEvaluations, &kWeightedPointTerms}}};
-
 }  // namespace
+
+void register_wald_seidel_2005(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "wald_seidel_2005",
+      "I. Wald and H.-P. Seidel, Interactive ray tracing of point-based models, Symposium on "
+      "Point-Based Graphics 2005",
+      "[63]",
+      "k regular samples of the weighted-average implicit function (theta(a) = max(1 - a, 0)) in a "
+      "kd-tree leaf, the sign-change interval resampled until |f| < epsilon (Algorithm 5)",
+      "kd_tree",
+      {"point normals"},
+      wald_seidel_params().specs(),
+      {{"leaf intersection", "O(kIK)", {"k", "I", "K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + kIK))", {"S", "M", "B", "N", "k", "I", "K"}, "Table 6.1"}},
+      create_from<WaldSeidel>(wald_seidel_params(), "wald_seidel_2005"),
+      {},
+      {&kSupportTests, &kSampleEvaluations, &kWeightedPointTerms}});
+}
+
 }  // namespace pcrt

@@ -13,20 +13,55 @@
 namespace pcrt {
 namespace {
 
+struct WandStrasserParams {
+  NormalParams normals;
+  float cone_radius = 1;  // in h
+  float cone_spread = 0.0012f;
+  float max_cone_radius = 2;  // in h
+  float aspect = 1;
+  float cutoff = 3;
+  float min_weight = 0.5f;
+  float front_depth = 0.5f;  // in reaches
+};
+const ParamList<WandStrasserParams>& wand_strasser_params() {
+  using P = WandStrasserParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::normals, NormalParams::list())
+          .add(&P::cone_radius,
+               {"cone_radius", 1.0, 0.1, 50,
+                "cone radius (Gaussian sigma along u) at the ray origin, in mean spacings h"})
+          .add(&P::cone_spread,
+               {"cone_spread", 0.0012, 0, 1,
+                "growth of the radius per unit t (about one 512-pixel pixel's angle at 35 deg)"})
+          .add(&P::max_cone_radius,
+               {"max_cone_radius", 2.0, 0.1, 100,
+                "cap on the radius, in h (bounds each point's reach for the structure)"})
+          .add(&P::aspect,
+               {"aspect", 1.0, 0.1, 10, "radius along v over radius along u (1: a circular cone)"})
+          .add(&P::cutoff, {"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"})
+          .add(&P::min_weight, {"min_weight", 0.5, 0, 100,
+                                "blended weight a hit needs (coverage): 1 = one point on the axis"})
+          .add(&P::front_depth,
+               {"front_depth", 0.5, 0, 20,
+                "blend the points within this many reaches behind the front-most"});
+  return l;
+}
+
 class WandStrasser final : public Method {
  public:
-  explicit WandStrasser(ParamValues params) : params_(std::move(params)) {}
+  explicit WandStrasser(const WandStrasserParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     h_ = prepare_spacing(cloud, ctx);
-    sigma0_ = float(params_.at("cone_radius")) * h_;
-    spread_ = float(params_.at("cone_spread"));
-    sigma_max_ = float(params_.at("max_cone_radius")) * h_;
-    aspect_ = float(params_.at("aspect"));
-    cutoff_ = float(params_.at("cutoff"));
+    sigma0_ = params_.cone_radius * h_;
+    spread_ = params_.cone_spread;
+    sigma_max_ = params_.max_cone_radius * h_;
+    aspect_ = params_.aspect;
+    cutoff_ = params_.cutoff;
     // A point reaches rays whose cone (cut off at cutoff sigma) passes it: its bounding radius.
     reach_ = cutoff_ * sigma_max_ * std::max(1.0f, aspect_);
-    splats_ = prepare_splats(cloud, params_, ctx, reach_);
+    splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, reach_);
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
@@ -47,50 +82,36 @@ class WandStrasser final : public Method {
       if ((r.at(t) - p.c).squaredNorm() >= reach * reach) return 0.0f;
       return std::exp(-0.5f * q);
     };
-    const ProjectionSettings settings{float(params_.at("front_depth")) * reach_,
-                                      float(params_.at("min_weight")), reach_, reach_};
+    const ProjectionSettings settings{params_.front_depth * reach_, params_.min_weight, reach_,
+                                      reach_};
     return blend_projected_points(ray, leaf, splats_.packed, settings, weight, hit, counters);
   }
 
  private:
-  ParamValues params_;
+  WandStrasserParams params_;
   SplatSet splats_;
   float h_ = 0, sigma0_ = 0, spread_ = 0, sigma_max_ = 0, aspect_ = 1, cutoff_ = 3, reach_ = 0;
 };
 
-const RegisterMethod kRegister{MethodInfo{
-    "wand_strasser_2003",
-    "M. Wand and W. Strasser, Multi-resolution point-sample raytracing, Graphics Interface 2003",
-    "[64]",
-    "ray cone with two radii growing with t; Gaussian weights of the points' offsets in ray "
-    "coordinates; "
-    "tangent-plane projection and blending",
-    "octree",
-    {"point normals"},
-    [] {
-      auto p = normal_params();
-      p.push_back({"cone_radius", 1.0, 0.1, 50,
-                   "cone radius (Gaussian sigma along u) at the ray origin, in mean spacings h"});
-      p.push_back(
-          {"cone_spread", 0.0012, 0, 1,
-           "growth of the radius per unit t (about one 512-pixel pixel's angle at 35 deg)"});
-      p.push_back({"max_cone_radius", 2.0, 0.1, 100,
-                   "cap on the radius, in h (bounds each point's reach for the structure)"});
-      p.push_back(
-          {"aspect", 1.0, 0.1, 10, "radius along v over radius along u (1: a circular cone)"});
-      p.push_back({"cutoff", 3.0, 1, 6, "Gaussian cut off at this many sigma"});
-      p.push_back({"min_weight", 0.5, 0, 100,
-                   "blended weight a hit needs (coverage): 1 = one point on the axis"});
-      p.push_back({"front_depth", 0.5, 0, 20,
-                   "blend the points within this many reaches behind the front-most"});
-      return p;
-    }(),
-    {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-     {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-    [](const ParamValues& p) { return std::make_unique<WandStrasser>(p); },
-    {},
-    {&kProjectionTests},
-    LeafFamily::kProjection}};
-
 }  // namespace
+
+void register_wand_strasser_2003(MethodRegistry& registry) {
+  registry.add(MethodInfo{
+      "wand_strasser_2003",
+      "M. Wand and W. Strasser, Multi-resolution point-sample raytracing, Graphics Interface 2003",
+      "[64]",
+      "ray cone with two radii growing with t; Gaussian weights of the points' offsets in ray "
+      "coordinates; "
+      "tangent-plane projection and blending",
+      "octree",
+      {"point normals"},
+      wand_strasser_params().specs(),
+      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      create_from<WandStrasser>(wand_strasser_params(), "wand_strasser_2003"),
+      {},
+      {&kProjectionTests},
+      LeafFamily::kProjection});
+}
+
 }  // namespace pcrt

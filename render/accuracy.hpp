@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/surfaces.hpp"
-#include "harness/scene.hpp"
+#include "render/scene.hpp"
 
 namespace pcrt {
 

@@ -1,12 +1,12 @@
-#include "harness/renderer.hpp"
+#include "render/renderer.hpp"
 
 #include <tbb/global_control.h>
 
 #include <catch2/catch.hpp>
 
 #include "core/dataset.hpp"
-#include "harness/scene.hpp"
 #include "preprocess/point_attributes.hpp"
+#include "render/scene.hpp"
 
 using namespace pcrt;
 

@@ -1,4 +1,4 @@
-#include "harness/compare.hpp"
+#include "render/compare.hpp"
 
 #include <algorithm>
 #include <cassert>

@@ -1,4 +1,4 @@
-#include "harness/memory_estimate.hpp"
+#include "render/memory_estimate.hpp"
 
 #include <algorithm>
 
@@ -26,8 +26,8 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
   // The oriented splats: packed records, loose centres, normals, half extents, radii and the
   // point index, with the radii estimate beside them. The k-NN index and the layout's Morton keys
   // are freed before the layout's arrays are made, and are smaller.
-  size_t bytes = sizeof(PackedSplat) + 3 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t) +
-                 sizeof(float);
+  size_t bytes =
+      sizeof(PackedSplat) + 3 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t) + sizeof(float);
   const auto it = params.find("estimate_normals");
   if (!cloud.has_normals() || (it != params.end() && it->second != 0)) {
     // The k-NN graph of the orientation tree, its degrees and the normals themselves.

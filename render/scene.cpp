@@ -1,11 +1,11 @@
-#include "harness/scene.hpp"
+#include "render/scene.hpp"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
-#include "harness/memory_estimate.hpp"
+#include "render/memory_estimate.hpp"
 
 namespace pcrt {
 

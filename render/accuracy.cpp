@@ -1,4 +1,4 @@
-#include "harness/accuracy.hpp"
+#include "render/accuracy.hpp"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "core/rng.hpp"
-#include "harness/renderer.hpp"
+#include "render/renderer.hpp"
 
 namespace pcrt {
 namespace {

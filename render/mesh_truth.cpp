@@ -1,4 +1,4 @@
-#include "harness/mesh_truth.hpp"
+#include "render/mesh_truth.hpp"
 
 #include <random>
 

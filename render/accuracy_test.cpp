@@ -2,7 +2,7 @@
 // sphere and torus of 10^5 points. A method that cannot meet a bound as its paper describes it is
 // listed below with the bound it misses and why; the test checks that it still misses exactly
 // that one (so a fix shows up, and nothing else slips).
-#include "harness/accuracy.hpp"
+#include "render/accuracy.hpp"
 
 #include <catch2/catch.hpp>
 #include <map>
@@ -10,8 +10,8 @@
 
 #include "core/dataset.hpp"
 #include "core/rng.hpp"
-#include "harness/scene.hpp"
 #include "preprocess/point_attributes.hpp"
+#include "render/scene.hpp"
 
 using namespace pcrt;
 

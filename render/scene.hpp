@@ -59,7 +59,7 @@ class PointScene final : public SceneIntersector {
   [[nodiscard]] size_t structure_bytes() const {
     return structure_ ? structure_->memory_bytes() : 0;
   }
-  // What the method and structure were estimated to add to the cloud (harness/memory_estimate).
+  // What the method and structure were estimated to add to the cloud (render/memory_estimate).
   [[nodiscard]] size_t estimated_bytes() const { return estimated_bytes_; }
 
  private:

@@ -1,4 +1,4 @@
-#include "harness/renderer.hpp"
+#include "render/renderer.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>

@@ -12,7 +12,7 @@
 #include "core/image.hpp"
 #include "core/point_cloud.hpp"
 #include "core/rng.hpp"
-#include "harness/scene.hpp"
+#include "render/scene.hpp"
 
 namespace pcrt {
 

@@ -1,5 +1,5 @@
 // The frame comparison on hand-made frames, and end to end: a mesh against itself agrees.
-#include "harness/compare.hpp"
+#include "render/compare.hpp"
 
 #include <catch2/catch.hpp>
 

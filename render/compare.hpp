@@ -6,7 +6,7 @@
 #include <cstddef>
 
 #include "core/image.hpp"
-#include "harness/renderer.hpp"
+#include "render/renderer.hpp"
 
 namespace pcrt {
 

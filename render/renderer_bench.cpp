@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 
 #include "core/dataset.hpp"
-#include "harness/renderer.hpp"
+#include "render/renderer.hpp"
 
 namespace pcrt {
 namespace {

@@ -1,4 +1,4 @@
-#include "harness/memory_estimate.hpp"
+#include "render/memory_estimate.hpp"
 
 #include <catch2/catch.hpp>
 
