@@ -120,112 +120,134 @@ std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uin
   return rays;
 }
 
+namespace {
+
+// One ray judged against the exact surface: the method's closest hit compared with the exact
+// first hit (or, on a ray that misses the surface by more than 2h, with none).
+RayOutcome judge_ray(const SceneIntersector& scene, const Surface& truth, const Ray& ray, float hf,
+                     float scale, OpCounters& counters) {
+  Hit hit;
+  const bool found = scene.closest_hit(ray, hit, counters);
+  float t_true = 0;
+  Vec3 n_true;
+  RayOutcome o;
+  if (!truth.intersect(ray, t_true, n_true)) {
+    if (closest_approach(truth, ray, scale) <= 2.0f * hf) return o;  // near miss: not judged
+    o.verdict = found ? Verdict::kMissPhantom : Verdict::kGoodMiss;
+    if (found) o.phantom_near_crease = near_crease(truth, hit.p, hf);
+    return o;
+  }
+  if (std::abs(n_true.dot(ray.d)) < 0.1f) return o;  // grazing: not judged
+  const Vec3 p_true = ray.at(t_true);
+  o.feature = feature_at(truth, p_true, hf);
+  o.normal_judged = truth.smooth_at(p_true, 2.0f * hf);  // (for a false hit: smooth where missed?)
+  if (!found) {
+    o.verdict = Verdict::kHole;
+  } else if ((hit.p - p_true).norm() > 5.0f * hf) {
+    o.verdict = false_hit_cause(truth, hit, t_true, hf);
+    if (o.verdict == Verdict::kPhantom) o.phantom_near_crease = near_crease(truth, hit.p, hf);
+  } else {
+    o.verdict = Verdict::kGoodHit;
+    o.distance_h = std::abs(truth.signed_distance(hit.p)) / hf;
+    o.normal_deg = unsigned_angle_deg(hit.n, truth.normal(hit.p));
+    o.smooth_normal_deg = unsigned_angle_deg(hit.n, truth.smooth_normal(hit.p));
+    o.floor_deg = unsigned_angle_deg(n_true, truth.smooth_normal(p_true));
+  }
+  return o;
+}
+
+// The per-hit values whose quantiles the report gives.
+struct HitSamples {
+  std::vector<float> distance, angle, smooth_angle, floor;
+};
+
+// A false hit on a ray the surface does hit still counts among the judged hits.
+void count_false_hit(const RayOutcome& o, AccuracyReport& r) {
+  ++r.judged_hits, ++r.false_hits;
+  count_feature(r.judged_split, o.feature);
+  if (o.verdict == Verdict::kSeeThrough) {
+    ++r.see_through;
+    r.see_through_smooth += o.normal_judged;
+    count_feature(r.see_through_split, o.feature);
+  } else if (o.verdict == Verdict::kEarly) {
+    ++r.early;
+  } else {
+    ++r.phantom;
+    r.phantom_near_crease += o.phantom_near_crease;
+  }
+}
+
+void count_outcome(const RayOutcome& o, AccuracyReport& r, HitSamples& samples) {
+  switch (o.verdict) {
+    case Verdict::kIgnored:
+      return;
+    case Verdict::kHole:
+      ++r.judged_hits, ++r.holes;
+      count_feature(r.hole_split, o.feature);
+      count_feature(r.judged_split, o.feature);
+      return;
+    case Verdict::kGoodHit:
+      ++r.judged_hits;
+      count_feature(r.judged_split, o.feature);
+      samples.distance.push_back(o.distance_h);
+      samples.smooth_angle.push_back(o.smooth_normal_deg);
+      if (o.normal_judged) {
+        ++r.normal_judged;
+        samples.angle.push_back(o.normal_deg);
+        samples.floor.push_back(o.floor_deg);
+      }
+      return;
+    case Verdict::kGoodMiss:
+      ++r.judged_misses;
+      return;
+    case Verdict::kSeeThrough:
+    case Verdict::kEarly:
+    case Verdict::kPhantom:
+      count_false_hit(o, r);
+      return;
+    case Verdict::kMissPhantom:
+      ++r.judged_misses, ++r.false_hits, ++r.phantom;
+      r.phantom_near_crease += o.phantom_near_crease;
+      return;
+  }
+}
+
+double quantile(std::vector<float> v, double q) {
+  if (v.empty()) return std::nan("");
+  const auto k = size_t(std::min<double>(double(v.size() - 1), q * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return double(v[k]);
+}
+
+void summarise(const HitSamples& samples, AccuracyReport& r) {
+  r.hole_rate = r.judged_hits ? double(r.holes) / double(r.judged_hits) : 0;
+  const size_t judged = r.judged_hits + r.judged_misses;
+  r.false_hit_rate = judged ? double(r.false_hits) / double(judged) : 0;
+  r.distance_median_h = quantile(samples.distance, 0.5);
+  r.distance_p95_h = quantile(samples.distance, 0.95);
+  r.normal_median_deg = quantile(samples.angle, 0.5);
+  r.normal_p95_deg = quantile(samples.angle, 0.95);
+  r.smooth_normal_median_deg = quantile(samples.smooth_angle, 0.5);
+  r.faceting_floor_deg = quantile(samples.floor, 0.5);
+}
+
+}  // namespace
+
 AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& truth, double h,
                                  const std::vector<Ray>& rays, OpCounters& counters) {
   const float scale = truth.bounds().diagonal();
-  const auto hf = float(h);
   std::vector<RayOutcome> out(rays.size());
   tbb::combinable<OpCounters> per_thread;
   tbb::parallel_for(size_t(0), rays.size(), [&](size_t i) {
-    const Ray& ray = rays[i];
-    Hit hit;
-    const bool found = scene.closest_hit(ray, hit, per_thread.local());
-    float t_true = 0;
-    Vec3 n_true;
-    RayOutcome& o = out[i];
-    if (truth.intersect(ray, t_true, n_true)) {
-      if (std::abs(n_true.dot(ray.d)) < 0.1f) return;  // grazing: not judged
-      o.feature = feature_at(truth, ray.at(t_true), hf);
-      if (!found) {
-        o.verdict = Verdict::kHole;
-        return;
-      }
-      if ((hit.p - ray.at(t_true)).norm() > 5.0f * hf) {
-        o.verdict = false_hit_cause(truth, hit, t_true, hf);
-        if (o.verdict == Verdict::kPhantom) o.phantom_near_crease = near_crease(truth, hit.p, hf);
-        o.normal_judged = truth.smooth_at(ray.at(t_true), 2.0f * hf);  // smooth where missed?
-        return;
-      }
-      o.verdict = Verdict::kGoodHit;
-      o.distance_h = std::abs(truth.signed_distance(hit.p)) / hf;
-      const Vec3 p_true = ray.at(t_true);
-      o.normal_judged = truth.smooth_at(p_true, 2.0f * hf);
-      o.normal_deg = unsigned_angle_deg(hit.n, truth.normal(hit.p));
-      o.smooth_normal_deg = unsigned_angle_deg(hit.n, truth.smooth_normal(hit.p));
-      o.floor_deg = unsigned_angle_deg(n_true, truth.smooth_normal(p_true));
-      return;
-    }
-    if (closest_approach(truth, ray, scale) <= 2.0f * hf) return;  // near miss: not judged
-    o.verdict = found ? Verdict::kMissPhantom : Verdict::kGoodMiss;
-    if (found) o.phantom_near_crease = near_crease(truth, hit.p, hf);
+    out[i] = judge_ray(scene, truth, rays[i], float(h), scale, per_thread.local());
   });
   per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
-
   AccuracyReport r;
   r.rays = rays.size();
   r.mean_spacing = h;
-  std::vector<float> dist, angle, smooth_angle, floor;
-  for (const RayOutcome& o : out) {
-    switch (o.verdict) {
-      case Verdict::kIgnored:
-        continue;
-      case Verdict::kHole:
-        ++r.judged_hits, ++r.holes;
-        count_feature(r.hole_split, o.feature);
-        count_feature(r.judged_split, o.feature);
-        break;
-      case Verdict::kGoodHit:
-        ++r.judged_hits;
-        count_feature(r.judged_split, o.feature);
-        dist.push_back(o.distance_h);
-        smooth_angle.push_back(o.smooth_normal_deg);
-        if (o.normal_judged) {
-          ++r.normal_judged;
-          angle.push_back(o.normal_deg);
-          floor.push_back(o.floor_deg);
-        }
-        break;
-      case Verdict::kGoodMiss:
-        ++r.judged_misses;
-        break;
-      // A false hit on a ray the surface does hit still counts among the judged hits.
-      case Verdict::kSeeThrough:
-        ++r.judged_hits, ++r.false_hits, ++r.see_through;
-        r.see_through_smooth += o.normal_judged;
-        count_feature(r.see_through_split, o.feature);
-        count_feature(r.judged_split, o.feature);
-        break;
-      case Verdict::kEarly:
-        ++r.judged_hits, ++r.false_hits, ++r.early;
-        count_feature(r.judged_split, o.feature);
-        break;
-      case Verdict::kPhantom:
-        ++r.judged_hits, ++r.false_hits, ++r.phantom;
-        r.phantom_near_crease += o.phantom_near_crease;
-        count_feature(r.judged_split, o.feature);
-        break;
-      case Verdict::kMissPhantom:
-        ++r.judged_misses, ++r.false_hits, ++r.phantom;
-        r.phantom_near_crease += o.phantom_near_crease;
-        break;
-    }
-  }
-  auto quantile = [](std::vector<float> v, double q) {
-    if (v.empty()) return std::nan("");
-    const auto k = size_t(std::min<double>(double(v.size() - 1), q * double(v.size())));
-    std::nth_element(v.begin(), v.begin() + long(k), v.end());
-    return double(v[k]);
-  };
-  r.hole_rate = r.judged_hits ? double(r.holes) / double(r.judged_hits) : 0;
-  r.false_hit_rate = (r.judged_hits + r.judged_misses)
-                         ? double(r.false_hits) / double(r.judged_hits + r.judged_misses)
-                         : 0;
-  r.distance_median_h = quantile(dist, 0.5);
-  r.distance_p95_h = quantile(dist, 0.95);
-  r.normal_median_deg = quantile(angle, 0.5);
-  r.normal_p95_deg = quantile(angle, 0.95);
-  r.smooth_normal_median_deg = quantile(smooth_angle, 0.5);
-  r.faceting_floor_deg = quantile(floor, 0.5);
+  HitSamples samples;
+  for (const RayOutcome& o : out) count_outcome(o, r, samples);
+  summarise(samples, r);
   return r;
 }
 
