@@ -248,10 +248,8 @@ py::list structures() {
   return out;
 }
 
-}  // namespace
-
-PYBIND11_MODULE(_pcrt, m) {
-  m.doc() = "pcrt: ray tracing point clouds with the methods of the 2019 survey";
+// pcrt.Error: an InputError's one-line message as a ValueError.
+void bind_errors(py::module_& m) {
   static py::exception<InputError> error(m, "Error", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
@@ -260,7 +258,10 @@ PYBIND11_MODULE(_pcrt, m) {
       error(e.what());
     }
   });
+}
 
+// pcrt.Cloud: the cloud's own arrays as read-only numpy views.
+void bind_cloud(py::module_& m) {
   py::class_<PointCloud, std::shared_ptr<PointCloud>>(m, "Cloud")
       .def_property_readonly("name", [](const PointCloud& c) { return c.name; })
       .def("__len__", &PointCloud::size)
@@ -304,6 +305,14 @@ PYBIND11_MODULE(_pcrt, m) {
       .def("__repr__", [](const PointCloud& c) {
         return fmt::format("<pcrt.Cloud {} points from {}>", c.size(), c.name);
       });
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_pcrt, m) {
+  m.doc() = "pcrt: ray tracing point clouds with the methods of the 2019 survey";
+  bind_errors(m);
+  bind_cloud(m);
 
   m.def(
       "load",

@@ -26,6 +26,37 @@ void unpack(uint64_t key, int64_t& x, int64_t& y, int64_t& z) {
   z = int64_t(key >> 42 & 0x1fffff) - kBias;
 }
 
+// The cells within one cell of a point's cell, sorted, each once.
+std::vector<uint64_t> occupied_cells(std::span<const Vec3> points, const Vec3& origin, float size) {
+  std::vector<uint64_t> keys;
+  keys.reserve(points.size() * 27);
+  for (const Vec3& p : points) {
+    const Vec3 q = (p - origin) / size;
+    const int64_t x = int64_t(q.x()), y = int64_t(q.y()), z = int64_t(q.z());
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) keys.push_back(pack(x + dx, y + dy, z + dz));
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+// The corners of those cells, sorted, each once.
+std::vector<uint64_t> cell_corners(const std::vector<uint64_t>& keys) {
+  std::vector<uint64_t> corners;
+  corners.reserve(keys.size() * 8);
+  for (uint64_t key : keys) {
+    int64_t x, y, z;
+    unpack(key, x, y, z);
+    for (int c = 0; c < 8; ++c)
+      corners.push_back(pack(x + (c & 1), y + (c >> 1 & 1), z + (c >> 2)));
+  }
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  return corners;
+}
+
 }  // namespace
 
 const ParamList<ImplicitCellsParams>& ImplicitCellsParams::list() {
@@ -57,30 +88,20 @@ void ImplicitCells::prepare(const PointCloud& cloud, const ImplicitCellsParams& 
         "implicit octree: cell_size too small for the cloud's extent (more than 2^20 "
         "cells per axis)");
   }
-  // The cells within one cell of a point's cell.
   ScopedTimer timer(ctx.timings, "prepare/implicit_octree");
-  std::vector<uint64_t> keys;
-  keys.reserve(pts.size() * 27);
-  for (const Vec3& p : pts.centres) {
-    const Vec3 q = (p - origin_) / size_;
-    const int64_t x = int64_t(q.x()), y = int64_t(q.y()), z = int64_t(q.z());
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) keys.push_back(pack(x + dx, y + dy, z + dz));
-  }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  std::vector<uint64_t> corners;
-  corners.reserve(keys.size() * 8);
-  for (uint64_t key : keys) {
-    int64_t x, y, z;
-    unpack(key, x, y, z);
-    for (int c = 0; c < 8; ++c)
-      corners.push_back(pack(x + (c & 1), y + (c >> 1 & 1), z + (c >> 2)));
-  }
-  std::sort(corners.begin(), corners.end());
-  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-  // Corner values: the Gaussian-weighted average plane of the K nearest points.
+  const std::vector<uint64_t> keys = occupied_cells(pts.centres, origin_, size_);
+  const std::vector<uint64_t> corners = cell_corners(keys);
+  const std::vector<uint32_t> corner_prim = evaluate_corners(corners, pts, knn, params, h, ctx);
+  ctx.counters.add(kImplicitCells, keys.size());
+  link_cells(keys, corners, corner_prim);
+}
+
+// Corner values: the Gaussian-weighted average plane of the K nearest points. Returns the nearest
+// point of each corner (for the cells' colours).
+std::vector<uint32_t> ImplicitCells::evaluate_corners(const std::vector<uint64_t>& corners,
+                                                      const SplatSet& pts, const KnnIndex& knn,
+                                                      const ImplicitCellsParams& params, float h,
+                                                      PrepareContext& ctx) {
   const size_t k = std::min(params.K, kMaxK);
   const double inv_two_sigma2 = 0.5 / std::pow(params.sigma * h, 2);
   f_.resize(corners.size());
@@ -112,7 +133,12 @@ void ImplicitCells::prepare(const PointCloud& cloud, const ImplicitCellsParams& 
   ctx.counters.add(kKnnQueries, corners.size());
   ctx.counters.add(kKnnResults, corners.size() * std::min(k, pts.size()));
   ctx.counters.add(kCornerEvaluations, corners.size());
-  ctx.counters.add(kImplicitCells, keys.size());
+  return corner_prim;
+}
+
+void ImplicitCells::link_cells(const std::vector<uint64_t>& keys,
+                               const std::vector<uint64_t>& corners,
+                               const std::vector<uint32_t>& corner_prim) {
   cells_.resize(keys.size());
   centres_.resize(keys.size());
   half_extents_.assign(keys.size(), Vec3::Constant(0.5f * size_ * 1.0001f));

@@ -15,6 +15,7 @@
 #include "core/point_cloud.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
+#include "structures/knn_index.hpp"
 
 namespace pcrt {
 
@@ -51,6 +52,11 @@ class ImplicitCells {
   };
   bool march(const Ray& ray, uint32_t cell, float t0, float t1, float& t_hit, Vec3& n_hit,
              OpCounters& counters) const;
+  std::vector<uint32_t> evaluate_corners(const std::vector<uint64_t>& corners, const SplatSet& pts,
+                                         const KnnIndex& knn, const ImplicitCellsParams& params,
+                                         float h, PrepareContext& ctx);
+  void link_cells(const std::vector<uint64_t>& keys, const std::vector<uint64_t>& corners,
+                  const std::vector<uint32_t>& corner_prim);
 
   float size_ = 1;
   int steps_ = 4;
