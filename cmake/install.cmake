@@ -7,6 +7,7 @@ install(TARGETS ${PCRT_LAYERS} EXPORT pcrtTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pcrt)
 install(TARGETS pcrt RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(FILES ${CMAKE_SOURCE_DIR}/scripts/report.py DESTINATION ${CMAKE_INSTALL_DATADIR}/pcrt)
 foreach(layer core structures preprocess methods render reconstruction harness)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/${layer} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pcrt
           FILES_MATCHING PATTERN "*.hpp")

@@ -17,4 +17,9 @@ struct BuildInfo {
 
 const BuildInfo& build_info();
 
+// A script pcrt runs (report.py): in the source tree it was built from, else where
+// `cmake --install` put it (<prefix>/share/pcrt, beside <prefix>/bin/pcrt). Throws InputError
+// naming both places when neither has it.
+std::string installed_script(const std::string& name);
+
 }  // namespace pcrt

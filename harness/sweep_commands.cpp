@@ -299,7 +299,7 @@ int command_report(const Args& args) {
   const std::string dir = a.positional()[0];
   if (!fs::exists(dir + "/fits.json")) command_fit({dir});
   // Run without a shell, so that no quote in a path can break the command.
-  const std::string script = build_info().source_dir + "/scripts/report.py";
+  const std::string script = installed_script("report.py");
   const CommandOutput out = run_command({python(), script, dir});
   std::fputs(out.out.c_str(), stdout);
   std::fputs(out.err.c_str(), stderr);

@@ -18,3 +18,6 @@ if grep -q -- "-I$(cd "$here/.." && pwd)\b" "$tmp/build/build.ninja"; then
   exit 1
 fi
 "$tmp/build/consumer"
+# The installed CLI and the report script beside it.
+"$tmp/prefix/bin/pcrt" list >/dev/null
+test -f "$tmp/prefix/share/pcrt/report.py"
