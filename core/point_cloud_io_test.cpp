@@ -3,7 +3,10 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <atomic>
 #include <filesystem>
+#include <fstream>
+#include <thread>
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -204,4 +207,35 @@ TEST_CASE("hostile inputs: huge coordinates, property-less elements, endless str
                         "/dev/zero: more than 1048576 bytes from a stream without a size");
     REQUIRE_INPUT_ERROR(read_file(pcrt::test::scratch_dir().string()), "is a directory");
   }
+}
+
+// A log another process appends to (a sweep's runs.jsonl under `pcrt cluster status`) is read as
+// it was when reading began; an input that grows is refused. A writer appends lines while the
+// file is read: a snapshot never fails and is always a whole prefix of what is there afterwards.
+TEST_CASE("read_file takes a snapshot of a file that grows while it is read", "[io]") {
+  const auto path = std::filesystem::temp_directory_path() / "pcrt_growing_log.txt";
+  const std::string line(255, 'x');
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    for (int i = 0; i < (1 << 16); ++i) out << line << '\n';  // 16 MiB before reading begins
+  }
+  std::atomic<bool> stop{false};
+  std::thread writer([&] {
+    std::ofstream out(path, std::ios::binary | std::ios::app);
+    while (!stop) out << line << '\n' << std::flush;
+  });
+  size_t smallest = SIZE_MAX;
+  std::string snapshot;
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    snapshot = read_file(path.string(), kMaxStreamBytes, FileGrowth::kSnapshot);
+    smallest = std::min(smallest, snapshot.size());
+  }
+  stop = true;
+  writer.join();
+  std::ifstream in(path, std::ios::binary);
+  const std::string after((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(path);
+  CHECK(smallest >= (size_t(1) << 24));
+  REQUIRE(snapshot.size() <= after.size());
+  CHECK(after.compare(0, snapshot.size(), snapshot) == 0);
 }
