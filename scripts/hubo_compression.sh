@@ -1,11 +1,10 @@
 #!/usr/bin/env bash
 # Hubo et al.'s compression against the uncompressed method (issue 16): for each variant
-# (hubo_2006 with quantized=0 and =1), its accuracy against exact surfaces (`pcrt accuracy`: the
+# (hubo_2006 with quantized=0 and =1, hubo_2007 with compressed=0 and =1), its accuracy against exact surfaces (`pcrt accuracy`: the
 # generated sphere and torus, and the bunny mesh sampled by area) and, on a real scan without a
 # true surface (CGAL's building.ply), the hits of the two variants on the same rays compared with
-# each other (`pcrt trace`), with what each variant holds there: the quantized kd-tree's bytes
-# (prepare counter qkd_bytes) and the uncompressed kd-tree's structure_bytes.
-# Writes OUT/accuracy.jsonl, OUT/trace_pairs.json and OUT/summary.md.
+# each other (`pcrt trace`), with, for scale, how far the uncompressed method's hits move when only
+# its structure changes. Writes OUT/accuracy.jsonl, OUT/trace_pairs.json and OUT/summary.md.
 # Usage: scripts/hubo_compression.sh OUT [build/bin/pcrt] [DATA_DIR]
 set -euo pipefail
 out=$1
@@ -15,7 +14,8 @@ mkdir -p "$out"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 : >"$out/accuracy.jsonl"
-variants=("hubo_2006 quantized=0" "hubo_2006 quantized=1")
+variants=("hubo_2006 quantized=0" "hubo_2006 quantized=1" "hubo_2007 compressed=0"
+  "hubo_2007 compressed=1")
 accuracy() {  # LABEL ARGS...
   local label=$1
   shift
@@ -55,34 +55,50 @@ d /= np.linalg.norm(d, axis=1, keepdims=True)
 np.savetxt(sys.argv[2], np.hstack([o, d]), delimiter=",", header="ox,oy,oz,dx,dy,dz",
            comments="", fmt="%.7g")
 PY
-for q in 0 1; do
-  "$pcrt" trace --method hubo_2006 --set quantized=$q --data "$scan" --rays "$tmp/rays.csv" \
-    --out "$tmp/hits$q.csv" --threads 2 --stats "$tmp/trace$q.json" >/dev/null
-done
+# Per method: 0 uncompressed on its structure, 1 compressed, 2 uncompressed on another structure
+# (how much the hits move when only the leaves the search runs in change, for scale).
+trace() {  # METHOD TAG ARGS...
+  local m=$1 tag=$2
+  shift 2
+  "$pcrt" trace --method "$m" "$@" --data "$scan" --rays "$tmp/rays.csv" --out "$tmp/hits_$tag.csv" \
+    --threads 2 --stats "$tmp/trace_$tag.json" >/dev/null
+}
+trace hubo_2006 hubo_2006_0 --set quantized=0
+trace hubo_2006 hubo_2006_1 --set quantized=1
+trace hubo_2006 hubo_2006_2 --set quantized=0 --structure octree
+trace hubo_2007 hubo_2007_0 --set compressed=0
+trace hubo_2007 hubo_2007_1 --set compressed=1
+trace hubo_2007 hubo_2007_2 --set compressed=0 --structure kd_tree
 /usr/bin/python3 - "$tmp" "$out/trace_pairs.json" "$scan" <<'PY'
 import json, sys
 from pathlib import Path
 import numpy as np
 tmp, out, scan = Path(sys.argv[1]), Path(sys.argv[2]), sys.argv[3]
-h = json.loads((tmp / "info.json").read_text())["mean_spacing"]
-a = np.genfromtxt(tmp / "hits0.csv", delimiter=",", names=True)
-b = np.genfromtxt(tmp / "hits1.csv", delimiter=",", names=True)
-both = (a["hit"] == 1) & (b["hit"] == 1)
-dt = np.abs(a["t"][both] - b["t"][both]) / h
-na = np.stack([a["nx"], a["ny"], a["nz"]], 1)[both]
-nb = np.stack([b["nx"], b["ny"], b["nz"]], 1)[both]
-ang = np.degrees(np.arccos(np.clip(np.abs(np.sum(na * nb, 1)), -1, 1)))
-stats = [json.loads((tmp / f"trace{q}.json").read_text()) for q in (0, 1)]
-res = {"data": scan, "rays": int(len(a)), "h": h,
-       "hits_uncompressed": int(a["hit"].sum()), "hits_quantized": int(b["hit"].sum()),
-       "hit_only_one": int(((a["hit"] == 1) != (b["hit"] == 1)).sum()),
-       "dt_h_median": float(np.median(dt)), "dt_h_p95": float(np.percentile(dt, 95)),
-       "dt_h_p99": float(np.percentile(dt, 99)), "dt_over_1h": int((dt > 1).sum()),
-       "normal_deg_median": float(np.median(ang)), "normal_deg_p95": float(np.percentile(ang, 95)),
-       "points": int(json.loads((tmp / "info.json").read_text())["points"]),
-       "qkd_bytes": stats[1]["prepare_counters"].get("qkd_bytes"),
-       "structure_bytes_uncompressed": stats[0].get("structure_bytes"),
-       "counters": [s["counters"] for s in stats]}
+info = json.loads((tmp / "info.json").read_text())
+h = info["mean_spacing"]
+def pair(a, b):
+    both = (a["hit"] == 1) & (b["hit"] == 1)
+    dt = np.abs(a["t"][both] - b["t"][both]) / h
+    na = np.stack([a["nx"], a["ny"], a["nz"]], 1)[both]
+    nb = np.stack([b["nx"], b["ny"], b["nz"]], 1)[both]
+    ang = np.degrees(np.arccos(np.clip(np.abs(np.sum(na * nb, 1)), -1, 1)))
+    return {"hits": [int(a["hit"].sum()), int(b["hit"].sum())],
+            "hit_only_one": int(((a["hit"] == 1) != (b["hit"] == 1)).sum()),
+            "dt_h_median": float(np.median(dt)), "dt_h_p95": float(np.percentile(dt, 95)),
+            "dt_h_p99": float(np.percentile(dt, 99)), "dt_over_1h": int((dt > 1).sum()),
+            "normal_deg_median": float(np.median(ang)),
+            "normal_deg_p95": float(np.percentile(ang, 95))}
+res = {"data": scan, "h": h, "points": int(info["points"])}
+for m, other in (("hubo_2006", "octree"), ("hubo_2007", "kd_tree")):
+    hits = [np.genfromtxt(tmp / f"hits_{m}_{q}.csv", delimiter=",", names=True) for q in (0, 1, 2)]
+    stats = [json.loads((tmp / f"trace_{m}_{q}.json").read_text()) for q in (0, 1, 2)]
+    res["rays"] = int(len(hits[0]))
+    res[m] = {"compressed_vs_uncompressed": pair(hits[0], hits[1]),
+              "uncompressed_other_structure": other,
+              "other_structure_vs_uncompressed": pair(hits[0], hits[2]),
+              "prepare_counters": [s["prepare_counters"] for s in stats[:2]],
+              "structure_bytes": [s.get("structure_bytes") for s in stats[:2]],
+              "counters": [s["counters"] for s in stats[:2]]}
 out.write_text(json.dumps(res, indent=1) + "\n")
 PY
 
@@ -99,17 +115,21 @@ for r in rows:
                  f"{100*a['false_hit_rate']:.3f} | {a['distance_median_h']:.4f} | {a['distance_p95_h']:.4f} | "
                  f"{a['normal_median_deg']:.3f} | {a['normal_p95_deg']:.3f} |")
 t = json.loads((out / "trace_pairs.json").read_text())
-# The uncompressed method's splat layout per point (methods/kernels/splat_set.hpp): point index 4,
-# centre 12, normal 12, radius 4, half extents 12, packed record 32.
-layout = 4 + 12 + 12 + 4 + 12 + 32
-lines += ["", f"Real scan {t['data']} ({t['rays']} rays, h = {t['h']:.4f}): hits {t['hits_uncompressed']} "
-          f"uncompressed, {t['hits_quantized']} quantized, {t['hit_only_one']} rays hit in one only; "
-          f"|t difference| median {t['dt_h_median']:.4f} h, p95 {t['dt_h_p95']:.4f} h, p99 {t['dt_h_p99']:.4f} h, "
-          f"{t['dt_over_1h']} rays over 1 h; normal difference median {t['normal_deg_median']:.3f}, "
-          f"p95 {t['normal_deg_p95']:.3f} degrees.",
-          "", f"Held on it per point: quantized kd-tree {t['qkd_bytes'] / t['points']:.1f} B "
-          f"(qkd_bytes); uncompressed splat layout {layout} B + kd-tree "
-          f"{t['structure_bytes_uncompressed'] / t['points']:.1f} B (structure_bytes)."]
+def sentence(p, what):
+    return (f"{what}: hits {p['hits'][0]} and {p['hits'][1]}, {p['hit_only_one']} rays hit in one only; "
+            f"|t difference| median {p['dt_h_median']:.4f} h, p95 {p['dt_h_p95']:.4f} h, p99 {p['dt_h_p99']:.3f} h, "
+            f"{p['dt_over_1h']} rays over 1 h; normal difference median {p['normal_deg_median']:.3f}, "
+            f"p95 {p['normal_deg_p95']:.3f} degrees.")
+lines += ["", f"Real scan {t['data']} ({t['rays']} rays, h = {t['h']:.4f}), the same rays traced by each variant:", ""]
+for m in ("hubo_2006", "hubo_2007"):
+    r = t[m]
+    lines += ["* " + sentence(r["compressed_vs_uncompressed"], f"{m} uncompressed vs compressed"),
+              "* " + sentence(r["other_structure_vs_uncompressed"],
+                              f"for scale, {m} uncompressed vs uncompressed on {r['uncompressed_other_structure']}")]
+pc = [t[m]["prepare_counters"][1] for m in ("hubo_2006", "hubo_2007")]
+lines += ["", f"Compressed, held per point on it: hubo_2006 quantized kd-tree {pc[0]['qkd_bytes'] / t['points']:.1f} B "
+          f"(qkd_bytes), hubo_2007 instances, representatives and patch spheres "
+          f"{pc[1]['codebook_bytes'] / t['points']:.1f} B (codebook_bytes, {pc[1]['implicit_patches']} patches)."]
 (out / "summary.md").write_text("\n".join(lines) + "\n")
 print("\n".join(lines))
 PY

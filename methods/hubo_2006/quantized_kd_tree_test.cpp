@@ -115,7 +115,7 @@ TEST_CASE("hubo_2006 quantized finds the uncompressed method's hits", "[quantize
     if (ha != hb) ++one;
     if (!(ha && hb)) continue;
     ++both;
-    if (std::abs(a.t - b.t) > 0.05 * h) ++far;
+    if (std::abs((a.p - b.p).dot(a.n)) > 0.05 * h) ++far;  // apart along the surface normal
   }
   CHECK(both > 1000);
   CHECK(one <= rays.size() / 500);
