@@ -205,9 +205,11 @@ void PatchCodebook::set_residual(size_t k, uint32_t rep, const PatchInput& p,
   const Descriptor r = heights(std::span<const LocalPoint>(rep_points_)
                                    .subspan(rep_begin_[rep], rep_begin_[rep + 1] - rep_begin_[rep]),
                                &rep_filled);
+  in.footprint = 0;
   for (int c = 0; c < kCells; ++c) {
     const float q = std::clamp(std::round((own[c] - r[c]) * 127.0f), -127.0f, 127.0f);
     in.residual[c] = own_filled[c] && rep_filled[c] ? int8_t(q) : int8_t(0);
+    if (own_filled[c]) in.footprint |= uint16_t(1u << c);
   }
 }
 
@@ -218,7 +220,9 @@ void PatchCodebook::decode(uint32_t k, const Vec3& centre, std::vector<PackedSpl
   const uint32_t b = rep_begin_[in.cluster], e = rep_begin_[in.cluster + 1];
   for (uint32_t i = b; i < e; ++i) {
     const LocalPoint& lp = rep_points_[i];
-    const float z = lp.z + float(in.residual[cell_of(lp.x, lp.y)]) * (1.0f / 127.0f);
+    const int cell = cell_of(lp.x, lp.y);
+    if (!(in.footprint >> cell & 1u)) continue;
+    const float z = lp.z + float(in.residual[cell]) * (1.0f / 127.0f);
     const Vec3 p = centre + in.scale * (lp.x * f.u + lp.y * f.v + z * f.n);
     const Vec3 n = (lp.nx * f.u + lp.ny * f.v + lp.nz * f.n).normalized();
     out.push_back(PackedSplat{p, 0.0f, n, in.prim});

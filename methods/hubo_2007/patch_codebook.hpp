@@ -5,7 +5,8 @@
 // tangent square, and the descriptors are clustered (k-means); each cluster's representative is
 // its member nearest the cluster mean, kept as local points. A patch is then stored as an instance:
 // its frame, its cluster, and a residual (4x4 heights, 8 bits each) that moves the representative's
-// points onto its own height field. Decoding one patch needs only its instance and its
+// points onto its own height field, and its footprint (the representative's points in cells the
+// patch has none of are left out). Decoding one patch needs only its instance and its
 // representative (random access). See README.md for the layout and bytes.
 #pragma once
 
@@ -53,6 +54,7 @@ class PatchCodebook {
     uint16_t normal_u, normal_v;  // octahedral, 16 bits each
     uint16_t angle;               // the in-plane axis around the normal, 16 bits of a turn
     uint16_t cluster;
+    uint16_t footprint;              // the cells the patch has points in (decoded: only those)
     int8_t residual[kGrid * kGrid];  // height corrections in 1/127 of the scale
     uint32_t prim;                   // the cloud point nearest the centre (the hit's colour)
   };
