@@ -69,6 +69,12 @@ trace hubo_2006 hubo_2006_2 --set quantized=0 --structure octree
 trace hubo_2007 hubo_2007_0 --set compressed=0
 trace hubo_2007 hubo_2007_1 --set compressed=1
 trace hubo_2007 hubo_2007_2 --set compressed=0 --structure kd_tree
+# hubo_2007's loss against the number of representatives, up to one per patch (the codec alone).
+patches=$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["prepare_counters"]["implicit_patches"])' "$tmp/trace_hubo_2007_1.json")
+for k in 2048 "$patches"; do
+  trace hubo_2007 "codebook_$k" --set compressed=1 --set codebook="$k"
+done
+echo "$patches" >"$tmp/patches"
 /usr/bin/python3 - "$tmp" "$out/trace_pairs.json" "$scan" <<'PY'
 import json, sys
 from pathlib import Path
@@ -99,6 +105,11 @@ for m, other in (("hubo_2006", "octree"), ("hubo_2007", "kd_tree")):
               "prepare_counters": [s["prepare_counters"] for s in stats[:2]],
               "structure_bytes": [s.get("structure_bytes") for s in stats[:2]],
               "counters": [s["counters"] for s in stats[:2]]}
+patches = int((tmp / "patches").read_text())
+res["hubo_2007"]["codebook_sweep"] = {
+    str(k): pair(hits0, np.genfromtxt(tmp / f"hits_codebook_{k}.csv", delimiter=",", names=True))
+    for hits0 in [np.genfromtxt(tmp / "hits_hubo_2007_0.csv", delimiter=",", names=True)]
+    for k in (2048, patches)}
 out.write_text(json.dumps(res, indent=1) + "\n")
 PY
 
@@ -126,6 +137,8 @@ for m in ("hubo_2006", "hubo_2007"):
     lines += ["* " + sentence(r["compressed_vs_uncompressed"], f"{m} uncompressed vs compressed"),
               "* " + sentence(r["other_structure_vs_uncompressed"],
                               f"for scale, {m} uncompressed vs uncompressed on {r['uncompressed_other_structure']}")]
+for k, p in t["hubo_2007"]["codebook_sweep"].items():
+    lines += ["* " + sentence(p, f"hubo_2007 uncompressed vs compressed with codebook={k}")]
 pc = [t[m]["prepare_counters"][1] for m in ("hubo_2006", "hubo_2007")]
 lines += ["", f"Compressed, held per point on it: hubo_2006 quantized kd-tree {pc[0]['qkd_bytes'] / t['points']:.1f} B "
           f"(qkd_bytes), hubo_2007 instances, representatives and patch spheres "
