@@ -4,8 +4,9 @@
 # peak resident memory (bytes per point = peak RSS / N, so the cloud, the method's data, the
 # structure and the process's own ~10 MB all count), setup CPU seconds (user + system CPU of the
 # process, all threads, when load, prepare and build are done), the phases' wall times and
-# primary rays per second. One JSON line per run appended to OUT/runs.jsonl; OUT/summary.md is
-# regenerated from it. Clouds are generated, never committed.
+# primary rays per second, and for the compressed Hubo variants the bytes their compressed data
+# holds (prepare counters qkd_bytes, codebook_bytes). One JSON line per run appended to
+# OUT/runs.jsonl; OUT/summary.md is regenerated from it. Clouds are generated, never committed.
 # Usage: scripts/scale.sh OUT "N ..." "METHOD[@k=v] ..." [build/bin/pcrt]
 # METHOD may name a structure after '/' and carry --set values after '@', comma separated
 # (e.g. reference_splat/kd_tree, hubo_2006@quantized=1).
@@ -59,6 +60,10 @@ if rc == 0:
     if "estimated_scene_bytes" in s["process"]:
         row["estimated_scene_bytes"] = s["process"]["estimated_scene_bytes"]
     row["structure_bytes"] = s.get("structure_bytes")
+    # What a compressed variant holds (hubo_2006 quantized=1, hubo_2007 compressed=1).
+    for k in ("qkd_bytes", "codebook_bytes"):
+        if k in s.get("prepare_counters", {}):
+            row["compressed_bytes"] = s["prepare_counters"][k]
     rays = s["counters"].get("rays_cast", 0)
     row["primary_rays_per_second"] = rays / render if render > 0 else None
 else:
@@ -73,15 +78,16 @@ import json, sys
 from pathlib import Path
 out = Path(sys.argv[1])
 rows = [json.loads(l) for l in (out / "runs.jsonl").read_text().splitlines() if l.strip()]
-lines = ["| method | N | commit | peak RSS (MiB) | bytes/point | estimate (B/point, + cloud) | setup CPU-s | setup wall s | primary Mrays/s | exit |",
-         "|---|---|---|---|---|---|---|---|---|---|"]
+lines = ["| method | N | commit | peak RSS (MiB) | bytes/point | estimate (B/point, + cloud) | compressed B/point | setup CPU-s | setup wall s | primary Mrays/s | exit |",
+         "|---|---|---|---|---|---|---|---|---|---|---|"]
 for r in rows:
     tm = r.get("timings", {})
     wall = sum(v for k, v in tm.items() if k in ("load", "prepare", "build"))
     rps = r.get("primary_rays_per_second")
     est = f"{r['estimated_scene_bytes'] / r['N'] + 24:.0f}" if "estimated_scene_bytes" in r else "-"
+    comp = f"{r['compressed_bytes'] / r['N']:.1f}" if "compressed_bytes" in r else "-"
     lines.append(f"| {r['method']} | {r['N']:.0e} | {r['commit']} | {r['peak_rss_bytes']/2**20:.0f} | "
-                 f"{r['bytes_per_point']:.1f} | {est} | {r.get('setup_cpu_seconds', float('nan')):.1f} | {wall:.1f} | "
+                 f"{r['bytes_per_point']:.1f} | {est} | {comp} | {r.get('setup_cpu_seconds', float('nan')):.1f} | {wall:.1f} | "
                  f"{(rps or 0)/1e6:.2f} | {r['exit']} |")
 (out / "summary.md").write_text("\n".join(lines) + "\n")
 print("\n".join(lines))

@@ -3,10 +3,13 @@
 // the cloud is cut into small patches (octree cells of at most a few points); each patch is a
 // Gaussian-weighted implicit surface over its own points, intersected with Algorithm 6 (Newton);
 // the hits of the patches a ray meets in a leaf are blended by distance to the patch centres.
-// The compression by self-similarity is not implemented: see README.md.
+// With `compressed` 1 the patches are stored as instances of clustered representatives
+// (self-similarity, patch_codebook.hpp) and decoded patch by patch as rays reach them.
 #include <algorithm>
+#include <numeric>
 #include <vector>
 
+#include "methods/hubo_2007/patch_codebook.hpp"
 #include "methods/kernels/ball_runs.hpp"
 #include "methods/kernels/implicit_newton.hpp"
 #include "methods/kernels/leaf_implicit.hpp"
@@ -33,6 +36,8 @@ struct Hubo2007Params {
   GaussianParams gaussian;
   IterationParams iteration;
   float front_depth = 1;  // in h
+  bool compressed = false;
+  size_t codebook = 256;
 };
 const ParamList<Hubo2007Params>& hubo_2007_params() {
   using P = Hubo2007Params;
@@ -43,7 +48,12 @@ const ParamList<Hubo2007Params>& hubo_2007_params() {
           .add(&P::gaussian, GaussianParams::list())
           .add(&P::iteration, IterationParams::list(0.001, 10, "h (|f|)", 10))
           .add(&P::front_depth, {"front_depth", 1.0, 0, 100,
-                                 "blend the patch hits within this many h of the front-most"});
+                                 "blend the patch hits within this many h of the front-most"})
+          .add(&P::compressed, {"compressed", 0, 0, 1,
+                                "1: self-similarity compression (patches as instances of "
+                                "clustered representatives)"})
+          .add(&P::codebook,
+               {"codebook", 256, 1, 65535, "compressed: representative patches (k-means)"});
   return l;
 }
 
@@ -69,10 +79,14 @@ class Hubo2007 final : public Method {
         },
         [&](const uint32_t* b, const uint32_t* e) { add_patch(pts, b, e); }, ctx.counters);
     ctx.counters.add(kPatches, patches_.size());
-    for (const Patch& p : patches_) {
-      centres_.push_back(p.centre);
+    for (const Patch& p : patches_) centres_.push_back(p.centre);
+    if (params_.compressed) compress(ctx);
+    for (const Patch& p : patches_)
       radii_.push_back(p.spread + reach_);  // a patch's implicit surface reaches this far
-    }
+    if (compressed_)
+      ctx.counters.add(kCodebookBytes, codebook_.memory_bytes() + patches_.size() * sizeof(Patch) +
+                                           centres_.size() * sizeof(Vec3) +
+                                           radii_.size() * sizeof(float));
   }
   [[nodiscard]] ItemSet items() const override { return {centres_, radii_, {}}; }
 
@@ -86,18 +100,28 @@ class Hubo2007 final : public Method {
     thread_local std::vector<float> weights;
     hits.clear();
     weights.clear();
+    thread_local std::vector<PackedSplat> decoded;
+    thread_local std::vector<uint32_t> decoded_items;
     for (uint32_t k : leaf.items) {
       const Patch& p = patches_[k];
       float t0 = 0, t1 = 0;
       if (!ball_chord(ray, p.centre, radii_[k], hit.t, t0, t1)) continue;
       counters.add(kPatchRuns);
-      const std::span<const uint32_t> own(patch_items_.data() + p.begin, p.end - p.begin);
+      std::span<const uint32_t> own(patch_items_.data() + p.begin, p.end - p.begin);
+      std::span<const PackedSplat> pts = points_;
+      if (compressed_) {  // random access: this patch only, from its instance and representative
+        decoded.clear();
+        codebook_.decode(k, p.centre, decoded, counters);
+        decoded_items.resize(decoded.size());
+        std::iota(decoded_items.begin(), decoded_items.end(), 0u);
+        own = decoded_items, pts = decoded;
+      }
       const float start = patch_start(ray, p, t0, t1);
       Vec3 n = Vec3::Zero();
       const float t = newton_on_weighted_plane(
           ray, start, t0, t1,
-          [&](const Vec3& x) { return weighted_plane(x, own, points_, theta, counters); }, newton_,
-          n, counters);
+          [&](const Vec3& x) { return weighted_plane(x, own, pts, theta, counters); }, newton_, n,
+          counters);
       if (t == kInfinity) continue;
       const float d2 = (ray.at(t) - p.centre).squaredNorm();
       const float spread = std::max(p.spread, sigma_);
@@ -154,7 +178,34 @@ class Hubo2007 final : public Method {
     patches_.push_back(p);
   }
 
+  // Replaces the patches' points by instances of clustered representatives (then freed); a
+  // patch's spread, normal and reach become its decoded points'.
+  void compress(PrepareContext& ctx) {
+    ScopedTimer t(ctx.timings, "prepare/self_similarity");
+    std::vector<PatchInput> in;
+    in.reserve(patches_.size());
+    for (const Patch& p : patches_) in.push_back({p.begin, p.end, p.centre, p.normal});
+    codebook_.build(points_, in, params_.codebook, 8, ctx.counters);
+    std::vector<PackedSplat> decoded;
+    OpCounters ignored;  // the decoding for the spheres below is build work, not tracing
+    for (uint32_t k = 0; k < patches_.size(); ++k) {
+      decoded.clear();
+      codebook_.decode(k, patches_[k].centre, decoded, ignored);
+      patches_[k].spread = 0;
+      for (const PackedSplat& q : decoded)
+        patches_[k].spread = std::max(patches_[k].spread, (q.c - patches_[k].centre).norm());
+    }
+    points_ = {}, patch_items_ = {};
+    compressed_ = true;
+  }
+
   uint32_t nearest_point(const Vec3& x, std::span<const uint32_t> items) const {
+    if (compressed_) {  // the point nearest the centre of the patch nearest x
+      uint32_t best = items[0];
+      for (uint32_t k : items)
+        if ((centres_[k] - x).squaredNorm() < (centres_[best] - x).squaredNorm()) best = k;
+      return codebook_.prim(best);
+    }
     uint32_t best = 0;
     float best_d2 = kInfinity;
     for (uint32_t k : items)
@@ -171,6 +222,8 @@ class Hubo2007 final : public Method {
   std::vector<Patch> patches_;
   std::vector<Vec3> centres_;
   std::vector<float> radii_;
+  PatchCodebook codebook_;
+  bool compressed_ = false;
   float sigma_ = 0, reach_ = 0, depth_ = 0;
   NewtonSettings newton_;
 };

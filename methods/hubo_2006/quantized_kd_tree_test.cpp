@@ -1,0 +1,125 @@
+#include "methods/hubo_2006/quantized_kd_tree.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <set>
+
+#include "core/dataset.hpp"
+#include "render/accuracy.hpp"
+#include "render/scene.hpp"
+#include "preprocess/point_attributes.hpp"
+
+namespace pcrt {
+namespace {
+
+Aabb whole(const QuantizedKdTree& t) {
+  Aabb b = t.bounds();
+  b.lo -= Vec3::Constant(1);
+  b.hi += Vec3::Constant(1);
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("quantized kd-tree: every point decodes once, near its position and normal",
+          "[quantized_kd_tree]") {
+  const PointCloud cloud = load_dataset("torus:n=20000,seed=4").cloud;
+  QuantizedKdTree tree;
+  OpCounters c;
+  tree.build(cloud.positions, cloud.normals, 8, c);
+  std::vector<PackedSplat> all;
+  tree.gather(whole(tree), all, c);
+  REQUIRE(all.size() == cloud.size());
+  std::set<uint32_t> ids;
+  float worst_position = 0, worst_cos = 1;
+  for (const PackedSplat& p : all) {
+    ids.insert(p.index);
+    worst_position = std::max(worst_position, (p.c - cloud.positions[p.index]).norm());
+    worst_cos = std::min(worst_cos, p.n.dot(cloud.normals[p.index]));
+  }
+  CHECK(ids.size() == cloud.size());
+  // 12 bits of a leaf box a few spacings wide; 12-bit octahedral normals (under 0.1 degree).
+  const double h = mean_spacing(cloud.positions, c);
+  CHECK(worst_position < 0.01 * h);
+  CHECK(worst_cos > std::cos(0.1 * 3.14159265358979 / 180));
+  CHECK(c.get(kQkdPointsDecoded) == cloud.size());
+  CHECK(double(tree.memory_bytes()) / double(cloud.size()) <= 16.0);
+}
+
+TEST_CASE("quantized kd-tree: a gather returns exactly the decoded points in its box",
+          "[quantized_kd_tree]") {
+  const PointCloud cloud = load_dataset("sphere:n=20000,seed=2").cloud;
+  QuantizedKdTree tree;
+  OpCounters c;
+  tree.build(cloud.positions, cloud.normals, 8, c);
+  std::vector<PackedSplat> all;
+  tree.gather(whole(tree), all, c);
+  for (const Vec3& centre : {Vec3(0, 0, 1), Vec3(0.6f, -0.5f, 0.3f), Vec3(0, 0, 0)}) {
+    const Aabb box{centre - Vec3::Constant(0.1f), centre + Vec3::Constant(0.1f)};
+    std::set<uint32_t> expected;
+    for (const PackedSplat& p : all)
+      if ((p.c.array() >= box.lo.array()).all() && (p.c.array() <= box.hi.array()).all())
+        expected.insert(p.index);
+    std::vector<PackedSplat> got;
+    tree.gather(box, got, c);
+    std::set<uint32_t> ids;
+    for (const PackedSplat& p : got) ids.insert(p.index);
+    CHECK(ids == expected);
+    CHECK(got.size() == ids.size());
+  }
+}
+
+TEST_CASE("quantized kd-tree: the walk reaches every point within reach of the ray",
+          "[quantized_kd_tree]") {
+  const PointCloud cloud = load_dataset("sphere:n=5000,seed=1").cloud;
+  QuantizedKdTree tree;
+  OpCounters c;
+  tree.build(cloud.positions, cloud.normals, 4, c);
+  std::vector<PackedSplat> all;
+  tree.gather(whole(tree), all, c);
+  const float reach = 0.05f;
+  for (const Vec3& d : {Vec3(1, 0.2f, 0.1f), Vec3(0, 0, -1), Vec3(-0.3f, 1, 0.5f)}) {
+    const Ray ray{Vec3(0.1f, -0.2f, 0.05f) - 3 * d.normalized(), d.normalized()};
+    const float stop = kInfinity;
+    std::vector<std::pair<float, float>> pieces;
+    tree.walk(
+        ray, reach, &stop, [&](float t0, float t1) { pieces.emplace_back(t0, t1); }, c);
+    size_t near = 0;
+    for (const PackedSplat& p : all) {
+      const float along = (p.c - ray.o).dot(ray.d);
+      if ((ray.at(along) - p.c).norm() >= reach) continue;
+      ++near;
+      bool covered = false;
+      for (const auto& [t0, t1] : pieces) covered |= t0 <= along && along <= t1;
+      INFO("point " << p.index << " at t " << along);
+      CHECK(covered);
+    }
+    CHECK(near > 0);
+  }
+}
+
+// The compression's accuracy loss against the uncompressed method, on the accuracy harness's rays:
+// the same surface within a small fraction of the spacing.
+TEST_CASE("hubo_2006 quantized finds the uncompressed method's hits", "[quantized_kd_tree]") {
+  const Dataset d = load_dataset("sphere:n=20000,seed=3");
+  OpCounters c;
+  const double h = mean_spacing(d.cloud.positions, c);
+  const auto rays = accuracy_rays(*d.truth, h, 3000, 5);
+  Timings t;
+  const PointScene plain(d.cloud, SceneOptions{"hubo_2006", "", {}}, c, t);
+  const PointScene packed(d.cloud, SceneOptions{"hubo_2006", "", {{"quantized", 1}}}, c, t);
+  size_t both = 0, one = 0, far = 0;
+  for (const Ray& r : rays) {
+    Hit a, b;
+    const bool ha = plain.closest_hit(r, a, c), hb = packed.closest_hit(r, b, c);
+    if (ha != hb) ++one;
+    if (!(ha && hb)) continue;
+    ++both;
+    if (std::abs((a.p - b.p).dot(a.n)) > 0.05 * h) ++far;  // apart along the surface normal
+  }
+  CHECK(both > 1000);
+  CHECK(one <= rays.size() / 500);
+  CHECK(far <= both / 200);
+}
+
+}  // namespace pcrt
