@@ -17,9 +17,10 @@
 #include "core/error.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
+#include "harness/run_files.hpp"
 #include "harness/shard_plan.hpp"
 #include "harness/slurm.hpp"
-#include "harness/sweep.hpp"
+#include "harness/sweep_config.hpp"
 
 namespace pcrt {
 namespace {
@@ -157,11 +158,11 @@ std::string merge_script(const ClusterDir& d, const std::string& name, size_t n,
 }
 
 // Shards in the plan, and each shard's planned run keys.
-std::vector<std::vector<std::string>> planned_keys(const json& plan) {
+std::vector<std::vector<std::string>> planned_keys(const json& plan, const std::string& origin) {
   std::vector<std::vector<std::string>> keys;
   for (const json& shard : plan.at("shards")) {
     keys.emplace_back();
-    for (const json& spec : shard.at("runs")) keys.back().push_back(run_key(spec));
+    for (const json& spec : shard.at("runs")) keys.back().push_back(planned_run_key(spec, origin));
   }
   return keys;
 }
@@ -171,7 +172,7 @@ size_t runs_done(const std::string& dir, const std::vector<std::string>& keys) {
   const std::string path = dir + "/runs.jsonl";
   if (!fs::exists(path)) return 0;
   std::set<std::string> have;
-  for (const json& r : read_runs_jsonl(path)) have.insert(run_key(r));
+  for (const RunResult& r : read_runs_jsonl(path)) have.insert(run_key(r));
   return size_t(std::count_if(keys.begin(), keys.end(),
                               [&](const std::string& k) { return have.count(k) > 0; }));
 }
@@ -202,7 +203,7 @@ JobIds newest_jobs(const json& jobs, size_t n) {
 std::vector<Part> survey(const ClusterDir& d) {
   const json plan = read_json(d.plan());
   const json jobs = fs::exists(d.jobs()) ? read_json(d.jobs()) : json::object();
-  const auto keys = planned_keys(plan);
+  const auto keys = planned_keys(plan, d.plan());
   const JobIds ids = newest_jobs(jobs, keys.size());
   std::map<std::string, std::map<std::string, JobStatus>> queried;
   auto state_of = [&](const std::string& job, const std::string& task) {
@@ -288,8 +289,8 @@ void submit(const ClusterDir& d, const Submission& s, bool dry_run) {
 void write_cluster_files(const ClusterDir& d, const SweepConfig& config, size_t n,
                          const CliArgs& a) {
   fs::create_directories(d.slurm() + "/logs");
-  const std::vector<json> earlier =
-      a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<json>{};
+  const std::vector<RunResult> earlier =
+      a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<RunResult>{};
   const ShardPlan plan = plan_shards(run_costs(config.runs, earlier), n);
   write_json(d.config(), config.raw);
   write_json(d.plan(), plan_json(plan, config.runs, a.has("costs") ? a.get("costs") : "model"));

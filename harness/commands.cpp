@@ -198,9 +198,7 @@ void stage_render_images(OutputFiles& outputs, const RenderResult& r, const std:
   }
 }
 
-}  // namespace
-
-int command_render(const Args& args) {
+std::vector<OptionSpec> render_options() {
   auto opts = scene_options();
   opts.insert(
       opts.end(),
@@ -219,13 +217,10 @@ int command_render(const Args& args) {
         "also write the primary-hit depth image (EXR: distance in scene units, inf: no hit)"},
        {"normals", "FILE.png|.exr",
         "also write the primary-hit normal image (EXR: the signed normal)"}});
-  CliArgs a("render",
-            "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID]) --out FILE.png|.exr "
-            "[options]",
-            opts, 0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const std::string out = a.require("out");
+  return opts;
+}
+
+RenderSettings render_settings_from(const CliArgs& a) {
   RenderSettings rs;
   rs.width = int(a.integer("width", 512, 1, 16384));
   rs.height = int(a.integer("height", 512, 1, 16384));
@@ -240,19 +235,13 @@ int command_render(const Args& args) {
   if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
     input_error("pcrt render: --view and --up must not be parallel");
   if (rs.ray_epsilon < 0) input_error("pcrt render: --ray-epsilon must be >= 0");
-  for (const char* option : {"out", "depth", "normals", "stats"})
-    if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
+  return rs;
+}
 
-  const auto loaded = load_scene(a, "render");
-  const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
-  Timings& timings = loaded->timings;
-  RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
-  timings["render"] = r.seconds;
-  OutputFiles outputs;  // all or none
-  stage_render_images(outputs, r, out, a.has("depth") ? a.get("depth") : "",
-                      a.has("normals") ? a.get("normals") : "");
-
-  json params = loaded->params;
+// --stats: the settings, counters, timings and the process's cost.
+json render_stats(const LoadedScene& loaded, const RenderSettings& rs, const RenderResult& r,
+                  double setup_cpu) {
+  json params = loaded.params;
   params.update({{"M", rs.width * rs.height},
                  {"width", rs.width},
                  {"height", rs.height},
@@ -261,18 +250,41 @@ int command_render(const Args& args) {
                  {"seed", rs.seed},
                  {"point_light", rs.point_light},
                  {"threads", rs.threads}});
-  const json stats = {
-      {"params", params},
-      {"counters", counters_json(r.counters)},
-      {"prepare_counters", counters_json(loaded->prepare)},
-      {"timings", timings},
-      {"structure_bytes", loaded->structure_bytes()},
-      {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0},
-      {"process",
-       {{"setup_cpu_seconds", setup_cpu},
-        {"peak_rss_bytes", peak_rss_bytes()},
-        {"estimated_scene_bytes", loaded->points ? loaded->points->estimated_bytes() : 0}}}};
-  if (a.has("stats")) outputs.stage(a.get("stats"), json_writer(stats));
+  return {{"params", params},
+          {"counters", counters_json(r.counters)},
+          {"prepare_counters", counters_json(loaded.prepare)},
+          {"timings", loaded.timings},
+          {"structure_bytes", loaded.structure_bytes()},
+          {"frames_per_second", r.seconds > 0 ? 1.0 / r.seconds : 0.0},
+          {"process",
+           {{"setup_cpu_seconds", setup_cpu},
+            {"peak_rss_bytes", peak_rss_bytes()},
+            {"estimated_scene_bytes", loaded.points ? loaded.points->estimated_bytes() : 0}}}};
+}
+
+}  // namespace
+
+int command_render(const Args& args) {
+  CliArgs a("render",
+            "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID]) --out FILE.png|.exr "
+            "[options]",
+            render_options(), 0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const std::string out = a.require("out");
+  const RenderSettings rs = render_settings_from(a);
+  for (const char* option : {"out", "depth", "normals", "stats"})
+    if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
+  const auto loaded = load_scene(a, "render");
+  const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
+  Timings& timings = loaded->timings;
+  RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
+  timings["render"] = r.seconds;
+  OutputFiles outputs;  // all or none
+  stage_render_images(outputs, r, out, a.has("depth") ? a.get("depth") : "",
+                      a.has("normals") ? a.get("normals") : "");
+  if (a.has("stats"))
+    outputs.stage(a.get("stats"), json_writer(render_stats(*loaded, rs, r, setup_cpu)));
   outputs.commit();
   std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),
               loaded->cloud().size(), rs.width, rs.height, rs.spp, rs.bounces);
@@ -462,9 +474,7 @@ void print_accuracy(const std::string& label, const std::string& data, double h,
       r.faceting_floor_deg, AccuracyBounds{}.met_by(r) ? "meets the bounds" : "MISSES the bounds");
 }
 
-}  // namespace
-
-int command_accuracy(const Args& args) {
+std::vector<OptionSpec> accuracy_options() {
   auto opts = scene_options();
   opts.insert(opts.end(),
               {{"rays", "N", "number of rays (default 20000)"},
@@ -481,56 +491,79 @@ int command_accuracy(const Args& args) {
                 "also N secondary rays from true surface points, half outward, half inward "
                 "(default 0)"},
                {"json", "", "print JSON"}});
+  return opts;
+}
+
+void check_accuracy_options(const CliArgs& a) {
+  if (a.has("mesh"))
+    input_error("pcrt accuracy: --mesh has no exact surface; use --truth or --reconstruction");
+  if (a.has("reconstruction") && a.has("method"))
+    input_error("pcrt accuracy: give --method or --reconstruction, not both");
+  if (!a.has("reconstruction") && a.has("engine"))
+    input_error("pcrt accuracy: --engine applies only to --reconstruction");
+}
+
+// What accuracy judges: a point method's scene, or a reconstructed mesh on a triangle engine.
+struct JudgedScene {
+  TriangleMesh mesh;  // a reconstruction's (the scene refers to it, so it is destroyed later)
+  std::unique_ptr<SceneIntersector> scene;
+  std::string method, structure;
+};
+
+std::unique_ptr<JudgedScene> judged_scene(const CliArgs& a, const PointCloud& cloud,
+                                          OpCounters& prep, Timings& timings) {
+  auto j = std::make_unique<JudgedScene>();
+  if (!a.has("reconstruction")) {
+    auto ps = std::make_unique<PointScene>(cloud, scene_options_from(a), prep, timings);
+    j->method = ps->method_info().id;
+    j->structure = ps->structure_id();
+    j->scene = std::move(ps);
+    return j;
+  }
+  const auto& info =
+      ReconstructionRegistry::instance().get(a.get("reconstruction"), "reconstruction");
+  ReconstructionReport rec = info.run(cloud);
+  if (rec.mesh.triangles.empty())
+    input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
+  timings["reconstruct"] = rec.seconds;
+  j->mesh = std::move(rec.mesh);
+  j->structure = a.has("engine") ? a.get("engine") : "bvh";
+  j->method = "reconstruction:" + info.id;
+  j->scene = std::make_unique<MeshScene>(j->mesh, j->structure, prep, timings);
+  return j;
+}
+
+}  // namespace
+
+int command_accuracy(const Args& args) {
   CliArgs a("accuracy",
             "pcrt accuracy (--method ID [--structure ID] | --reconstruction ID [--engine ID]) "
             "(--data GENERATOR_SPEC | --truth MESH [--sample SPEC]) [--rays N] [--json]",
-            opts, 0, 0);
+            accuracy_options(), 0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
-  if (a.has("mesh"))
-    input_error("pcrt accuracy: --mesh has no exact surface; use --truth or --reconstruction");
-  const bool reconstructing = a.has("reconstruction");
-  if (reconstructing && a.has("method"))
-    input_error("pcrt accuracy: give --method or --reconstruction, not both");
-  if (!reconstructing && a.has("engine"))
-    input_error("pcrt accuracy: --engine applies only to --reconstruction");
+  check_accuracy_options(a);
   const auto n_rays = size_t(a.integer("rays", 20000, 1, 100000000));
   const auto seed = uint64_t(a.integer("seed", 1, 0, 1ll << 62));
   Timings timings;
   OpCounters prep, counters;
   const AccuracyInput in = accuracy_input(a, prep);
   const PointCloud& cloud = in.data.cloud;
-  std::unique_ptr<SceneIntersector> scene_ptr;
-  TriangleMesh mesh;
-  std::string method, structure;
-  if (reconstructing) {
-    const auto& info =
-        ReconstructionRegistry::instance().get(a.get("reconstruction"), "reconstruction");
-    ReconstructionReport rec = info.run(cloud);
-    if (rec.mesh.triangles.empty())
-      input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
-    timings["reconstruct"] = rec.seconds;
-    mesh = std::move(rec.mesh);
-    structure = a.has("engine") ? a.get("engine") : "bvh";
-    method = "reconstruction:" + info.id;
-    scene_ptr = std::make_unique<MeshScene>(mesh, structure, prep, timings);
-  } else {
-    auto ps = std::make_unique<PointScene>(cloud, scene_options_from(a), prep, timings);
-    method = ps->method_info().id;
-    structure = ps->structure_id();
-    scene_ptr = std::move(ps);
-  }
+  const auto judged = judged_scene(a, cloud, prep, timings);
+  const SceneIntersector& scene = *judged->scene;
+  const std::string& method = judged->method;
+  const std::string& structure = judged->structure;
   const auto rays = accuracy_rays(*in.truth, in.h, n_rays, seed);
   AccuracyReport r;
   {
     ScopedTimer t(timings, "trace");
-    r = evaluate_accuracy(*scene_ptr, *in.truth, in.h, rays, counters);
+    r = evaluate_accuracy(scene, *in.truth, in.h, rays, counters);
   }
   const auto n_secondary = size_t(a.integer("secondary", 0, 0, 100000000));
   SecondaryReport sec;
   if (n_secondary > 0) {
     ScopedTimer t(timings, "secondary");
-    sec = evaluate_secondary(*scene_ptr, *in.truth, in.h, n_secondary, seed, counters);
+    sec = evaluate_secondary(scene, *in.truth, in.h, n_secondary, seed, counters);
   }
   json j = {{"method", method},
             {"structure", structure},
@@ -568,9 +601,7 @@ json comparison_json(const FrameComparison& c) {
           {"rmse", c.rmse}};
 }
 
-}  // namespace
-
-int command_compare(const Args& args) {
+std::vector<OptionSpec> compare_options() {
   auto opts = scene_options();
   opts.insert(opts.end(),
               {{"truth", "MESH", "the mesh the cloud is sampled on and rendered as the truth"},
@@ -584,11 +615,11 @@ int command_compare(const Args& args) {
                {"view", "X,Y,Z", "direction from the centre to the camera"},
                {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
                {"json", "", "print JSON"}});
-  CliArgs a("compare",
-            "pcrt compare --method ID --truth MESH [--sample SPEC] --out DIFF.png [options]", opts,
-            0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
+  return opts;
+}
+
+// The options compare refuses, and its outputs checked before any work; returns --out.
+std::string compare_output(const CliArgs& a) {
   if (!a.has("truth")) input_error("pcrt compare: --truth MESH is required");
   for (const char* o : {"data", "mesh", "engine"})
     if (a.has(o))
@@ -599,6 +630,10 @@ int command_compare(const Args& args) {
     check_output_path(a.get("images") + ".method.png", "--images");
     check_output_path(a.get("images") + ".truth.png", "--images");
   }
+  return out;
+}
+
+RenderSettings compare_settings(const CliArgs& a) {
   RenderSettings rs;
   rs.width = int(a.integer("width", 256, 1, 16384));
   rs.height = int(a.integer("height", 256, 1, 16384));
@@ -610,7 +645,32 @@ int command_compare(const Args& args) {
   if (a.has("up")) rs.up = parse_vector(a.get("up"), "pcrt compare: --up");
   if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
     input_error("pcrt compare: --view and --up must not be parallel");
+  return rs;
+}
 
+void print_comparison(const std::string& out, const json& j, const RenderSettings& rs,
+                      const FrameComparison& c) {
+  std::printf("%s: %s on %s vs %s, %dx%d, %zu object pixels\n", out.c_str(),
+              j["method"].get<std::string>().c_str(), j["structure"].get<std::string>().c_str(),
+              j["truth"].get<std::string>().c_str(), rs.width, rs.height, c.object_pixels);
+  std::printf(
+      "  missing %.3f%% (%zu of %zu at silhouettes and contours, which hold %.1f%% of the object)  "
+      "extra %.3f%%  normal > %.0f deg %.3f%%  RMSE %.4f\n",
+      100 * c.missing_rate(), c.missing_at_edges, c.missing,
+      c.object_pixels ? 100.0 * double(c.edge_pixels) / double(c.object_pixels) : 0.0,
+      100 * c.extra_rate(), FrameComparison::kNormalOffDeg, 100 * c.normal_off_rate(), c.rmse);
+}
+
+}  // namespace
+
+int command_compare(const Args& args) {
+  CliArgs a("compare",
+            "pcrt compare --method ID --truth MESH [--sample SPEC] --out DIFF.png [options]",
+            compare_options(), 0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const std::string out = compare_output(a);
+  RenderSettings rs = compare_settings(a);
   OpCounters prep;
   Timings timings;
   const AccuracyInput in = accuracy_input(a, prep);
@@ -641,106 +701,104 @@ int command_compare(const Args& args) {
             {"counters", counters_json(m.counters)}};
   j.update(in.describe);
   j.update(comparison_json(c));
-  if (a.has("json")) {
+  if (a.has("json"))
     std::printf("%s\n", j.dump(2).c_str());
-    return 0;
-  }
-  std::printf("%s: %s on %s vs %s, %dx%d, %zu object pixels\n", out.c_str(),
-              method.method_info().id.c_str(), method.structure_id().c_str(),
-              j["truth"].get<std::string>().c_str(), rs.width, rs.height, c.object_pixels);
-  std::printf(
-      "  missing %.3f%% (%zu of %zu at silhouettes and contours, which hold %.1f%% of the object)  "
-      "extra %.3f%%  normal > %.0f deg %.3f%%  RMSE %.4f\n",
-      100 * c.missing_rate(), c.missing_at_edges, c.missing,
-      c.object_pixels ? 100.0 * double(c.edge_pixels) / double(c.object_pixels) : 0.0,
-      100 * c.extra_rate(), FrameComparison::kNormalOffDeg, 100 * c.normal_off_rate(), c.rmse);
+  else
+    print_comparison(out, j, rs, c);
   return 0;
 }
+
+namespace {
+
+json method_json(const MethodInfo& m) {
+  json claims = json::array();
+  for (const auto& c : m.claims)
+    claims.push_back({{"quantity", c.quantity},
+                      {"complexity", c.complexity},
+                      {"variables", c.variables},
+                      {"source", c.source}});
+  json work = json::array();
+  for (const Counter* c : m.work) work.push_back(registered_counters()[c->id()].name);
+  return {{"id", m.id},
+          {"paper", m.paper},
+          {"thesis_ref", m.thesis_ref},
+          {"description", m.description},
+          {"structure", m.own_structure.empty() ? m.structure : m.own_structure},
+          {"own_structure", !m.own_structure.empty()},
+          {"needs", m.needs},
+          {"parameters", params_json(m.params)},
+          {"claims", claims},
+          {"work_counters", work}};
+}
+
+json claim_json(const Claim& c) {
+  return {{"id", c.id},
+          {"subject", c.subject},
+          {"statement", c.statement},
+          {"complexity", c.complexity},
+          {"variables", c.variables},
+          {"source", c.source},
+          {"tested", c.not_tested.empty()},
+          {"not_tested", c.not_tested}};
+}
+
+// Everything registered: methods, structures, generators, reconstructions, mesh engines, claims
+// and counters.
+json catalogue_json() {
+  json j = {{"methods", json::array()},      {"structures", json::array()},
+            {"generators", json::array()},   {"reconstructions", json::array()},
+            {"mesh_engines", json::array()}, {"claims", json::array()},
+            {"counters", json::array()}};
+  for (const MethodInfo& m : MethodRegistry::instance().all())
+    j["methods"].push_back(method_json(m));
+  for (const StructureInfo& s : StructureRegistry::instance().all())
+    j["structures"].push_back({{"id", s.id},
+                               {"description", s.description},
+                               {"build_claim", s.build_claim},
+                               {"query_claim", s.query_claim},
+                               {"parameters", params_json(s.params)}});
+  for (const GeneratorInfo& g : generators())
+    j["generators"].push_back(
+        {{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
+  for (const Claim& c : all_claims()) j["claims"].push_back(claim_json(c));
+  for (const ReconstructionInfo& r : ReconstructionRegistry::instance().all())
+    j["reconstructions"].push_back(
+        {{"id", r.id}, {"description", r.description}, {"claim", r.claim}});
+  for (const MeshEngineInfo& e : MeshEngineRegistry::instance().all())
+    j["mesh_engines"].push_back({{"id", e.id}, {"description", e.description}});
+  for (size_t i = 0; i < registered_counter_count(); ++i)
+    j["counters"].push_back({{"name", registered_counters()[i].name},
+                             {"description", registered_counters()[i].description}});
+  return j;
+}
+
+void print_catalogue(const json& j) {
+  std::printf("methods:\n");
+  for (const auto& m : j["methods"])
+    std::printf("  %-24s %-14s %s\n", m["id"].get<std::string>().c_str(),
+                m["structure"].get<std::string>().c_str(),
+                m["description"].get<std::string>().c_str());
+  for (const auto& [title, key] : {std::pair{"structures", "structures"},
+                                   {"reconstructions", "reconstructions"},
+                                   {"mesh engines", "mesh_engines"},
+                                   {"generators", "generators"}}) {
+    std::printf("%s:\n", title);
+    for (const auto& e : j[key])
+      std::printf("  %-24s %s\n", e["id"].get<std::string>().c_str(),
+                  e["description"].get<std::string>().c_str());
+  }
+}
+
+}  // namespace
 
 int command_list(const Args& args) {
   CliArgs a("list", "pcrt list [--json]", {{"json", "", "print JSON"}}, 0, 0);
   if (!a.parse(args)) return 0;
-  json methods = json::array(), structures = json::array(), gens = json::array(),
-       counters = json::array();
-  for (const MethodInfo& m : MethodRegistry::instance().all()) {
-    json claims = json::array();
-    for (const auto& c : m.claims)
-      claims.push_back({{"quantity", c.quantity},
-                        {"complexity", c.complexity},
-                        {"variables", c.variables},
-                        {"source", c.source}});
-    methods.push_back({{"id", m.id},
-                       {"paper", m.paper},
-                       {"thesis_ref", m.thesis_ref},
-                       {"description", m.description},
-                       {"structure", m.own_structure.empty() ? m.structure : m.own_structure},
-                       {"own_structure", !m.own_structure.empty()},
-                       {"needs", m.needs},
-                       {"parameters", params_json(m.params)},
-                       {"claims", claims},
-                       {"work_counters", [&] {
-                          json w = json::array();
-                          for (const Counter* c : m.work)
-                            w.push_back(registered_counters()[c->id()].name);
-                          return w;
-                        }()}});
-  }
-  for (const StructureInfo& s : StructureRegistry::instance().all())
-    structures.push_back({{"id", s.id},
-                          {"description", s.description},
-                          {"build_claim", s.build_claim},
-                          {"query_claim", s.query_claim},
-                          {"parameters", params_json(s.params)}});
-  for (const GeneratorInfo& g : generators())
-    gens.push_back(
-        {{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
-  json claims = json::array();
-  for (const Claim& c : all_claims())
-    claims.push_back({{"id", c.id},
-                      {"subject", c.subject},
-                      {"statement", c.statement},
-                      {"complexity", c.complexity},
-                      {"variables", c.variables},
-                      {"source", c.source},
-                      {"tested", c.not_tested.empty()},
-                      {"not_tested", c.not_tested}});
-  json reconstructions = json::array(), engines = json::array();
-  for (const ReconstructionInfo& r : ReconstructionRegistry::instance().all())
-    reconstructions.push_back({{"id", r.id}, {"description", r.description}, {"claim", r.claim}});
-  for (const MeshEngineInfo& e : MeshEngineRegistry::instance().all())
-    engines.push_back({{"id", e.id}, {"description", e.description}});
-  for (size_t i = 0; i < registered_counter_count(); ++i)
-    counters.push_back({{"name", registered_counters()[i].name},
-                        {"description", registered_counters()[i].description}});
-  if (a.has("json")) {
-    const json j = {{"methods", methods},      {"structures", structures},
-                    {"generators", gens},      {"reconstructions", reconstructions},
-                    {"mesh_engines", engines}, {"claims", claims},
-                    {"counters", counters}};
+  const json j = catalogue_json();
+  if (a.has("json"))
     std::printf("%s\n", j.dump(2).c_str());
-    return 0;
-  }
-  std::printf("methods:\n");
-  for (const auto& m : methods)
-    std::printf("  %-24s %-14s %s\n", m["id"].get<std::string>().c_str(),
-                m["structure"].get<std::string>().c_str(),
-                m["description"].get<std::string>().c_str());
-  std::printf("structures:\n");
-  for (const auto& s : structures)
-    std::printf("  %-24s %s\n", s["id"].get<std::string>().c_str(),
-                s["description"].get<std::string>().c_str());
-  std::printf("reconstructions:\n");
-  for (const auto& r : reconstructions)
-    std::printf("  %-24s %s\n", r["id"].get<std::string>().c_str(),
-                r["description"].get<std::string>().c_str());
-  std::printf("mesh engines:\n");
-  for (const auto& e : engines)
-    std::printf("  %-24s %s\n", e["id"].get<std::string>().c_str(),
-                e["description"].get<std::string>().c_str());
-  std::printf("generators:\n");
-  for (const auto& g : gens)
-    std::printf("  %-24s %s\n", g["id"].get<std::string>().c_str(),
-                g["description"].get<std::string>().c_str());
+  else
+    print_catalogue(j);
   return 0;
 }
 

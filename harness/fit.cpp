@@ -220,10 +220,8 @@ void pairwise_weights(GrowthFit& f, int c) {
   f.weight_slower = weight(f.aicc[size_t(c)], slow);
 }
 
-void decide(GrowthFit& f, Growth expected) {
-  const int c = rank(expected);
-  const std::string claimed = growth_name(expected);
-  pairwise_weights(f, c);
+// A faster model carrying weight decides the fit: exceeds, or inconclusive. False if none does.
+bool judge_faster(GrowthFit& f, int c, const std::string& claimed) {
   // Named only when a faster model carries weight, so one exists.
   auto faster = [&] { return heaviest(f, c + 1, int(kModels)); };
   // Exceeding needs two independent witnesses: a faster model decisively preferred, and a
@@ -237,7 +235,7 @@ void decide(GrowthFit& f, Growth expected) {
         "and the exponent CI [{:.3f}, {:.3f}] lies above {}'s {:.3f}",
         growth_name(faster()), claimed, f.weight_faster, f.ci_low, f.ci_high, claimed,
         f.claimed_exponent);
-    return;
+    return true;
   }
   if (f.weight_faster >= kDecisive) {
     f.verdict = ClaimVerdict::kInconclusive;
@@ -245,14 +243,20 @@ void decide(GrowthFit& f, Growth expected) {
         "{} is preferred (Akaike weight {:.2f}), but the exponent CI [{:.3f}, "
         "{:.3f}] reaches {}'s own {:.3f} over this range",
         growth_name(faster()), f.weight_faster, f.ci_low, f.ci_high, claimed, f.claimed_exponent);
-    return;
+    return true;
   }
   if (f.weight_faster > 0.5) {
     f.verdict = ClaimVerdict::kInconclusive;
     f.reason = fmt::format("{} fits better than {} but not decisively (Akaike weight {:.2f} < {})",
                            growth_name(faster()), claimed, f.weight_faster, kDecisive);
-    return;
+    return true;
   }
+  return false;
+}
+
+// With no faster model preferred: a claimed exact power outside its CI, or a slower model
+// decisively preferred, decides the fit (inconclusive or below). False if neither does.
+bool judge_power_and_slower(GrowthFit& f, Growth expected, int c, const std::string& claimed) {
   // Claims stated as exact powers must have the power inside the CI of their growth term's
   // exponent (the log-log slope of y minus the claimed model's constant) to be tight.
   const double power = expected == Growth::kQuadratic ? 2 : expected == Growth::kCubic ? 3 : 0;
@@ -262,7 +266,7 @@ void decide(GrowthFit& f, Growth expected) {
         "no faster model is preferred, but the exponent CI [{:.2f}, {:.2f}] "
         "of its growth term lies above the claimed power {}",
         f.power_ci_low, f.power_ci_high, power);
-    return;
+    return true;
   }
   if (f.weight_slower >= kDecisive || (power > 0 && f.power_ci_high < power - kExponentSlack)) {
     f.verdict = ClaimVerdict::kBelow;
@@ -275,8 +279,16 @@ void decide(GrowthFit& f, Growth expected) {
                          "exponent CI [{:.2f}, {:.2f}] of the growth term lies under "
                          "the claimed power {}",
                          f.power_ci_low, f.power_ci_high, power);
-    return;
+    return true;
   }
+  return false;
+}
+
+void decide(GrowthFit& f, Growth expected) {
+  const int c = rank(expected);
+  const std::string claimed = growth_name(expected);
+  pairwise_weights(f, c);
+  if (judge_faster(f, c, claimed) || judge_power_and_slower(f, expected, c, claimed)) return;
   // The exponent witness alone does not make a fit inconclusive here: a claimed model with a
   // negative constant (log2(N / K) nodes, N log2(N / K) build work) shows a larger exponent than
   // its pure form, so without a faster model preferred it cannot speak against the claim.

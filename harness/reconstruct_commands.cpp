@@ -111,6 +111,55 @@ CrossoverResult measure_crossover(const PointCloud& cloud, const SceneOptions& d
   return r;
 }
 
+namespace {
+
+json crossover_json(const CrossoverResult& r, const std::string& data, size_t n,
+                    const RenderSettings& rs, long long frames) {
+  return {{"dataset", data},
+          {"N", n},
+          {"M", rs.width * rs.height},
+          {"S", rs.spp},
+          {"B", rs.bounces},
+          {"direct",
+           {{"method", r.method},
+            {"structure", r.structure},
+            {"prepare_s", r.direct_prepare_s},
+            {"build_s", r.direct_build_s},
+            {"frame_s", r.direct_frame_s},
+            {"first_frame_s", r.direct_setup_s() + r.direct_frame_s},
+            {"frames_s", r.direct_setup_s() + double(frames) * r.direct_frame_s}}},
+          {"reconstruction",
+           {{"method", r.reconstruction},
+            {"engine", r.engine},
+            {"triangles", r.triangles},
+            {"reconstruct_s", r.reconstruct_s},
+            {"build_s", r.mesh_build_s},
+            {"frame_s", r.mesh_frame_s},
+            {"first_frame_s", r.mesh_setup_s() + r.mesh_frame_s},
+            {"frames_s", r.mesh_setup_s() + double(frames) * r.mesh_frame_s}}},
+          {"frames", frames},
+          {"crossover_frames", r.crossover_frames ? json(*r.crossover_frames) : json(nullptr)}};
+}
+
+void print_crossover(const CrossoverResult& r, const std::string& data, size_t n,
+                     const RenderSettings& rs) {
+  std::printf("%s, N = %zu, %dx%d, S=%d B=%d\n", data.c_str(), n, rs.width, rs.height, rs.spp,
+              rs.bounces);
+  std::printf("  direct %s on %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
+              r.method.c_str(), r.structure.c_str(), r.direct_setup_s(), r.direct_frame_s,
+              r.direct_setup_s() + r.direct_frame_s);
+  std::printf("  %s + %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
+              r.reconstruction.c_str(), r.engine.c_str(), r.mesh_setup_s(), r.mesh_frame_s,
+              r.mesh_setup_s() + r.mesh_frame_s);
+  if (!r.crossover_frames)
+    std::printf("  reconstruction never pays off: its frames are not faster\n");
+  else
+    std::printf("  reconstruction pays off after %lld frames\n",
+                json(*r.crossover_frames).get<long long>());
+}
+
+}  // namespace
+
 int command_crossover(const Args& args) {
   CliArgs a(
       "crossover",
@@ -149,47 +198,10 @@ int command_crossover(const Args& args) {
   const CrossoverResult r =
       measure_crossover(d.cloud, so, a.has("reconstruction") ? a.get("reconstruction") : "afsr",
                         a.has("engine") ? a.get("engine") : "bvh", rs, reps);
-  const json crossover = r.crossover_frames ? json(*r.crossover_frames) : json(nullptr);
-  const json j = {{"dataset", data},
-                  {"N", d.cloud.size()},
-                  {"M", rs.width * rs.height},
-                  {"S", rs.spp},
-                  {"B", rs.bounces},
-                  {"direct",
-                   {{"method", r.method},
-                    {"structure", r.structure},
-                    {"prepare_s", r.direct_prepare_s},
-                    {"build_s", r.direct_build_s},
-                    {"frame_s", r.direct_frame_s},
-                    {"first_frame_s", r.direct_setup_s() + r.direct_frame_s},
-                    {"frames_s", r.direct_setup_s() + double(frames) * r.direct_frame_s}}},
-                  {"reconstruction",
-                   {{"method", r.reconstruction},
-                    {"engine", r.engine},
-                    {"triangles", r.triangles},
-                    {"reconstruct_s", r.reconstruct_s},
-                    {"build_s", r.mesh_build_s},
-                    {"frame_s", r.mesh_frame_s},
-                    {"first_frame_s", r.mesh_setup_s() + r.mesh_frame_s},
-                    {"frames_s", r.mesh_setup_s() + double(frames) * r.mesh_frame_s}}},
-                  {"frames", frames},
-                  {"crossover_frames", crossover}};
-  if (a.has("json")) {
-    std::printf("%s\n", j.dump(2).c_str());
-    return 0;
-  }
-  std::printf("%s, N = %zu, %dx%d, S=%d B=%d\n", data.c_str(), d.cloud.size(), rs.width, rs.height,
-              rs.spp, rs.bounces);
-  std::printf("  direct %s on %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
-              r.method.c_str(), r.structure.c_str(), r.direct_setup_s(), r.direct_frame_s,
-              r.direct_setup_s() + r.direct_frame_s);
-  std::printf("  %s + %s: setup %.3f s, frame %.4f s, first frame %.3f s\n",
-              r.reconstruction.c_str(), r.engine.c_str(), r.mesh_setup_s(), r.mesh_frame_s,
-              r.mesh_setup_s() + r.mesh_frame_s);
-  if (crossover.is_null())
-    std::printf("  reconstruction never pays off: its frames are not faster\n");
+  if (a.has("json"))
+    std::printf("%s\n", crossover_json(r, data, d.cloud.size(), rs, frames).dump(2).c_str());
   else
-    std::printf("  reconstruction pays off after %lld frames\n", crossover.get<long long>());
+    print_crossover(r, data, d.cloud.size(), rs);
   return 0;
 }
 

@@ -7,7 +7,6 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
-#include "harness/sweep.hpp"
 
 namespace pcrt {
 namespace {
@@ -56,41 +55,46 @@ double workload_cost(const std::string& workload, double n) {
   return 10e-9 * n_log_n(n);
 }
 
-double frame_cost(const json& spec, const MethodCost& c, double n) {
-  const double rays = spec.value("M", 4096.0) * spec.value("S", 1.0) * (1 + spec.value("B", 1.0));
+double frame_cost(const RunSpec& spec, const MethodCost& c, double n) {
+  const double rays = spec.M.value_or(4096.0) * spec.S.value_or(1.0) * (1 + spec.B.value_or(1.0));
   // The per-ray constants come from outside cameras, where most rays miss the cloud early. Inside
   // a closed surface every ray hits and works through its leaves: 17-30x as long on ci.json's
   // bounces_inside.
-  const double hit_factor = spec.value("camera", "") == "inside" ? 20.0 : 1.0;
+  const double hit_factor = spec.camera_inside ? 20.0 : 1.0;
   return hit_factor * c.ray_ns * 1e-9 * rays * std::log2(std::max(2.0, n));
 }
 
 }  // namespace
 
-double model_run_cost(const json& spec) {
+double model_run_cost(const RunSpec& spec) {
   // A child process, the registries and the cloud's generation come with every run (the shortest
   // runs of configs/ci.json take 4 ms).
-  const double n = spec.value("N", 1000.0);
+  const double n = spec.N.value_or(1000.0);
   const double overhead = 0.004 + 200e-9 * n;
-  const std::string kind = spec.value("kind", "");
-  const double passes = spec.value("warmup", 0.0) + spec.value("reps", 1.0);
-  if (kind == "workload") return overhead + passes * workload_cost(spec.value("workload", ""), n);
-  if (kind == "reconstruct")
-    return overhead + passes * reconstruction_cost(spec.value("reconstruction", ""),
-                                                   spec.value("dataset", ""), n);
-  const MethodCost c = method_cost(spec.value("method", ""));
+  const double passes = double(spec.warmup + spec.reps);
+  const MethodCost c = method_cost(spec.method);
   const double prepare = c.prepare_ns * 1e-9 * n_log_n(n);
-  if (kind == "build") return overhead + passes * prepare;
-  if (kind == "crossover")
-    return overhead + reconstruction_cost(spec.value("reconstruction", "afsr"), "", n) + prepare +
-           2 * passes * frame_cost(spec, c, n);
+  switch (spec.kind) {
+    case RunKind::kWorkload:
+      return overhead + passes * workload_cost(spec.workload, n);
+    case RunKind::kReconstruct:
+      return overhead + passes * reconstruction_cost(spec.reconstruction, spec.dataset, n);
+    case RunKind::kBuild:
+      return overhead + passes * prepare;
+    case RunKind::kCrossover:
+      return overhead + reconstruction_cost(spec.reconstruction, "", n) + prepare +
+             2 * passes * frame_cost(spec, c, n);
+    case RunKind::kRender:
+      break;
+  }
   return overhead + passes * (prepare + frame_cost(spec, c, n));
 }
 
-std::vector<double> run_costs(const std::vector<json>& runs, const std::vector<json>& earlier) {
+std::vector<double> run_costs(const std::vector<RunSpec>& runs,
+                              const std::vector<RunResult>& earlier) {
   std::unordered_map<std::string, double> measured;
-  for (const json& r : earlier)
-    if (r.contains("wall_s") && r["wall_s"].is_number()) measured[run_key(r)] = r["wall_s"];
+  for (const RunResult& r : earlier)
+    if (r.wall_s) measured[run_key(r)] = *r.wall_s;
   std::vector<double> model(runs.size()), ratios;
   for (size_t i = 0; i < runs.size(); ++i) {
     model[i] = model_run_cost(runs[i]);
@@ -129,17 +133,25 @@ ShardPlan plan_shards(const std::vector<double>& costs, size_t n) {
   return plan;
 }
 
-json plan_json(const ShardPlan& plan, const std::vector<json>& runs, const std::string& source) {
+std::string planned_run_key(const json& spec, const std::string& origin) {
+  try {
+    return run_key(spec.get<RunSpec>());
+  } catch (const std::exception& e) {  // json's own exceptions or InputError
+    input_error("{}: a planned run is not a run spec: {}", origin, e.what());
+  }
+}
+
+json plan_json(const ShardPlan& plan, const std::vector<RunSpec>& runs, const std::string& source) {
   json shards = json::array();
   for (size_t s = 0; s < plan.shards.size(); ++s) {
     json specs = json::array();
-    for (size_t i : plan.shards[s]) specs.push_back(runs[i]);
+    for (size_t i : plan.shards[s]) specs.push_back(json(runs[i]));
     shards.push_back({{"estimated_s", plan.cost[s]}, {"runs", specs}});
   }
   return {{"cost_source", source}, {"shards", shards}};
 }
 
-std::vector<size_t> plan_shard(const json& plan, const std::vector<json>& runs, size_t shard,
+std::vector<size_t> plan_shard(const json& plan, const std::vector<RunSpec>& runs, size_t shard,
                                size_t n, const std::string& origin) {
   if (!plan.is_object() || !plan.contains("shards") || !plan["shards"].is_array())
     input_error("{}: not a shard plan (written by pcrt cluster submit)", origin);
@@ -149,7 +161,7 @@ std::vector<size_t> plan_shard(const json& plan, const std::vector<json>& runs, 
   for (size_t i = 0; i < runs.size(); ++i) index[run_key(runs[i])] = i;
   std::vector<size_t> mine;
   for (const json& spec : plan["shards"][shard].value("runs", json::array())) {
-    const auto it = index.find(run_key(spec));
+    const auto it = index.find(planned_run_key(spec, origin));
     if (it == index.end())
       input_error(
           "{}: shard {} plans a run the config does not have; the plan belongs to "

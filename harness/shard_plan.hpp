@@ -8,18 +8,21 @@
 #include <string>
 #include <vector>
 
+#include "harness/run_spec.hpp"
+
 namespace pcrt {
 
 using nlohmann::json;
 
 // Estimated seconds of one run on one core-ish machine, from its kind, N, M, S, B, repetitions
 // and method. Only the ratios between runs matter for balance; the scale is rough.
-double model_run_cost(const json& spec);
+double model_run_cost(const RunSpec& spec);
 
 // Per-run costs: the earlier sweep's measured wall time where it ran the same run, else the
 // model scaled by the median ratio of measured to modelled time over the runs both know.
 // `earlier` may be empty (model only).
-std::vector<double> run_costs(const std::vector<json>& runs, const std::vector<json>& earlier);
+std::vector<double> run_costs(const std::vector<RunSpec>& runs,
+                              const std::vector<RunResult>& earlier);
 
 struct ShardPlan {
   std::vector<std::vector<size_t>> shards;  // indices into the runs, in run order
@@ -32,9 +35,11 @@ ShardPlan plan_shards(const std::vector<double>& costs, size_t n);
 
 // The plan as JSON (each shard's run specs and estimated seconds) and back: a plan file fixes the
 // split of a cluster sweep, so resubmitting a shard never moves runs between shards.
-json plan_json(const ShardPlan& plan, const std::vector<json>& runs, const std::string& source);
+json plan_json(const ShardPlan& plan, const std::vector<RunSpec>& runs, const std::string& source);
+// The key (run_key) of a run spec in a plan file; InputError naming the plan if it is not one.
+std::string planned_run_key(const json& spec, const std::string& origin);
 // The shard's run indices in `runs`; InputError if the plan does not belong to these runs.
-std::vector<size_t> plan_shard(const json& plan, const std::vector<json>& runs, size_t shard,
+std::vector<size_t> plan_shard(const json& plan, const std::vector<RunSpec>& runs, size_t shard,
                                size_t n, const std::string& origin);
 
 }  // namespace pcrt

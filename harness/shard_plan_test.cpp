@@ -6,21 +6,22 @@
 
 #include "core/error.hpp"
 #include "harness/slurm.hpp"
-#include "harness/sweep.hpp"
 
 using namespace pcrt;
 
 namespace {
 
-std::vector<json> render_runs(std::initializer_list<double> ns) {
-  std::vector<json> runs;
-  for (double n : ns)
-    runs.push_back({{"kind", "render"},
-                    {"method", "reference_splat"},
-                    {"N", n},
-                    {"M", 256.0},
-                    {"B", 1.0},
-                    {"reps", 1}});
+std::vector<RunSpec> render_runs(std::initializer_list<double> ns) {
+  std::vector<RunSpec> runs;
+  for (double n : ns) {
+    RunSpec s;
+    s.kind = RunKind::kRender;
+    s.method = "reference_splat";
+    s.N = n;
+    s.M = 256.0;
+    s.B = 1.0;
+    runs.push_back(s);
+  }
   return runs;
 }
 
@@ -57,38 +58,38 @@ TEST_CASE("every run lands in exactly one shard, whatever the count", "[shards]"
 }
 
 TEST_CASE("run costs grow with the work a run does", "[shards]") {
-  const std::vector<json> runs = render_runs({1000, 4000, 16000});
+  const std::vector<RunSpec> runs = render_runs({1000, 4000, 16000});
   const std::vector<double> c = run_costs(runs, {});
   REQUIRE(c[0] < c[1]);
   REQUIRE(c[1] < c[2]);
-  json skew = {{"kind", "reconstruct"},
-               {"reconstruction", "delaunay"},
-               {"dataset", "skew_lines"},
-               {"N", 3200.0},
-               {"reps", 1}};
-  json ball = skew;
-  ball["dataset"] = "ball";
+  RunSpec skew;
+  skew.kind = RunKind::kReconstruct;
+  skew.reconstruction = "delaunay";
+  skew.dataset = "skew_lines";
+  skew.N = 3200.0;
+  RunSpec ball = skew;
+  ball.dataset = "ball";
   REQUIRE(model_run_cost(skew) > 10 * model_run_cost(ball));  // (N/2)^2 cells against N log N
 }
 
 TEST_CASE("an earlier sweep's times replace the model and scale it", "[shards]") {
-  const std::vector<json> runs = render_runs({1000, 4000, 16000});
+  const std::vector<RunSpec> runs = render_runs({1000, 4000, 16000});
   const double m0 = model_run_cost(runs[0]), m2 = model_run_cost(runs[2]);
-  json earlier = runs[0];
-  earlier["spec"] = runs[0];
-  earlier["wall_s"] = 10 * m0;
+  RunResult earlier;
+  earlier.spec = runs[0];
+  earlier.wall_s = 10 * m0;
   const std::vector<double> c = run_costs(runs, {earlier});
   REQUIRE(c[0] == Approx(10 * m0));
   REQUIRE(c[2] == Approx(10 * m2));  // scaled by the one measured ratio
 }
 
 TEST_CASE("a plan file gives each shard its runs and refuses another config", "[shards]") {
-  const std::vector<json> runs = render_runs({1000, 2000, 4000, 8000});
+  const std::vector<RunSpec> runs = render_runs({1000, 2000, 4000, 8000});
   const ShardPlan plan = plan_shards(run_costs(runs, {}), 2);
   const json file = json::parse(plan_json(plan, runs, "model").dump());
   REQUIRE(plan_shard(file, runs, 1, 2, "plan.json") == plan.shards[1]);
   REQUIRE_THROWS_AS(plan_shard(file, runs, 0, 3, "plan.json"), InputError);
-  const std::vector<json> other = render_runs({1000, 2000, 4000, 9000});
+  const std::vector<RunSpec> other = render_runs({1000, 2000, 4000, 9000});
   const size_t holder = std::count(plan.shards[0].begin(), plan.shards[0].end(), 3) ? 0 : 1;
   REQUIRE_THROWS_AS(plan_shard(file, other, holder, 2, "plan.json"), InputError);
 }

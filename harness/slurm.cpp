@@ -1,9 +1,5 @@
 #include "harness/slurm.hpp"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -14,8 +10,6 @@
 #include <utility>
 
 #include "core/error.hpp"
-
-extern char** environ;
 
 namespace pcrt {
 namespace {
@@ -35,33 +29,6 @@ constexpr std::array<std::pair<JobState, std::string_view>, 13> kStateNames = {{
     {JobState::Suspended, "SUSPENDED"},
     {JobState::Gone, "GONE"},
 }};
-
-// Reads both pipes until the child closes them (reading one at a time could block the child on
-// a full other pipe).
-void drain(int out_fd, int err_fd, std::string& out, std::string& err) {
-  pollfd fds[2] = {{out_fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
-  int open = 2;
-  char buf[8192];
-  while (open > 0) {
-    if (poll(fds, 2, -1) < 0) break;
-    for (int i = 0; i < 2; ++i) {
-      if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP))) continue;
-      const ssize_t n = read(fds[i].fd, buf, sizeof buf);
-      if (n > 0) {
-        (i == 0 ? out : err).append(buf, size_t(n));
-      } else {
-        fds[i].fd = -1;
-        --open;
-      }
-    }
-  }
-}
-
-std::string last_line(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  const size_t nl = text.rfind('\n');
-  return nl == std::string::npos ? text : text.substr(nl + 1);
-}
 
 }  // namespace
 
@@ -98,39 +65,6 @@ bool is_active(JobState state) {
 
 bool is_failure(JobState state) {
   return !is_active(state) && state != JobState::Completed && state != JobState::Gone;
-}
-
-CommandOutput run_command(const std::vector<std::string>& argv) {
-  int out_pipe[2], err_pipe[2];
-  if (pipe(out_pipe) != 0 || pipe(err_pipe) != 0) input_error("cannot create a pipe");
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_adddup2(&actions, out_pipe[1], 1);
-  posix_spawn_file_actions_adddup2(&actions, err_pipe[1], 2);
-  posix_spawn_file_actions_addclose(&actions, out_pipe[0]);
-  posix_spawn_file_actions_addclose(&actions, err_pipe[0]);
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0].c_str(), &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  close(out_pipe[1]);
-  close(err_pipe[1]);
-  CommandOutput result;
-  if (rc != 0) {
-    close(out_pipe[0]);
-    close(err_pipe[0]);
-    input_error("cannot start {}: {}", argv[0], std::strerror(rc));
-  }
-  drain(out_pipe[0], err_pipe[0], result.out, result.err);
-  close(out_pipe[0]);
-  close(err_pipe[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return result;
 }
 
 bool on_path(const std::string& program) {

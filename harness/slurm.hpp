@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "harness/subprocess.hpp"
+
 namespace pcrt {
 
 enum class JobState {
@@ -40,13 +42,6 @@ struct JobStatus {
   std::string reason;  // squeue's %r, e.g. DependencyNeverSatisfied
 };
 
-struct CommandOutput {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-// Runs argv[0] found on PATH, waits, and returns its exit code and output.
-CommandOutput run_command(const std::vector<std::string>& argv);
 bool on_path(const std::string& program);
 // InputError saying plainly that `program` (sbatch, squeue) is not there.
 void require_slurm_command(const std::string& program);

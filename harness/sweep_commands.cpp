@@ -19,10 +19,16 @@
 #include "harness/build_info.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
+#include "harness/csv_table.hpp"
 #include "harness/fit.hpp"
+#include "harness/provenance.hpp"
+#include "harness/run_child.hpp"
+#include "harness/run_executors.hpp"
+#include "harness/run_files.hpp"
 #include "harness/shard_plan.hpp"
-#include "harness/slurm.hpp"
-#include "harness/sweep.hpp"
+#include "harness/subprocess.hpp"
+#include "harness/sweep_config.hpp"
+#include "harness/sweep_fits.hpp"
 #include "harness/workloads.hpp"
 
 namespace pcrt {
@@ -46,50 +52,57 @@ std::string fmt_duration(double s) {
   return fmt::format("{:.0f} min {:.0f} s", std::floor(s / 60), std::fmod(s, 60));
 }
 
+// One status line per run on a terminal: where the sweep is and how long it has left.
+void show_progress(const RunSpec& spec, size_t i, size_t n, double elapsed_s) {
+  const std::string eta = i > 0 ? fmt_duration(elapsed_s / double(i) * double(n - i)) : "?";
+  const std::string what = !spec.method.empty()           ? spec.method
+                           : !spec.reconstruction.empty() ? spec.reconstruction
+                                                          : spec.workload;
+  const std::string points = spec.N ? json(*spec.N).dump() : "-";
+  std::fprintf(stderr, "\r\033[K[%zu/%zu, ETA %s] %s %s %s N=%s", i + 1, n, eta.c_str(),
+               spec.experiment.c_str(), what.c_str(), spec.structure.c_str(), points.c_str());
+}
+
+// The keys of the runs already in DIR/runs.jsonl; rewrites it without a truncated tail, so
+// appends start on a fresh line.
+std::set<std::string> resume_from(const std::string& jsonl) {
+  const std::vector<RunResult> kept = read_runs_jsonl(jsonl);
+  std::set<std::string> done;
+  for (const RunResult& r : kept) done.insert(run_key(r));
+  write_runs_jsonl(jsonl, kept);
+  return done;
+}
+
 // Runs the `selected` runs of `config` not yet in DIR/runs.jsonl (with --resume); returns all
 // results in DIR afterwards.
-std::vector<json> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
-                            const std::vector<size_t>& selected, bool quiet) {
+std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
+                                 const std::vector<size_t>& selected, bool quiet) {
   make_output_directory(dir, "--out");
   const std::string jsonl = dir + "/runs.jsonl";
-  std::set<std::string> done;
-  if (resume && fs::exists(jsonl)) {
-    for (const json& r : read_runs_jsonl(jsonl)) done.insert(run_key(r));
-    // Rewrite without a truncated tail, so appends start on a fresh line.
-    std::vector<json> kept = read_runs_jsonl(jsonl);
-    write_file_atomically(jsonl, [&](std::ostream& o) {
-      for (const json& r : kept) o << r.dump() << '\n';
-    });
-  }
+  const bool resuming = resume && fs::exists(jsonl);
+  const std::set<std::string> done = resuming ? resume_from(jsonl) : std::set<std::string>{};
   // Written first: on a read-only or full file system this is the one-line error, before the
   // old results are touched.
   write_json(dir + "/context.json", machine_context(config.raw));
   // A shard with nothing (left) to run still leaves a readable, empty runs.jsonl.
-  if (!resume || !fs::exists(jsonl)) write_file_atomically(jsonl, [](std::ostream&) {});
-  std::vector<const json*> todo;
+  if (!resuming) write_file_atomically(jsonl, [](std::ostream&) {});
+  std::vector<const RunSpec*> todo;
   for (size_t i : selected)
     if (!done.count(run_key(config.runs[i]))) todo.push_back(&config.runs[i]);
   const bool tty = isatty(2) && !quiet;
   const auto start = std::chrono::steady_clock::now();
   size_t failed = 0;
   for (size_t i = 0; i < todo.size(); ++i) {
-    const json& spec = *todo[i];
-    if (tty) {
-      const double el =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const std::string eta = i > 0 ? fmt_duration(el / double(i) * double(todo.size() - i)) : "?";
-      std::fprintf(
-          stderr, "\r\033[K[%zu/%zu, ETA %s] %s %s %s N=%s", i + 1, todo.size(), eta.c_str(),
-          spec.value("experiment", "").c_str(),
-          spec.value("method", spec.value("reconstruction", spec.value("workload", ""))).c_str(),
-          spec.value("structure", "").c_str(), spec.contains("N") ? spec["N"].dump().c_str() : "-");
-    }
-    json result = run_in_child(spec, config.time_limit_s);
-    if (result.value("status", "") != "ok") ++failed;
-    append_line(jsonl, result.dump());
+    if (tty)
+      show_progress(
+          *todo[i], i, todo.size(),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const RunResult result = run_in_child(*todo[i], config.time_limit_s);
+    if (!result.ok()) ++failed;
+    append_run(jsonl, result);
   }
   if (tty) std::fprintf(stderr, "\r\033[K");
-  std::vector<json> all = read_runs_jsonl(jsonl);
+  std::vector<RunResult> all = read_runs_jsonl(jsonl);
   write_runs_csv(dir + "/runs.csv", all);
   if (!quiet)
     std::printf("%s: %zu runs done (%zu already done, %zu failed or timed out)\n", dir.c_str(),
@@ -129,23 +142,7 @@ void write_fits(const std::string& dir, const std::vector<json>& fits) {
                                          "source",
                                          "failed_runs",
                                          "error"};
-  write_file_atomically(dir + "/fits.csv", [&](std::ostream& o) {
-    for (size_t i = 0; i < cols.size(); ++i) o << (i ? "," : "") << cols[i];
-    o << '\n';
-    for (const json& f : fits) {
-      for (size_t i = 0; i < cols.size(); ++i) {
-        const json v = f.value(cols[i], json(nullptr));
-        std::string s = v.is_null() ? "" : v.is_string() ? v.get<std::string>() : v.dump();
-        if (s.find_first_of(",\"") != std::string::npos) {
-          std::string q = "\"";
-          for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-          s = q + "\"";
-        }
-        o << (i ? "," : "") << s;
-      }
-      o << '\n';
-    }
-  });
+  write_csv(dir + "/fits.csv", cols, fits);
 }
 
 SweepConfig config_of(const std::string& dir) {
@@ -179,8 +176,8 @@ std::vector<size_t> shard_runs(const SweepConfig& config, const CliArgs& a) {
     input_error("--plan fixes the shards; --costs cannot move them");
   if (a.has("plan"))
     return plan_shard(read_json_file(a.get("plan")), config.runs, i, n, a.get("plan"));
-  const std::vector<json> earlier =
-      a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<json>{};
+  const std::vector<RunResult> earlier =
+      a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<RunResult>{};
   return plan_shards(run_costs(config.runs, earlier), n).shards[i];
 }
 
@@ -217,15 +214,17 @@ int command_run_one(const Args& args) {
   if (args.empty() || args.size() > 2)
     input_error("_run takes one JSON run spec and the sweep's process id");
   if (args.size() == 2) die_with_parent(args[1]);
-  json spec;
+  RunSpec spec;
   try {
-    spec = json::parse(args[0]);
+    spec = json::parse(args[0]).get<RunSpec>();
   } catch (const json::exception&) {
     input_error("_run: the run spec is not valid JSON");
+  } catch (const InputError& e) {
+    input_error("_run: {}", e.what());
   }
   auto limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                     size_t(spec.value("threads", 2)));
-  std::printf("%s\n", execute_run(spec).dump().c_str());
+                                                     size_t(spec.threads));
+  std::printf("%s\n", json(execute_run(spec)).dump().c_str());
   return 0;
 }
 
@@ -243,7 +242,7 @@ int command_sweep(const Args& args) {
   if (!a.parse(args)) return 0;
   const SweepConfig config = load_sweep_config(a.positional()[0]);
   const std::string dir = a.has("out") ? a.get("out") : "results/" + config.name;
-  const std::vector<json> results =
+  const std::vector<RunResult> results =
       run_sweep(config, dir, a.has("resume"), shard_runs(config, a), false);
   if (a.has("fit")) write_fits(dir, fit_runs(config, results));
   return 0;
@@ -253,7 +252,7 @@ int command_merge(const Args& args) {
   CliArgs a("merge", "pcrt merge DIR... --out DIR", {{"out", "DIR", "merged directory"}}, 1, 1000);
   if (!a.parse(args)) return 0;
   const std::string out = a.require("out");
-  std::map<std::string, json> runs;
+  std::map<std::string, RunResult> runs;
   json contexts = json::array();
   for (size_t i = 0; i < a.positional().size(); ++i) {
     const std::string dir = a.positional()[i];
@@ -261,14 +260,12 @@ int command_merge(const Args& args) {
     if (!ctx.is_object()) input_error("{}/context.json: not an object", dir);
     if (i > 0) check_same_sweep(ctx, contexts[0], dir, a.positional()[0]);
     contexts.push_back(ctx);
-    for (const json& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
+    for (const RunResult& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
   }
   make_output_directory(out, "--out");
-  std::vector<json> all;
+  std::vector<RunResult> all;
   for (auto& [k, r] : runs) all.push_back(r);
-  write_file_atomically(out + "/runs.jsonl", [&](std::ostream& o) {
-    for (const json& r : all) o << r.dump() << '\n';
-  });
+  write_runs_jsonl(out + "/runs.jsonl", all);
   write_runs_csv(out + "/runs.csv", all);
   json merged = contexts[0];
   merged["shards"] = contexts;
@@ -307,14 +304,11 @@ int command_report(const Args& args) {
   return 0;
 }
 
-int command_calibrate(const Args& args) {
-  CliArgs a("calibrate", "pcrt calibrate [--out DIR] [--json]",
-            {{"out", "DIR", "keep the sweep's runs and fits here (default: a temporary directory)"},
-             {"json", "", "print JSON"}},
-            0, 0);
-  if (!a.parse(args)) return 0;
-  // The same sweep and fit path as the methods: one experiment per workload, fitted in ops and
-  // in time.
+namespace {
+
+// One experiment per workload, fitted in operations and in time: the same sweep and fit path as
+// the methods'.
+json calibration_config() {
   json experiments = json::array();
   for (const WorkloadInfo& w : workloads()) {
     experiments.push_back(
@@ -328,14 +322,54 @@ int command_calibrate(const Args& args) {
             {"metric", "ops_workload_operations"}},
            {{"claim", "calibration/" + w.id}, {"variable", "N"}, {"metric", "time"}}}}});
   }
-  const json raw = {{"name", "calibrate"}, {"threads", 1},        {"repetitions", 5},
-                    {"warmup", 1},         {"time_limit_s", 120}, {"experiments", experiments}};
-  const SweepConfig config = parse_sweep_config(raw, "calibrate");
-  const std::string dir =
-      a.has("out")
-          ? a.get("out")
-          : (fs::temp_directory_path() / ("pcrt_calibrate_" + std::to_string(getpid()))).string();
-  const std::vector<json> results = run_sweep(config, dir, false, all_runs(config), true);
+  return {{"name", "calibrate"}, {"threads", 1},        {"repetitions", 5},
+          {"warmup", 1},         {"time_limit_s", 120}, {"experiments", experiments}};
+}
+
+// Whether a workload's fit found the growth it has by construction.
+json calibration_row(const json& f) {
+  const std::string id = f.value("workload", "");
+  const auto& w =
+      *std::find_if(workloads().begin(), workloads().end(), [&](auto& x) { return x.id == id; });
+  const bool ok = f.value("best_model", "") == std::string(growth_name(w.expected));
+  return {{"workload", id},
+          {"metric", f.value("metric", "") == "time" ? "time" : "operations"},
+          {"expected", growth_name(w.expected)},
+          {"best_model", f.value("best_model", json(nullptr))},
+          {"exponent", f.value("exponent", json(nullptr))},
+          {"ci_low", f.value("ci_low", json(nullptr))},
+          {"ci_high", f.value("ci_high", json(nullptr))},
+          {"correct", ok}};
+}
+
+void print_calibration(const json& rows) {
+  for (const json& o : rows)
+    std::printf("  %-14s %-10s expected %-8s best %-8s exponent %.3f  %s\n",
+                o["workload"].get<std::string>().c_str(), o["metric"].get<std::string>().c_str(),
+                o["expected"].get<std::string>().c_str(),
+                o["best_model"].is_null() ? "-" : o["best_model"].get<std::string>().c_str(),
+                o["exponent"].is_null() ? 0.0 : o["exponent"].get<double>(),
+                o["correct"].get<bool>() ? "ok" : "WRONG");
+}
+
+// DIR given, or a temporary directory named after the command and this process.
+std::string sweep_dir(const CliArgs& a, const std::string& command) {
+  if (a.has("out")) return a.get("out");
+  return (fs::temp_directory_path() / ("pcrt_" + command + "_" + std::to_string(getpid())))
+      .string();
+}
+
+}  // namespace
+
+int command_calibrate(const Args& args) {
+  CliArgs a("calibrate", "pcrt calibrate [--out DIR] [--json]",
+            {{"out", "DIR", "keep the sweep's runs and fits here (default: a temporary directory)"},
+             {"json", "", "print JSON"}},
+            0, 0);
+  if (!a.parse(args)) return 0;
+  const SweepConfig config = parse_sweep_config(calibration_config(), "calibrate");
+  const std::string dir = sweep_dir(a, "calibrate");
+  const std::vector<RunResult> results = run_sweep(config, dir, false, all_runs(config), true);
   const std::vector<json> fits = fit_runs(config, results);
   if (a.has("out"))
     write_fits(dir, fits);
@@ -344,33 +378,100 @@ int command_calibrate(const Args& args) {
   json out = json::array();
   bool all_ok = true;
   for (const json& f : fits) {
-    const std::string id = f.value("workload", "");
-    const auto& w =
-        *std::find_if(workloads().begin(), workloads().end(), [&](auto& x) { return x.id == id; });
-    const bool ok = f.value("best_model", "") == std::string(growth_name(w.expected));
-    all_ok = all_ok && ok;
-    out.push_back({{"workload", id},
-                   {"metric", f.value("metric", "") == "time" ? "time" : "operations"},
-                   {"expected", growth_name(w.expected)},
-                   {"best_model", f.value("best_model", json(nullptr))},
-                   {"exponent", f.value("exponent", json(nullptr))},
-                   {"ci_low", f.value("ci_low", json(nullptr))},
-                   {"ci_high", f.value("ci_high", json(nullptr))},
-                   {"correct", ok}});
+    out.push_back(calibration_row(f));
+    all_ok = all_ok && out.back()["correct"].get<bool>();
   }
-  if (a.has("json")) {
+  if (a.has("json"))
     std::printf("%s\n", out.dump(2).c_str());
-  } else {
-    for (const json& o : out)
-      std::printf("  %-14s %-10s expected %-8s best %-8s exponent %.3f  %s\n",
-                  o["workload"].get<std::string>().c_str(), o["metric"].get<std::string>().c_str(),
-                  o["expected"].get<std::string>().c_str(),
-                  o["best_model"].is_null() ? "-" : o["best_model"].get<std::string>().c_str(),
-                  o["exponent"].is_null() ? 0.0 : o["exponent"].get<double>(),
-                  o["correct"].get<bool>() ? "ok" : "WRONG");
-  }
+  else
+    print_calibration(out);
   return all_ok ? 0 : 1;
 }
+
+namespace {
+
+// The baseline, read and checked before the sweep runs.
+json read_baseline(const std::string& path) {
+  if (!fs::exists(path)) input_error("{}: no such file (create it with --update)", path);
+  json base = read_json_file(path);
+  if (!base.is_object() || !base.contains("runs") || !base["runs"].is_object() ||
+      !base.value("verdicts", json::object()).is_object())
+    input_error("{}: not a baseline (written by pcrt check --update)", path);
+  for (const auto& [key, old] : base["runs"].items())
+    if (!old.is_object()) input_error("{}: run {} is not an object of counters", path, key);
+  return base;
+}
+
+// Counters per run, verdicts per op-count fit (time fits are not gated: machines differ).
+json gate_record(const std::vector<RunResult>& results, const std::vector<json>& fits) {
+  json now = {{"runs", json::object()}, {"verdicts", json::object()}};
+  for (const RunResult& r : results) {
+    json c = r.counters;
+    if (r.prepare_counters)
+      for (const auto& [k, v] : *r.prepare_counters) c["prep_" + k] = v;
+    c["status"] = run_status_name(r.status);
+    // Operation counts do not depend on the thread count, so the gate's keys leave it out.
+    json spec = json::parse(run_key(r));
+    spec.erase("threads");
+    now["runs"][spec.dump()] = c;
+  }
+  for (const json& f : fits) {
+    const std::string m = f.value("metric", "");
+    if (m.find("time") != std::string::npos || m.find("fps") != std::string::npos) continue;
+    now["verdicts"][f.value("claim", "") + " | " + f.value("dataset", "") + " | " +
+                    f["group"].dump()] = f.value("verdict", "");
+  }
+  return now;
+}
+
+// The counters of one run that differ beyond the tolerance (percent), printed; their number.
+size_t counter_differences(const std::string& key, const json& old, const json& cur,
+                           double tolerance) {
+  std::set<std::string> names;
+  for (const auto& [k, v] : old.items()) names.insert(k);
+  for (const auto& [k, v] : cur.items()) names.insert(k);
+  size_t problems = 0;
+  for (const std::string& k : names) {
+    const json o = old.value(k, json(nullptr)), c = cur.value(k, json(nullptr));
+    if (o.is_number() && c.is_number()) {
+      const double ov = o.get<double>(), cv = c.get<double>();
+      if (std::abs(cv - ov) <= tolerance / 100.0 * std::abs(ov)) continue;
+    } else if (o == c) {
+      continue;
+    }
+    std::printf("%s\n  %s: %s -> %s\n", key.c_str(), k.c_str(), o.dump().c_str(), c.dump().c_str());
+    ++problems;
+  }
+  return problems;
+}
+
+// Every difference between the baseline and this run, printed; their number.
+size_t gate_differences(const json& base, const json& now, double tolerance) {
+  size_t problems = 0;
+  for (const auto& [key, old] : base["runs"].items()) {
+    if (now["runs"].contains(key)) {
+      problems += counter_differences(key, old, now["runs"][key], tolerance);
+    } else {
+      std::printf("run missing now: %s\n", key.c_str());
+      ++problems;
+    }
+  }
+  for (const auto& [key, cur] : now["runs"].items())
+    if (!base["runs"].contains(key))
+      std::printf("new run (not in the baseline): %s\n", key.c_str()), ++problems;
+  const json base_verdicts = base.value("verdicts", json::object());
+  for (const auto& [key, old] : base_verdicts.items()) {
+    const json cur = now["verdicts"].value(key, json(nullptr));
+    if (cur != old) {
+      std::printf("verdict changed: %s: %s -> %s\n", key.c_str(), old.dump().c_str(),
+                  cur.dump().c_str());
+      ++problems;
+    }
+  }
+  return problems;
+}
+
+}  // namespace
 
 int command_check(const Args& args) {
   CliArgs a("check",
@@ -388,85 +489,18 @@ int command_check(const Args& args) {
   if (a.has("update")) check_output_path(baseline_path, "--baseline");
   const double tolerance = a.number("tolerance", 0.0);
   if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
-  json base;
-  if (!a.has("update")) {  // the baseline is read and checked before the sweep runs
-    if (!fs::exists(baseline_path))
-      input_error("{}: no such file (create it with --update)", baseline_path);
-    base = read_json_file(baseline_path);
-    if (!base.is_object() || !base.contains("runs") || !base["runs"].is_object() ||
-        !base.value("verdicts", json::object()).is_object())
-      input_error("{}: not a baseline (written by pcrt check --update)", baseline_path);
-    for (const auto& [key, old] : base["runs"].items())
-      if (!old.is_object())
-        input_error("{}: run {} is not an object of counters", baseline_path, key);
-  }
-  const std::string dir =
-      a.has("out")
-          ? a.get("out")
-          : (fs::temp_directory_path() / ("pcrt_check_" + std::to_string(getpid()))).string();
-  const std::vector<json> results = run_sweep(config, dir, false, all_runs(config), true);
-  const std::vector<json> fits = fit_runs(config, results);
+  const json base = a.has("update") ? json() : read_baseline(baseline_path);
+  const std::string dir = sweep_dir(a, "check");
+  const std::vector<RunResult> results = run_sweep(config, dir, false, all_runs(config), true);
+  const json now = gate_record(results, fit_runs(config, results));
   if (!a.has("out")) fs::remove_all(dir);
-  // Counters per run, verdicts per op-count fit (time fits are not gated: machines differ).
-  json now = {{"runs", json::object()}, {"verdicts", json::object()}};
-  for (const json& r : results) {
-    json c = r.value("counters", json::object());
-    const json prepare = r.value("prepare_counters", json::object());
-    for (const auto& [k, v] : prepare.items()) c["prep_" + k] = v;
-    c["status"] = r.value("status", "");
-    // Operation counts do not depend on the thread count, so the gate's keys leave it out.
-    json spec = json::parse(run_key(r));
-    spec.erase("threads");
-    now["runs"][spec.dump()] = c;
-  }
-  for (const json& f : fits) {
-    const std::string m = f.value("metric", "");
-    if (m.find("time") != std::string::npos || m.find("fps") != std::string::npos) continue;
-    now["verdicts"][f.value("claim", "") + " | " + f.value("dataset", "") + " | " +
-                    f["group"].dump()] = f.value("verdict", "");
-  }
   if (a.has("update")) {
     write_json(baseline_path, now);
     std::printf("%s: baseline written (%zu runs, %zu verdicts)\n", baseline_path.c_str(),
                 now["runs"].size(), now["verdicts"].size());
     return 0;
   }
-  size_t problems = 0;
-  for (const auto& [key, old] : base["runs"].items()) {
-    if (!now["runs"].contains(key)) {
-      std::printf("run missing now: %s\n", key.c_str());
-      ++problems;
-      continue;
-    }
-    const json& cur = now["runs"][key];
-    std::set<std::string> names;
-    for (const auto& [k, v] : old.items()) names.insert(k);
-    for (const auto& [k, v] : cur.items()) names.insert(k);
-    for (const std::string& k : names) {
-      const json o = old.value(k, json(nullptr)), c = cur.value(k, json(nullptr));
-      if (o.is_number() && c.is_number()) {
-        const double ov = o.get<double>(), cv = c.get<double>();
-        if (std::abs(cv - ov) <= tolerance / 100.0 * std::abs(ov)) continue;
-      } else if (o == c) {
-        continue;
-      }
-      std::printf("%s\n  %s: %s -> %s\n", key.c_str(), k.c_str(), o.dump().c_str(),
-                  c.dump().c_str());
-      ++problems;
-    }
-  }
-  for (const auto& [key, cur] : now["runs"].items())
-    if (!base["runs"].contains(key))
-      std::printf("new run (not in the baseline): %s\n", key.c_str()), ++problems;
-  const json base_verdicts = base.value("verdicts", json::object());
-  for (const auto& [key, old] : base_verdicts.items()) {
-    const json cur = now["verdicts"].value(key, json(nullptr));
-    if (cur != old) {
-      std::printf("verdict changed: %s: %s -> %s\n", key.c_str(), old.dump().c_str(),
-                  cur.dump().c_str());
-      ++problems;
-    }
-  }
+  const size_t problems = gate_differences(base, now, tolerance);
   std::printf("%s: %zu runs, %zu verdicts compared: %zu differences\n", baseline_path.c_str(),
               now["runs"].size(), now["verdicts"].size(), problems);
   return problems == 0 ? 0 : 1;

@@ -3,7 +3,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "harness/sweep.hpp"
+#include "harness/sweep_config.hpp"
+#include "harness/sweep_fits.hpp"
 
 using namespace pcrt;
 
@@ -22,19 +23,20 @@ SweepConfig config(const json& fit) {
   return parse_sweep_config(raw, "test");
 }
 
-// One ok result of hubo_2006 at N with the given counters.
-json result(double n, const json& counters) {
-  return {{"experiment", "e"},
-          {"kind", "render"},
-          {"method", "hubo_2006"},
-          {"structure", "kd_tree"},
-          {"dataset", "sphere"},
-          {"N", n},
-          {"M", 64},
-          {"B", 0},
-          {"set", json::object()},
-          {"counters", counters},
-          {"status", "ok"}};
+// One ok result of hubo_2006 at N with the given counters (rounded: counts are whole numbers).
+RunResult result(double n, const std::map<std::string, double>& counters) {
+  RunResult r;
+  r.spec = json({{"experiment", "e"},
+                 {"kind", "render"},
+                 {"method", "hubo_2006"},
+                 {"structure", "kd_tree"},
+                 {"dataset", "sphere"},
+                 {"N", n},
+                 {"M", 64},
+                 {"B", 0}})
+               .get<RunSpec>();
+  for (const auto& [k, v] : counters) r.counters[k] = uint64_t(std::llround(v));
+  return r;
 }
 
 }  // namespace
@@ -42,7 +44,7 @@ json result(double n, const json& counters) {
 TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit]") {
   const SweepConfig c =
       config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
-  std::vector<json> runs;
+  std::vector<RunResult> runs;
   for (double n : {1000, 2000, 4000, 8000, 16000, 32000})
     runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
                               {"items_visited", 800},
@@ -54,14 +56,14 @@ TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit
   REQUIRE(fits[0]["metric"].get<std::string>().find("ops_weighted_plane_terms") !=
           std::string::npos);
   const double y0 = fits[0]["y_values"][0];
-  REQUIRE(y0 == Approx(100 * std::log(1000.0) + 800 + 5000));
+  REQUIRE(y0 == Approx(std::round(100 * std::log(1000.0)) + 800 + 5000));
   REQUIRE(fits[0]["verdict"] != "exceeds");
 }
 
 TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
   const SweepConfig c =
       config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
-  std::vector<json> runs;
+  std::vector<RunResult> runs;
   double k = 8;
   for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
     runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
@@ -82,7 +84,7 @@ TEST_CASE("fit_runs: y proportional to x by construction is an identity", "[swee
                                 {"x", "I_run"},
                                 {"metric", "ops_newton_steps"},
                                 {"per", "ops_newton_runs"}});
-  std::vector<json> runs;
+  std::vector<RunResult> runs;
   int i = 1;
   for (double n : {1000, 2000, 4000, 8000, 16000, 32000})
     runs.push_back(result(n, {{"newton_steps", 100 * i++}, {"newton_runs", 100}}));
@@ -98,7 +100,7 @@ TEST_CASE("fit_runs: identical points are merged, and fewer than 5 distinct x is
                                 {"x", "I_run"},
                                 {"metric", "ops_weighted_plane_terms"},
                                 {"per", "ops_newton_runs"}});
-  std::vector<json> runs;
+  std::vector<RunResult> runs;
   int i = 0;
   for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
     const int steps = std::min(++i, 3);  // the last four runs are one and the same point

@@ -105,6 +105,9 @@ struct MethodInfo {
   // steps, ...): with the traversal's nodes and items, the work frame claims are judged on.
   std::vector<const Counter*> work = {};
   LeafFamily family = LeafFamily::kOther;
+
+  // One of the thesis's surveyed methods (it has a reference number), not a reference oracle.
+  [[nodiscard]] bool surveyed() const { return thesis_ref != "-"; }
 };
 
 // MethodInfo::create for a method constructed from its typed parameters (declared by `list`).

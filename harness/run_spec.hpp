@@ -1,0 +1,85 @@
+// One run of a sweep, as the harness passes it around: what to run (RunSpec) and what came of it
+// (RunResult). JSON only at the edges: a child process's argument and output, runs.jsonl, plan
+// files. The JSON written is the same as ever (committed results and scripts read it): a result
+// is its spec's keys, "spec" (the spec as given), and the measurements.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pcrt {
+
+using nlohmann::json;
+
+// What a run does; each kind has one executor (run_executors.cpp).
+enum class RunKind {
+  kRender,       // build a method's scene and render frames
+  kBuild,        // build a method's scene only
+  kReconstruct,  // reconstruct a mesh from the cloud
+  kWorkload,     // a calibration workload of known growth
+  kCrossover,    // direct tracing against reconstruct-then-trace
+};
+inline constexpr RunKind kAllRunKinds[] = {RunKind::kRender, RunKind::kBuild, RunKind::kReconstruct,
+                                           RunKind::kWorkload, RunKind::kCrossover};
+const char* run_kind_name(RunKind k);  // "render", "build", ...
+std::optional<RunKind> run_kind_from_name(const std::string& name);
+// Whether runs of this kind trace a method (method, structure and its parameters).
+bool runs_method(RunKind k);
+
+struct RunSpec {
+  std::string experiment;
+  RunKind kind = RunKind::kRender;
+  int reps = 1, warmup = 0, threads = 2;
+  uint64_t seed = 1;
+  std::string measure = "both";       // recorded as the config gives it
+  bool camera_inside = false;         // at the centre of the cloud's bounds ("camera": "inside")
+  std::string dataset;                // as the config names it (every kind but workload)
+  std::string dataset_path;           // where it lies, when that differs from `dataset`
+  std::string method, structure;      // structure "": the method traces through its own
+  std::map<std::string, double> set;  // parameters given (method's and structure's)
+  std::string reconstruction, engine, workload;
+  // The grid point: points (N), pixels (M), samples per pixel (S), bounces (B), where given.
+  std::optional<double> N, M, S, B;
+};
+
+// Unknown kinds and wrong types are json exceptions; callers name the input.
+void to_json(json& j, const RunSpec& s);
+void from_json(const json& j, RunSpec& s);
+
+// The identity of a run (its spec, canonically serialised): what --resume, merges and plans
+// compare.
+std::string run_key(const RunSpec& spec);
+
+enum class RunStatus { kOk, kFailed, kTimeout };
+const char* run_status_name(RunStatus s);
+
+struct RunResult {
+  RunSpec spec;
+  RunStatus status = RunStatus::kOk;
+  std::string error;  // why a run failed or timed out
+  // What the run measured (ok runs): N as loaded and M as rendered replace the spec's values.
+  std::optional<uint64_t> points;
+  std::optional<int64_t> pixels;
+  std::map<std::string, uint64_t> counters;
+  std::optional<std::map<std::string, uint64_t>> prepare_counters;  // methods' runs
+  std::vector<double> times_s;   // one per repetition; summarised in the JSON
+  json extra = json::object();   // the kind's own measurements (seconds, bytes), one column each
+  std::optional<double> wall_s;  // the whole child process, preparation included
+
+  [[nodiscard]] bool ok() const { return status == RunStatus::kOk; }
+  // The median repetition's time, 0 without times.
+  [[nodiscard]] double time_median_s() const;
+};
+
+void to_json(json& j, const RunResult& r);
+void from_json(const json& j, RunResult& r);
+inline std::string run_key(const RunResult& r) { return run_key(r.spec); }
+
+// A result that never measured anything (the child failed, timed out or printed nonsense).
+RunResult failed_run(const RunSpec& spec, RunStatus status, std::string error);
+
+}  // namespace pcrt

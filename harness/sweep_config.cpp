@@ -1,0 +1,543 @@
+#include "harness/sweep_config.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/json_input.hpp"
+#include "harness/claims.hpp"
+#include "harness/sweep_datasets.hpp"
+#include "harness/workloads.hpp"
+#include "methods/method.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/reconstruction.hpp"
+
+namespace pcrt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void check_keys(const json& obj, const std::set<std::string>& allowed, const std::string& where) {
+  if (!obj.is_object()) input_error("{}: must be an object", where);
+  for (const auto& [k, v] : obj.items())
+    if (!allowed.count(k) && k.rfind("set.", 0) != 0) input_error("{}: unknown key '{}'", where, k);
+}
+
+std::vector<std::string> string_list(const json& v, const std::string& where) {
+  std::vector<std::string> out;
+  if (v.is_string()) return {v.get<std::string>()};
+  if (!v.is_array() || v.empty()) input_error("{}: must be a non-empty list of names", where);
+  for (const auto& e : v) {
+    if (!e.is_string()) input_error("{}: must be a list of names", where);
+    out.push_back(e.get<std::string>());
+  }
+  return out;
+}
+
+std::vector<double> number_list(const json& v, const std::string& where) {
+  std::vector<double> out;
+  const json list = v.is_array() ? v : json::array({v});
+  if (list.empty()) input_error("{}: empty list", where);
+  for (const auto& e : list) {
+    if (!e.is_number() || !std::isfinite(e.get<double>()))
+      input_error("{}: '{}' is not a number", where, e.dump());
+    out.push_back(e.get<double>());
+  }
+  return out;
+}
+
+// ---- The settings every run of the config shares ----
+
+struct RunDefaults {
+  int threads = 2, reps = 1, warmup = 0;
+  uint64_t seed = 1;
+  std::string measure = "both";
+  double time_limit_s = 300;  // per run, in its child process
+};
+
+RunDefaults parse_defaults(const json& raw, const std::string& origin) {
+  const double threads = raw.value("threads", 2.0), reps = raw.value("repetitions", 1.0),
+               warmup = raw.value("warmup", 0.0), seed = raw.value("seed", 1.0);
+  if (!(threads >= 1 && threads <= 1024))
+    input_error("{}: threads = {} is impossible", origin, threads);
+  if (!(reps >= 1 && reps <= 1000)) input_error("{}: repetitions = {} is impossible", origin, reps);
+  if (!(warmup >= 0 && warmup <= 100)) input_error("{}: warmup = {} is impossible", origin, warmup);
+  RunDefaults d;
+  d.time_limit_s = raw.value("time_limit_s", 300.0);
+  if (!(d.time_limit_s > 0)) input_error("{}: time_limit_s must be positive", origin);
+  d.threads = int(threads);
+  d.reps = int(reps);
+  d.warmup = int(warmup);
+  d.seed = uint64_t(seed);
+  d.measure = raw.value("measure", std::string("both"));
+  if (d.measure != "both" && d.measure != "ops" && d.measure != "time")
+    input_error("{}: measure must be 'ops', 'time' or 'both', not '{}'", origin, d.measure);
+  return d;
+}
+
+// ---- Grid points ----
+
+// One point of an experiment's grid: the variables and parameters it sets.
+struct GridPoint {
+  std::map<std::string, double> values;  // N, M, S, B
+  std::map<std::string, double> set;     // from "set.x" keys
+  [[nodiscard]] std::optional<double> get(const std::string& k) const {
+    const auto it = values.find(k);
+    return it == values.end() ? std::nullopt : std::optional<double>(it->second);
+  }
+  void assign(const std::string& key, double v) {
+    if (key.rfind("set.", 0) == 0)
+      set[key.substr(4)] = v;
+    else
+      values[key] = v;
+  }
+};
+
+const std::set<std::string> kGridKeys = {"N", "M", "S", "B"};
+
+std::vector<GridPoint> listed_points(const json& list, const std::string& where) {
+  if (!list.is_array() || list.empty())
+    input_error("{}.points: must be a non-empty list of objects", where);
+  std::vector<GridPoint> out;
+  for (const auto& p : list) {
+    check_keys(p, kGridKeys, where + ".points");
+    GridPoint g;
+    for (const auto& [k, v] : p.items()) {
+      if (!v.is_number()) input_error("{}.points: {} must be a number", where, k);
+      g.assign(k, v.get<double>());
+    }
+    out.push_back(g);
+  }
+  return out;
+}
+
+// The grid's points: the cartesian product of every list (N, M, S, B, set.*), or "points". The
+// last key (alphabetically) varies slowest, as it always has: the run order stays.
+std::vector<GridPoint> grid_points(const json& e, const std::string& where) {
+  if (e.contains("points")) return listed_points(e["points"], where);
+  std::vector<GridPoint> points{GridPoint{}};
+  const json grid = e.value("grid", json::object());
+  check_keys(grid, kGridKeys, where + ".grid");
+  for (const auto& [key, values] : grid.items()) {
+    std::vector<GridPoint> next;
+    for (double v : number_list(values, where + ".grid." + key))
+      for (GridPoint p : points) {
+        p.assign(key, v);
+        next.push_back(p);
+      }
+    points = std::move(next);
+  }
+  return points;
+}
+
+void check_point_values(const GridPoint& p, RunKind kind, const std::string& where) {
+  auto whole = [&](const char* key, int lo, double max) {
+    const std::optional<double> v = p.get(key);
+    if (v && !(*v >= lo && *v <= max && *v == std::floor(*v)))
+      input_error("{}: {} = {} is impossible (a whole number in [{}, {}])", where, key, *v, lo,
+                  max);
+  };
+  whole("N", 1, 2e8);
+  whole("M", 1, 16384.0 * 16384.0);
+  whole("S", 1, 65536);
+  whole("B", 0, 64);
+  if (kind != RunKind::kWorkload && kind != RunKind::kReconstruct && !p.get("N"))
+    input_error("{}: no N given (grid.N or points[].N)", where);
+}
+
+// ---- Methods, structures and their parameters ----
+
+// Splits "set.x" values between the method and the structure and checks them as a run would.
+void validate_params(const RunSpec& spec, const std::string& where) {
+  const MethodInfo& m = MethodRegistry::instance().get(spec.method, "method");
+  ParamValues mp, sp;
+  const std::string sid = spec.structure.empty() ? m.structure : spec.structure;
+  const StructureInfo* s =
+      m.own_structure.empty() ? &StructureRegistry::instance().get(sid, "structure") : nullptr;
+  for (const auto& [k, v] : spec.set) {
+    const std::string& name = k;  // clang 14 cannot capture a structured binding
+    auto named = [&](const ParamSpec& p) { return p.name == name; };
+    const bool in_m = std::any_of(m.params.begin(), m.params.end(), named);
+    const bool in_s = s && std::any_of(s->params.begin(), s->params.end(), named);
+    if (!in_m && !in_s)
+      input_error("{}: set.{} is not a parameter of {} or {}", where, k, spec.method, sid);
+    (in_m ? mp : sp)[k] = v;
+  }
+  resolve_params(m.params, mp, where + " (" + spec.method + ")");
+  if (s) resolve_params(s->params, sp, where + " (" + sid + ")");
+}
+
+std::vector<std::string> resolve_methods(const json& methods, const std::string& where) {
+  std::vector<std::string> ids;
+  for (const std::string& id : string_list(methods, where + ".methods")) {
+    if (id == "*" || id == "surveyed") {  // surveyed: the 16 methods, without the references
+      for (const auto& m : MethodRegistry::instance().all())
+        if (id == "*" || m.surveyed()) ids.push_back(m.id);
+    } else {
+      (void)MethodRegistry::instance().get(id, "method");
+      ids.push_back(id);
+    }
+  }
+  return ids;
+}
+
+std::vector<std::string> resolve_structures(const json& e, const MethodInfo& m,
+                                            const std::string& where) {
+  std::vector<std::string> ids;
+  if (!m.own_structure.empty()) return {""};  // traces through its own acceleration
+  for (const std::string& id :
+       string_list(e.value("structures", json("default")), where + ".structures")) {
+    if (id == "default") {
+      ids.push_back(m.structure);
+    } else if (id == "*") {
+      for (const auto& s : StructureRegistry::instance().all())
+        if (s.id != "brute_force" || m.structure == "brute_force") ids.push_back(s.id);
+    } else {
+      (void)StructureRegistry::instance().get(id, "structure");
+      ids.push_back(id);
+    }
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+// ---- Counters and fits ----
+
+// The counts a reconstruction run records (run_executors.cpp), beside the registered counters.
+const std::set<std::string> kReconstructionCounts = {"cells",    "facets",         "triangles",
+                                                     "vertices", "boundary_edges", "predicates"};
+
+// Whether `column` names a count a run records: "ops_<counter>" or, for preparation,
+// "ops_prep_<counter>". A misspelt one would only show after the whole sweep, as a fit of zeros.
+bool is_counter_column(const std::string& column) {
+  if (column.rfind("ops_", 0) != 0) return false;
+  std::string name = column.substr(4);
+  if (kReconstructionCounts.count(name)) return true;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t i = 0; i < registered_counter_count(); ++i)
+      if (registered_counters()[i].name == name) return true;
+    if (name.rfind("prep_", 0) != 0) return false;
+    name = name.substr(5);
+  }
+  return false;
+}
+
+void check_fit_metric(const FitSpec& s, const std::string& where) {
+  // Other metric names are run columns (time, fps, I_run, a crossover's times, ...).
+  for (const std::string& m : s.metric)
+    if (m.rfind("ops_", 0) == 0 && !is_counter_column(m))
+      input_error("{}.metric: '{}' is not a counter (pcrt list)", where, m);
+  if (!s.per.empty() && !is_counter_column(s.per))
+    input_error("{}.per: '{}' is not a counter (ops_NAME, pcrt list)", where, s.per);
+}
+
+void check_not_rays_only(const FitSpec& s, const std::string& where) {
+  // Rays are S * M * (paths) by construction: a growth fit on them proves nothing.
+  const std::set<std::string> rays = {"ops_rays_cast", "ops_primary_rays", "ops_bounce_rays",
+                                      "ops_shadow_rays", "ops_ray_hits"};
+  if (!s.is_threshold() &&
+      std::all_of(s.metric.begin(), s.metric.end(), [&](auto& m) { return rays.count(m); }))
+    input_error(
+        "{}: metric counts rays only, which grow with S and M by construction; fit "
+        "'work' or a method's own counters",
+        where);
+}
+
+void check_fit_variables(const FitSpec& s, const std::string& where) {
+  for (const std::string& v : s.free)
+    if (v != "K" && v != "k" && v != "I_run")
+      input_error("{}.free: '{}' is not one of K, k, I_run", where, v);
+  if (!s.is_threshold() && s.variable.empty())
+    input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
+  if (!s.variable.empty() && std::string("SMBNKkI").find(s.variable) == std::string::npos)
+    input_error("{}: variable '{}' is not one of S M B N K k I", where, s.variable);
+  const std::set<std::string> columns = {"S", "M", "B", "N", "K", "k", "I", "I_run"};
+  if (!s.x.empty() && !columns.count(s.x) && s.x.rfind("set_", 0) != 0)
+    input_error("{}.x: '{}' is not one of S M B N K k I I_run or set_PARAMETER", where, s.x);
+}
+
+FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
+  check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by", "free"}, where);
+  FitSpec s;
+  s.experiment = experiment;
+  if (!f.contains("claim") || !f["claim"].is_string())
+    input_error("{}: 'claim' is required", where);
+  s.claim = f["claim"].get<std::string>();
+  s.variable = f.value("variable", std::string());
+  s.x = f.value("x", s.variable);
+  if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
+  s.metric = string_list(f["metric"], where + ".metric");
+  s.per = f.value("per", std::string());
+  check_fit_metric(s, where);
+  if (f.contains("by")) s.by = string_list(f["by"], where + ".by");
+  if (f.contains("free")) s.free = string_list(f["free"], where + ".free");
+  s.max = f.value("max", -1.0);
+  s.min = f.value("min", -1.0);
+  check_fit_variables(s, where);
+  check_not_rays_only(s, where);
+  return s;
+}
+
+// Every run the fit will see must name a registered claim that is in its variable.
+void check_fit_claims(const FitSpec& f, const std::vector<RunSpec>& runs,
+                      const std::string& where) {
+  for (const RunSpec& run : runs) {
+    if (run.experiment != f.experiment) continue;
+    try {
+      const Claim& claim = find_claim(fill_claim(f.claim, json(run)));
+      if (!claim.not_tested.empty())
+        input_error("claim '{}' is not tested: {}", claim.id, claim.not_tested);
+      if (!f.variable.empty() && !f.is_threshold())
+        (void)expected_growth(claim.complexity, f.variable);
+    } catch (const InputError& err) {
+      input_error("{}: {}", where, err.what());
+    }
+  }
+}
+
+void parse_fits(const json& e, const std::string& name, const std::string& where, SweepConfig& c) {
+  if (!e.contains("fits")) return;
+  if (!e["fits"].is_array()) input_error("{}.fits: must be a list", where);
+  std::vector<std::string> swept;
+  const json grid = e.value("grid", json::object());
+  for (const auto& [k, v] : grid.items())
+    if (v.is_array() && v.size() > 1)
+      swept.push_back(k.rfind("set.", 0) == 0 ? "set_" + k.substr(4) : k);
+  for (size_t f = 0; f < e["fits"].size(); ++f) {
+    const std::string fwhere = fmt::format("{}.fits[{}]", where, f);
+    c.fits.push_back(parse_fit(e["fits"][f], name, fwhere));
+    c.fits.back().swept = swept;
+    check_fit_claims(c.fits.back(), c.runs, fwhere);
+  }
+}
+
+// ---- Experiments ----
+
+// One experiment as its runs need it.
+struct Experiment {
+  const json& e;
+  std::string where, name;
+  RunKind kind = RunKind::kRender;
+  RunSpec base;  // what every run of it shares
+  std::vector<GridPoint> points;
+  std::vector<std::string> datasets;
+  std::string dataset_dir;
+};
+
+RunKind parse_kind(const json& e, const std::string& where) {
+  const std::string kind = e.value("kind", std::string());
+  const std::optional<RunKind> k = run_kind_from_name(kind);
+  if (!k)
+    input_error("{}: kind must be render, build, reconstruct, workload or crossover, not '{}'",
+                where, kind);
+  return *k;
+}
+
+RunSpec experiment_base(const Experiment& x, const RunDefaults& d) {
+  RunSpec s;
+  s.experiment = x.name;
+  s.kind = x.kind;
+  s.reps = int(x.e.value("repetitions", double(d.reps)));
+  s.warmup = d.warmup;
+  s.threads = d.threads;
+  s.seed = d.seed;
+  s.measure = d.measure;
+  const std::string camera = x.e.value("camera", std::string("outside"));
+  if (camera != "outside" && camera != "inside")
+    input_error("{}: camera must be 'outside' or 'inside', not '{}'", x.where, camera);
+  // Inside a closed surface every bounce hits again, so work per path grows with B.
+  s.camera_inside = camera == "inside";
+  if (!runs_method(x.kind)) return s;  // the experiment's set.* go to methods only
+  for (const auto& [k, v] : x.e.items())
+    if (k.rfind("set.", 0) == 0) s.set[k.substr(4)] = v.get<double>();
+  return s;
+}
+
+void check_set_values(const Experiment& x) {
+  for (const auto& [k, v] : x.e.items())
+    if (k.rfind("set.", 0) == 0 && !v.is_number())
+      input_error("{}: {} must be a number", x.where, k);
+}
+
+// Generators must leave n to the grid; files must hold the largest N.
+void check_datasets(const Experiment& x) {
+  for (const std::string& d : x.datasets) {
+    if (is_generator(d)) {
+      (void)parse_generator_spec(d, nullptr);
+      if (sets_n(d))
+        input_error("{}.datasets: '{}' sets n; a sweep takes N from its grid", x.where, d);
+      continue;
+    }
+    const PointCloud full = load_dataset(dataset_path(d, x.dataset_dir)).cloud;
+    for (const GridPoint& p : x.points)
+      if (p.get("N") && *p.get("N") > double(full.size()))
+        input_error("{}: N = {} but {} has {} points", x.where, *p.get("N"), d, full.size());
+  }
+}
+
+std::vector<RunSpec> method_runs(const Experiment& x) {
+  const json methods = x.e.contains("methods")
+                           ? x.e["methods"]
+                           : json(x.kind == RunKind::kBuild ? "reference_splat" : "*");
+  std::vector<RunSpec> out;
+  for (const std::string& m : resolve_methods(methods, x.where)) {
+    const MethodInfo& info = MethodRegistry::instance().get(m, "method");
+    for (const std::string& s : resolve_structures(x.e, info, x.where))
+      for (const std::string& d : x.datasets) {
+        RunSpec spec = x.base;
+        spec.dataset = d;
+        spec.method = m;
+        spec.structure = s;
+        if (x.kind == RunKind::kCrossover) {
+          spec.reconstruction = string_list(x.e.value("reconstructions", json("afsr")),
+                                            x.where + ".reconstructions")[0];
+          spec.engine = x.e.value("engine", std::string("bvh"));
+          (void)ReconstructionRegistry::instance().get(spec.reconstruction, "reconstruction");
+          (void)MeshEngineRegistry::instance().get(spec.engine, "mesh engine");
+        }
+        out.push_back(spec);
+      }
+  }
+  return out;
+}
+
+std::vector<RunSpec> reconstruction_runs(const Experiment& x) {
+  std::vector<RunSpec> out;
+  for (const std::string& r :
+       string_list(x.e.value("reconstructions", json()), x.where + ".reconstructions")) {
+    (void)ReconstructionRegistry::instance().get(r, "reconstruction");
+    for (const std::string& d : x.datasets) {
+      RunSpec spec = x.base;
+      spec.dataset = d;
+      spec.reconstruction = r;
+      out.push_back(spec);
+    }
+  }
+  return out;
+}
+
+std::vector<RunSpec> workload_runs(const Experiment& x) {
+  std::vector<RunSpec> out;
+  for (const std::string& w : string_list(x.e.value("workloads", json()), x.where + ".workloads")) {
+    if (std::none_of(workloads().begin(), workloads().end(), [&](auto& y) { return y.id == w; }))
+      input_error("{}: unknown workload '{}'", x.where, w);
+    RunSpec spec = x.base;
+    spec.workload = w;
+    out.push_back(spec);
+  }
+  return out;
+}
+
+// Each spec at every grid point; a point's "set.x" values join the experiment's, and each
+// combination is checked as a run would check it.
+void add_runs(const Experiment& x, std::vector<RunSpec> specs, SweepConfig& c) {
+  for (RunSpec& spec : specs) {
+    if (spec.kind != RunKind::kWorkload) {
+      const std::string path = dataset_path(spec.dataset, x.dataset_dir);
+      if (path != spec.dataset) spec.dataset_path = path;
+    }
+    for (const GridPoint& p : x.points) {
+      RunSpec s = spec;
+      for (const auto& [k, v] : p.set) s.set[k] = v;
+      s.N = p.get("N");
+      s.M = p.get("M");
+      s.S = p.get("S");
+      s.B = p.get("B");
+      if (runs_method(s.kind)) validate_params(s, x.where);
+      c.runs.push_back(s);
+    }
+  }
+}
+
+void parse_experiment(const json& e, const std::string& where, size_t index, const RunDefaults& d,
+                      const std::string& dataset_dir, std::set<std::string>& names,
+                      SweepConfig& c) {
+  check_keys(e,
+             {"name", "description", "kind", "methods", "structures", "datasets", "grid", "points",
+              "reconstructions", "engine", "workloads", "fits", "repetitions", "camera"},
+             where);
+  Experiment x{e,
+               where,
+               e.value("name", fmt::format("experiment{}", index)),
+               RunKind::kRender,
+               RunSpec{},
+               {},
+               {},
+               dataset_dir};
+  if (!names.insert(x.name).second) input_error("{}: name '{}' used twice", where, x.name);
+  x.kind = parse_kind(e, where);
+  check_set_values(x);
+  x.points = grid_points(e, where);
+  for (const GridPoint& p : x.points) check_point_values(p, x.kind, where);
+  x.base = experiment_base(x, d);
+  if (x.kind != RunKind::kWorkload) {
+    x.datasets = string_list(e.value("datasets", json()), where + ".datasets");
+    check_datasets(x);
+  }
+  add_runs(x,
+           runs_method(x.kind)               ? method_runs(x)
+           : x.kind == RunKind::kReconstruct ? reconstruction_runs(x)
+                                             : workload_runs(x),
+           c);
+  parse_fits(e, x.name, where, c);
+}
+
+}  // namespace
+
+std::string fill_claim(std::string claim, const json& row) {
+  for (const char* k : {"method", "structure", "reconstruction", "workload"}) {
+    const std::string key = std::string("{") + k + "}";
+    for (size_t p; (p = claim.find(key)) != std::string::npos;)
+      claim.replace(p, key.size(), row.value(k, std::string()));
+  }
+  return claim;
+}
+
+SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
+  check_keys(raw,
+             {"name", "description", "threads", "repetitions", "warmup", "time_limit_s", "measure",
+              "seed", "experiments", "dataset_dir"},
+             origin);
+  if (raw.contains("dataset_dir") && !raw["dataset_dir"].is_string())
+    input_error("{}: dataset_dir must be a folder name", origin);
+  const std::string dataset_dir = raw.value("dataset_dir", std::string());
+  SweepConfig c;
+  c.raw = raw;
+  c.name = raw.value("name", fs::path(origin).stem().string());
+  const RunDefaults defaults = parse_defaults(raw, origin);
+  c.time_limit_s = defaults.time_limit_s;
+  if (!raw.contains("experiments") || !raw["experiments"].is_array() || raw["experiments"].empty())
+    input_error("{}: 'experiments' must be a non-empty list", origin);
+  std::set<std::string> names;
+  for (size_t i = 0; i < raw["experiments"].size(); ++i)
+    parse_experiment(raw["experiments"][i], fmt::format("{}: experiments[{}]", origin, i), i,
+                     defaults, dataset_dir, names, c);
+  return c;
+}
+
+SweepConfig load_sweep_config(const std::string& path) {
+  json raw = read_json_file(path);
+  try {
+    // Relative dataset files are the config's neighbours, wherever pcrt runs (Mitsuba's rule for
+    // scene files). The folder is written into the config so that its copies (context.json, a
+    // cluster's config.json) still find them.
+    const fs::path folder = fs::absolute(fs::path(path)).parent_path();
+    if (!raw.is_object()) input_error("{}: a sweep config is a JSON object", path);
+    const std::string given = raw.value("dataset_dir", std::string());
+    std::string dir = (folder / given).lexically_normal().string();
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    raw["dataset_dir"] = dir;
+    return parse_sweep_config(raw, path);
+  } catch (const json::exception& e) {
+    input_error("{}: wrong type: {}", path, e.what());
+  }
+}
+
+}  // namespace pcrt

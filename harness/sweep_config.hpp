@@ -1,0 +1,50 @@
+// Sweep configs (`pcrt sweep CONFIG.json`): a JSON config names experiments (datasets, methods,
+// structures, reconstructions or workloads, and values for N, M, S, B and any parameter), is
+// validated as a whole before anything runs, and expands into typed runs and fits.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "harness/run_spec.hpp"
+
+namespace pcrt {
+
+using nlohmann::json;
+
+struct FitSpec {
+  std::string experiment;
+  std::string claim;     // claim id, may use {method}, {structure}, {reconstruction}, {workload}
+  std::string variable;  // the thesis variable the claim is judged in (N, M, S, B, K, k, I)
+  std::string x;         // the run column used as x (default: the variable)
+  std::vector<std::string> metric;  // run columns summed ("time" = median seconds, "fps")
+  std::string per;                  // optional column the metric is divided by
+  double max = -1, min = -1;        // threshold claims instead of a growth fit
+  // Run columns the experiment sweeps (N, M, S, B, set_*): they form the x axis, not groups,
+  // unless listed in "by".
+  std::vector<std::string> swept;
+  std::vector<std::string> by;
+  // Of K, k and I_run, which may move (the metric itself, say); the others must stay within 20%.
+  std::vector<std::string> free;
+
+  [[nodiscard]] bool is_threshold() const { return max >= 0 || min >= 0; }
+};
+
+struct SweepConfig {
+  json raw;  // as read (context.json and a cluster's config.json keep it)
+  std::string name;
+  double time_limit_s = 300;
+  std::vector<RunSpec> runs;  // expanded, in execution order
+  std::vector<FitSpec> fits;
+};
+
+// Reads and validates the whole config; every problem is an InputError naming the key.
+SweepConfig load_sweep_config(const std::string& path);
+SweepConfig parse_sweep_config(const json& raw, const std::string& origin);
+
+// A claim template ({method}, {structure}, {reconstruction}, {workload}) filled from a run spec
+// or a run's row (absent keys are empty).
+std::string fill_claim(std::string claim, const json& row);
+
+}  // namespace pcrt
