@@ -169,18 +169,18 @@ int command_anchor(const Args& args) {
        {"method", "M", "only this splat-family method (default: all of them)"},
        {"structure", "S", "only this structure (default: all but brute_force)"},
        {"set", "NAME=VALUE", "a parameter of the candidates' method or structure (repeatable)"},
-       {"width", "W", "image width (default 512)"},
-       {"height", "H", "image height (default 512)"},
-       {"reps", "R",
-        "timed passes of each scene after one warm-up; medians are reported (default 7)"},
-       {"threads", "N", "worker threads (default: all cores)"},
+       integer_option("width", "W", "image width", 512, 1, 16384),
+       integer_option("height", "H", "image height", 512, 1, 16384),
+       integer_option("reps", "R",
+                      "timed passes of each scene after one warm-up; medians are reported", 7, 1,
+                      1000),
+       threads_option(),
        {"json", "", "print JSON"}},
       0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
-  const int w = int(a.integer("width", 512, 1, 16384)),
-            hgt = int(a.integer("height", 512, 1, 16384));
-  const int reps = int(a.integer("reps", 7, 1, 1000));
+  const int w = int(a.integer("width")), hgt = int(a.integer("height"));
+  const int reps = int(a.integer("reps"));
   if (a.has("mesh")) {
     if (a.has("data")) input_error("pcrt anchor: --mesh and --data exclude each other");
     const json j = mesh_anchor(a.get("mesh"), w, hgt, reps);

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstdio>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/params.hpp"
@@ -67,9 +68,15 @@ bool CliArgs::parse(const std::vector<std::string>& args) {
   return true;
 }
 
-std::string CliArgs::get(const std::string& name, const std::string& fallback) const {
+const OptionSpec& CliArgs::spec(const std::string& name) const {
+  for (const auto& o : options_)
+    if (o.name == name) return o;
+  throw std::logic_error("pcrt " + command_ + ": option --" + name + " is not declared");
+}
+
+std::string CliArgs::get(const std::string& name) const {
   auto it = values_.find(name);
-  return it == values_.end() ? fallback : it->second.back();
+  return it == values_.end() ? spec(name).default_value : it->second.back();
 }
 
 std::string CliArgs::require(const std::string& name) const {
@@ -82,9 +89,9 @@ std::vector<std::string> CliArgs::all(const std::string& name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-long long CliArgs::integer(const std::string& name, long long fallback, long long lo,
-                           long long hi) const {
-  if (!has(name)) return fallback;
+long long CliArgs::integer(const std::string& name) const {
+  const OptionSpec& o = spec(name);
+  const long long lo = o.min_value, hi = o.max_value;
   const std::string v = get(name);
   long long x = 0;
   auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
@@ -95,9 +102,8 @@ long long CliArgs::integer(const std::string& name, long long fallback, long lon
   return x;
 }
 
-double CliArgs::number(const std::string& name, double fallback) const {
-  return has(name) ? parse_number(get(name), fmt::format("pcrt {}: --{}", command_, name))
-                   : fallback;
+double CliArgs::number(const std::string& name) const {
+  return parse_number(get(name), fmt::format("pcrt {}: --{}", command_, name));
 }
 
 std::string CliArgs::help() const {
@@ -105,7 +111,9 @@ std::string CliArgs::help() const {
   for (const auto& o : options_) {
     const std::string left =
         o.value_name.empty() ? "--" + o.name : fmt::format("--{} {}", o.name, o.value_name);
-    h += fmt::format("  {:<26} {}\n", left, o.help);
+    const std::string dflt =
+        o.default_value.empty() ? "" : fmt::format(" (default {})", o.default_value);
+    h += fmt::format("  {:<26} {}{}\n", left, o.help, dflt);
   }
   h += fmt::format("  {:<26} {}\n", "--help", "show this help");
   return h;

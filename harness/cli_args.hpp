@@ -2,6 +2,7 @@
 // a missing value or a malformed number is an InputError naming the option.
 #pragma once
 
+#include <climits>
 #include <map>
 #include <optional>
 #include <string>
@@ -14,7 +15,21 @@ struct OptionSpec {
   std::string value_name;  // empty for a flag
   std::string help;
   bool repeatable = false;
+  // The default, written here only: --help shows it and get(), integer() and number() return it
+  // when the option is not given. Empty: no default (or one described in the help text).
+  std::string default_value = {};
+  // The range an integer() value must lie in.
+  long long min_value = LLONG_MIN, max_value = LLONG_MAX;
 };
+
+// An integer option with its default and range, declared once.
+inline OptionSpec integer_option(std::string name, std::string value_name, std::string help,
+                                 long long default_value, long long min_value,
+                                 long long max_value) {
+  return {std::move(name), std::move(value_name),         std::move(help),
+          false,           std::to_string(default_value), min_value,
+          max_value};
+}
 
 class CliArgs {
  public:
@@ -24,16 +39,20 @@ class CliArgs {
   bool parse(const std::vector<std::string>& args);
 
   [[nodiscard]] bool has(const std::string& name) const { return values_.count(name) > 0; }
-  [[nodiscard]] std::string get(const std::string& name, const std::string& fallback = "") const;
+  // The value given, else the option's declared default (else "").
+  [[nodiscard]] std::string get(const std::string& name) const;
   [[nodiscard]] std::string require(const std::string& name) const;
   [[nodiscard]] std::vector<std::string> all(const std::string& name) const;
-  [[nodiscard]] long long integer(const std::string& name, long long fallback, long long lo,
-                                  long long hi) const;
-  [[nodiscard]] double number(const std::string& name, double fallback) const;
+  // The value given or the declared default, checked against the declared range.
+  [[nodiscard]] long long integer(const std::string& name) const;
+  // The value given or the declared default, a finite number.
+  [[nodiscard]] double number(const std::string& name) const;
   [[nodiscard]] const std::vector<std::string>& positional() const { return positional_; }
   [[nodiscard]] std::string help() const;
 
  private:
+  [[nodiscard]] const OptionSpec& spec(const std::string& name) const;
+
   std::string command_, usage_;
   std::vector<OptionSpec> options_;
   size_t min_pos_, max_pos_;

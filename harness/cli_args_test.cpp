@@ -30,10 +30,27 @@ TEST_CASE("strict command-line options", "[cli]") {
   REQUIRE_THROWS_WITH(make().parse({"--help=1"}), Contains("--help takes no value"));
   REQUIRE_THROWS_WITH(CliArgs("t", "pcrt t", {}, 1, 1).parse({}), Contains("expected 1 argument"));
   REQUIRE_THROWS_WITH(make().parse({"--json=1"}), Contains("takes no value"));
-  CliArgs n("t", "pcrt t", {{"width", "W", "w"}}, 0, 0);
+  CliArgs n("t", "pcrt t", {integer_option("width", "W", "w", 1, 1, 10)}, 0, 0);
   REQUIRE(n.parse({"--width", "abc"}));
-  REQUIRE_THROWS_WITH(n.integer("width", 1, 1, 10), Contains("not an integer"));
-  CliArgs m("t", "pcrt t", {{"width", "W", "w"}}, 0, 0);
+  REQUIRE_THROWS_WITH(n.integer("width"), Contains("not an integer"));
+  CliArgs m("t", "pcrt t", {integer_option("width", "W", "w", 1, 1, 10)}, 0, 0);
   REQUIRE(m.parse({"--width", "0"}));
-  REQUIRE_THROWS_WITH(m.integer("width", 1, 1, 10), Contains("outside"));
+  REQUIRE_THROWS_WITH(m.integer("width"), Contains("outside"));
+}
+
+TEST_CASE("an option's default is declared once: help shows it, reads return it", "[cli]") {
+  CliArgs a("t", "pcrt t",
+            {integer_option("width", "W", "image width", 512, 1, 16384),
+             {"engine", "ID", "triangle engine", false, "bvh"},
+             {"out", "FILE", "output"}},
+            0, 0);
+  REQUIRE(a.parse({}));
+  CHECK(a.integer("width") == 512);
+  CHECK(a.get("engine") == "bvh");
+  CHECK(a.get("out").empty());
+  CHECK_FALSE(a.has("width"));  // has(): given on the command line, not defaulted
+  CHECK_THAT(a.help(), Contains("image width (default 512)") && Contains("(default bvh)"));
+  CliArgs b("t", "pcrt t", {integer_option("width", "W", "image width", 512, 1, 16384)}, 0, 0);
+  REQUIRE(b.parse({"--width", "64"}));
+  CHECK(b.integer("width") == 64);
 }

@@ -309,7 +309,7 @@ int submit_fresh(const CliArgs& a, bool dry_run) {
   const SweepConfig config = load_sweep_config(a.positional()[0]);
   const ClusterDir d = cluster_dir(a.require("out"));
   if (!a.has("shards")) input_error("--shards N is required");
-  const size_t n = size_t(a.integer("shards", 0, 1, 100000));
+  const size_t n = size_t(a.integer("shards"));
   if (n > config.runs.size())
     input_error("--shards {} is more than the {} runs of {}", n, config.runs.size(),
                 a.positional()[0]);
@@ -350,7 +350,7 @@ int cluster_submit(const Args& args) {
             "pcrt cluster submit CONFIG.json --out DIR --shards N [options] | pcrt cluster "
             "submit --resume DIR",
             {{"out", "DIR", "output directory: scripts in DIR/slurm, shards in DIR/shards"},
-             {"shards", "N", "array tasks, balanced on estimated run time"},
+             {"shards", "N", "array tasks, balanced on estimated run time", false, "", 1, 100000},
              {"partition", "P", "sbatch --partition"},
              {"time", "HH:MM:SS", "sbatch --time, per shard and for the merge"},
              {"cpus-per-task", "C", "sbatch --cpus-per-task (default: the config's threads)"},

@@ -45,9 +45,14 @@ inline void write_json(const std::string& path, const json& j) {
   write_file_atomically(path, json_writer(j));
 }
 
+// --threads, declared once for every command that has it.
+inline OptionSpec threads_option() {
+  return integer_option("threads", "N", "worker threads (0: all cores)", 0, 0, 1024);
+}
+
 // --threads for every parallel phase (TBB's global limit).
 inline std::unique_ptr<tbb::global_control> limit_threads(const CliArgs& a) {
-  const long long t = a.integer("threads", 0, 0, 1024);
+  const long long t = a.integer("threads");
   if (t == 0) return nullptr;
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                size_t(t));

@@ -40,10 +40,10 @@ std::vector<OptionSpec> scene_options() {
   return {{"method", "ID", "method id (pcrt list)"},
           {"data", "DATA", "point cloud file or generator spec"},
           {"mesh", "FILE", "trace this triangle mesh (.ply/.off) instead of a point method"},
-          {"engine", "ID", "triangle engine for --mesh: bvh, cgal_aabb or embree (default bvh)"},
+          {"engine", "ID", "triangle engine for --mesh: bvh, cgal_aabb or embree", false, "bvh"},
           {"structure", "ID", "acceleration structure (default: the method's paper's)"},
           {"set", "NAME=VALUE", "method or structure parameter (repeatable)", true},
-          {"threads", "N", "worker threads (default: all cores)"},
+          threads_option(),
           {"stats", "FILE.json", "write parameters, counters and timings as JSON"}};
 }
 
@@ -115,7 +115,7 @@ std::unique_ptr<LoadedScene> load_scene(const CliArgs& a, const char* command) {
   if (a.has("mesh")) {
     for (const char* o : {"method", "data", "structure", "set"})
       if (a.has(o)) input_error("pcrt {}: --{} does not apply to --mesh", command, o);
-    const std::string engine = a.has("engine") ? a.get("engine") : "bvh";
+    const std::string engine = a.get("engine");
     (void)MeshEngineRegistry::instance().get(engine, "mesh engine");  // names before work
     {
       ScopedTimer t(s->timings, "load");
@@ -143,8 +143,8 @@ std::unique_ptr<LoadedScene> load_scene(const CliArgs& a, const char* command) {
 }  // namespace
 
 int command_info(const Args& args) {
-  CliArgs a("info", "pcrt info DATA [--json]",
-            {{"json", "", "print JSON"}, {"threads", "N", "worker threads"}}, 1, 1);
+  CliArgs a("info", "pcrt info DATA [--json]", {{"json", "", "print JSON"}, threads_option()}, 1,
+            1);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   const Dataset d = load_dataset(a.positional()[0]);
@@ -198,21 +198,31 @@ void stage_render_images(OutputFiles& outputs, const RenderResult& r, const std:
   }
 }
 
+// The camera's direction options, their defaults those of RenderSettings (written there only).
+std::string vector_text(const Vec3& v) { return fmt::format("{},{},{}", v.x(), v.y(), v.z()); }
+OptionSpec view_option() {
+  return {"view", "X,Y,Z", "direction from the cloud's centre to the camera", false,
+          vector_text(RenderSettings{}.view)};
+}
+OptionSpec up_option() {
+  return {"up", "X,Y,Z", "camera up vector", false, vector_text(RenderSettings{}.up)};
+}
+
 std::vector<OptionSpec> render_options() {
   auto opts = scene_options();
   opts.insert(
       opts.end(),
       {{"out", "FILE.png", "image to write"},
-       {"width", "W", "image width in pixels (default 512)"},
-       {"height", "H", "image height in pixels (default 512)"},
-       {"spp", "S", "samples per pixel (default 1)"},
-       {"bounces", "B", "BRDF bounces after the primary hit (default 1)"},
-       {"seed", "N", "random seed (default 1)"},
+       integer_option("width", "W", "image width in pixels", 512, 1, 16384),
+       integer_option("height", "H", "image height in pixels", 512, 1, 16384),
+       integer_option("spp", "S", "samples per pixel", 1, 1, 1 << 16),
+       integer_option("bounces", "B", "BRDF bounces after the primary hit", 1, 0, 64),
+       integer_option("seed", "N", "random seed", 1, 0, 1ll << 62),
        {"no-light", "", "no point light: sky illumination only"},
-       {"view", "X,Y,Z",
-        "direction from the cloud's centre to the camera (default 0.55,-0.75,0.4)"},
-       {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
-       {"ray-epsilon", "E", "offset of secondary ray origins (default 1e-3 x scene diagonal)"},
+       view_option(),
+       up_option(),
+       {"ray-epsilon", "E", "offset of secondary ray origins (0: 1e-3 x scene diagonal)", false,
+        "0"},
        {"depth", "FILE.png|.exr",
         "also write the primary-hit depth image (EXR: distance in scene units, inf: no hit)"},
        {"normals", "FILE.png|.exr",
@@ -222,14 +232,14 @@ std::vector<OptionSpec> render_options() {
 
 RenderSettings render_settings_from(const CliArgs& a) {
   RenderSettings rs;
-  rs.width = int(a.integer("width", 512, 1, 16384));
-  rs.height = int(a.integer("height", 512, 1, 16384));
-  rs.spp = int(a.integer("spp", 1, 1, 1 << 16));
-  rs.bounces = int(a.integer("bounces", 1, 0, 64));
-  rs.seed = uint64_t(a.integer("seed", 1, 0, (1ll << 62)));
-  rs.threads = int(a.integer("threads", 0, 0, 1024));
+  rs.width = int(a.integer("width"));
+  rs.height = int(a.integer("height"));
+  rs.spp = int(a.integer("spp"));
+  rs.bounces = int(a.integer("bounces"));
+  rs.seed = uint64_t(a.integer("seed"));
+  rs.threads = int(a.integer("threads"));
   rs.point_light = !a.has("no-light");
-  rs.ray_epsilon = float(a.number("ray-epsilon", 0.0));
+  rs.ray_epsilon = float(a.number("ray-epsilon"));
   if (a.has("view")) rs.view = parse_vector(a.get("view"), "pcrt render: --view");
   if (a.has("up")) rs.up = parse_vector(a.get("up"), "pcrt render: --up");
   if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
@@ -380,7 +390,7 @@ AccuracyInput accuracy_input(const CliArgs& a, OpCounters& prep) {
   if (a.has("data")) input_error("pcrt accuracy: give --data or --truth, not both");
   const std::string path = a.get("truth");
   const MeshSampling sampling = parse_mesh_sampling(a.get("sample"));
-  const std::string engine = a.has("truth-engine") ? a.get("truth-engine") : "bvh";
+  const std::string engine = a.get("truth-engine");
   (void)MeshEngineRegistry::instance().get(engine, "mesh engine");  // names before work
   auto truth = std::make_shared<MeshSurface>(read_mesh(path), path, engine);
   SampledCloud sampled = sample_cloud(*truth, sampling, path, prep);
@@ -477,8 +487,8 @@ void print_accuracy(const std::string& label, const std::string& data, double h,
 std::vector<OptionSpec> accuracy_options() {
   auto opts = scene_options();
   opts.insert(opts.end(),
-              {{"rays", "N", "number of rays (default 20000)"},
-               {"seed", "N", "ray seed (default 1)"},
+              {integer_option("rays", "N", "number of rays", 20000, 1, 100000000),
+               integer_option("seed", "N", "ray seed", 1, 0, 1ll << 62),
                {"reconstruction", "ID",
                 "reconstruct a mesh (delaunay's surface is not a mesh: afsr) and judge it on "
                 "--engine instead of a point method"},
@@ -486,10 +496,11 @@ std::vector<OptionSpec> accuracy_options() {
                {"sample", "SPEC",
                 "sampling of --truth: n=..,seed=..,noise=.. (in h),density=..,"
                 "normals=exact|estimated|none (default n=100000,seed=1,normals=exact)"},
-               {"truth-engine", "ID", "triangle engine tracing --truth (default bvh)"},
-               {"secondary", "N",
-                "also N secondary rays from true surface points, half outward, half inward "
-                "(default 0)"},
+               {"truth-engine", "ID", "triangle engine tracing --truth", false, "bvh"},
+               integer_option("secondary", "N",
+                              "also N secondary rays from true surface points, half outward, "
+                              "half inward",
+                              0, 0, 100000000),
                {"json", "", "print JSON"}});
   return opts;
 }
@@ -527,7 +538,7 @@ std::unique_ptr<JudgedScene> judged_scene(const CliArgs& a, const PointCloud& cl
     input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
   timings["reconstruct"] = rec.seconds;
   j->mesh = std::move(rec.mesh);
-  j->structure = a.has("engine") ? a.get("engine") : "bvh";
+  j->structure = a.get("engine");
   j->method = "reconstruction:" + info.id;
   j->scene = std::make_unique<MeshScene>(j->mesh, j->structure, prep, timings);
   return j;
@@ -543,8 +554,8 @@ int command_accuracy(const Args& args) {
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   check_accuracy_options(a);
-  const auto n_rays = size_t(a.integer("rays", 20000, 1, 100000000));
-  const auto seed = uint64_t(a.integer("seed", 1, 0, 1ll << 62));
+  const auto n_rays = size_t(a.integer("rays"));
+  const auto seed = uint64_t(a.integer("seed"));
   Timings timings;
   OpCounters prep, counters;
   const AccuracyInput in = accuracy_input(a, prep);
@@ -559,7 +570,7 @@ int command_accuracy(const Args& args) {
     ScopedTimer t(timings, "trace");
     r = evaluate_accuracy(scene, *in.truth, in.h, rays, counters);
   }
-  const auto n_secondary = size_t(a.integer("secondary", 0, 0, 100000000));
+  const auto n_secondary = size_t(a.integer("secondary"));
   SecondaryReport sec;
   if (n_secondary > 0) {
     ScopedTimer t(timings, "secondary");
@@ -606,14 +617,14 @@ std::vector<OptionSpec> compare_options() {
   opts.insert(opts.end(),
               {{"truth", "MESH", "the mesh the cloud is sampled on and rendered as the truth"},
                {"sample", "SPEC", "sampling of --truth, as for pcrt accuracy"},
-               {"truth-engine", "ID", "triangle engine rendering --truth (default bvh)"},
+               {"truth-engine", "ID", "triangle engine rendering --truth", false, "bvh"},
                {"out", "DIFF.png", "difference picture (red missing, blue extra, yellow normal)"},
                {"images", "PREFIX", "also write PREFIX.method.png and PREFIX.truth.png"},
-               {"width", "W", "image width (default 256)"},
-               {"height", "H", "image height (default 256)"},
-               {"seed", "N", "random seed (default 1)"},
-               {"view", "X,Y,Z", "direction from the centre to the camera"},
-               {"up", "X,Y,Z", "camera up vector (default 0,0,1)"},
+               integer_option("width", "W", "image width", 256, 1, 16384),
+               integer_option("height", "H", "image height", 256, 1, 16384),
+               integer_option("seed", "N", "random seed", 1, 0, 1ll << 62),
+               view_option(),
+               up_option(),
                {"json", "", "print JSON"}});
   return opts;
 }
@@ -635,10 +646,10 @@ std::string compare_output(const CliArgs& a) {
 
 RenderSettings compare_settings(const CliArgs& a) {
   RenderSettings rs;
-  rs.width = int(a.integer("width", 256, 1, 16384));
-  rs.height = int(a.integer("height", 256, 1, 16384));
-  rs.seed = uint64_t(a.integer("seed", 1, 0, (1ll << 62)));
-  rs.threads = int(a.integer("threads", 0, 0, 1024));
+  rs.width = int(a.integer("width"));
+  rs.height = int(a.integer("height"));
+  rs.seed = uint64_t(a.integer("seed"));
+  rs.threads = int(a.integer("threads"));
   rs.spp = 1;
   rs.bounces = 0;  // direct light only: no sampling noise between the two frames
   if (a.has("view")) rs.view = parse_vector(a.get("view"), "pcrt compare: --view");

@@ -23,7 +23,7 @@ int command_reconstruct(const Args& args) {
             {{"method", "ID", "reconstruction id (pcrt list)"},
              {"data", "DATA", "point cloud file or generator spec"},
              {"out", "MESH.ply", "write the mesh (reconstructions that make one)"},
-             {"threads", "N", "worker threads (default: all cores)"},
+             threads_option(),
              {"json", "", "print JSON"}},
             0, 0);
   if (!a.parse(args)) return 0;
@@ -168,27 +168,27 @@ int command_crossover(const Args& args) {
       {{"data", "DATA", "point cloud file or generator spec"},
        {"method", "ID", "direct method"},
        {"structure", "ID", "its structure (default: the paper's)"},
-       {"reconstruction", "ID", "reconstruction (default afsr)"},
-       {"engine", "ID", "triangle engine (default bvh)"},
-       {"width", "W", "default 512"},
-       {"height", "H", "default 512"},
-       {"spp", "S", "default 1"},
-       {"bounces", "B", "default 1"},
-       {"reps", "R", "frames measured per side, median taken (default 3)"},
-       {"frames", "F", "report the time to F frames too (default 100)"},
-       {"threads", "N", "worker threads (default: all cores)"},
+       {"reconstruction", "ID", "reconstruction", false, "afsr"},
+       {"engine", "ID", "triangle engine", false, "bvh"},
+       integer_option("width", "W", "image width", 512, 1, 16384),
+       integer_option("height", "H", "image height", 512, 1, 16384),
+       integer_option("spp", "S", "samples per pixel", 1, 1, 1 << 16),
+       integer_option("bounces", "B", "BRDF bounces after the primary hit", 1, 0, 64),
+       integer_option("reps", "R", "frames measured per side, median taken", 3, 1, 1000),
+       integer_option("frames", "F", "report the time to F frames too", 100, 1, 1ll << 40),
+       threads_option(),
        {"json", "", "print JSON"}},
       0, 0);
   if (!a.parse(args)) return 0;
   auto limit = limit_threads(a);
   RenderSettings rs;
-  rs.width = int(a.integer("width", 512, 1, 16384));
-  rs.height = int(a.integer("height", 512, 1, 16384));
-  rs.spp = int(a.integer("spp", 1, 1, 1 << 16));
-  rs.bounces = int(a.integer("bounces", 1, 0, 64));
-  rs.threads = int(a.integer("threads", 0, 0, 1024));
-  const int reps = int(a.integer("reps", 3, 1, 1000));
-  const long long frames = a.integer("frames", 100, 1, 1ll << 40);
+  rs.width = int(a.integer("width"));
+  rs.height = int(a.integer("height"));
+  rs.spp = int(a.integer("spp"));
+  rs.bounces = int(a.integer("bounces"));
+  rs.threads = int(a.integer("threads"));
+  const int reps = int(a.integer("reps"));
+  const long long frames = a.integer("frames");
   const std::string data = a.require("data");
   const Dataset d = load_dataset(data);
 
@@ -196,8 +196,7 @@ int command_crossover(const Args& args) {
   so.method = a.require("method");
   so.structure = a.get("structure");
   const CrossoverResult r =
-      measure_crossover(d.cloud, so, a.has("reconstruction") ? a.get("reconstruction") : "afsr",
-                        a.has("engine") ? a.get("engine") : "bvh", rs, reps);
+      measure_crossover(d.cloud, so, a.get("reconstruction"), a.get("engine"), rs, reps);
   if (a.has("json"))
     std::printf("%s\n", crossover_json(r, data, d.cloud.size(), rs, frames).dump(2).c_str());
   else

@@ -479,7 +479,7 @@ int command_check(const Args& args) {
             "[--out DIR]",
             {{"config", "CONFIG.json", "the sweep to run (deterministic op counts)"},
              {"baseline", "BASELINE.json", "committed counters and verdicts"},
-             {"tolerance", "P", "relative change allowed per counter, in percent (default 0)"},
+             {"tolerance", "P", "relative change allowed per counter, in percent", false, "0"},
              {"update", "", "rewrite the baseline from this run"},
              {"out", "DIR", "keep the sweep here (default: a temporary directory)"}},
             0, 0);
@@ -487,7 +487,7 @@ int command_check(const Args& args) {
   const SweepConfig config = load_sweep_config(a.require("config"));
   const std::string baseline_path = a.require("baseline");
   if (a.has("update")) check_output_path(baseline_path, "--baseline");
-  const double tolerance = a.number("tolerance", 0.0);
+  const double tolerance = a.number("tolerance");
   if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
   const json base = a.has("update") ? json() : read_baseline(baseline_path);
   const std::string dir = sweep_dir(a, "check");
