@@ -14,38 +14,69 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: pcrt <command> [options]   (pcrt <command> --help for each)\n\n"
-    "commands:\n"
-    "  info DATA [--json]          points, bounds, attributes, mean spacing of a dataset\n"
-    "  render (--method ID --data DATA | --mesh FILE --engine ID) --out FILE.png|.exr ...   render an "
-    "image (Algorithms 1-2)\n"
-    "  trace (--method ID --data DATA | --mesh FILE --engine ID) --rays RAYS.csv --out HITS.csv "
-    "...   closest hits of given rays\n"
-    "  accuracy --method ID (--data GENERATOR | --truth MESH) ...   holes, see-through, early and "
-    "phantom hits, distance and normal error vs the exact surface\n"
-    "  compare --method ID --truth MESH --out DIFF.png ...   the method's frame vs the mesh's "
-    "(same camera, B=0): missing, extra, normal-off pixels, RMSE\n"
-    "  anchor --data DATA [--json]   our fastest splat method against Embree's oriented discs, "
-    "same rays\n"
-    "  reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]   global "
-    "reconstruction (CGAL)\n"
-    "  crossover --data DATA --method ID [--reconstruction afsr --engine bvh] [--json]   frames "
-    "after which reconstruct + trace beats direct tracing\n"
-    "  sweep CONFIG.json [--out DIR] [--resume] [--shard i/n] [--fit]   run a sweep\n"
-    "  cluster submit CONFIG.json --out DIR --shards N [...]   the sweep as a Slurm job array, "
-    "then merge, fit, report\n"
-    "  cluster status DIR          Slurm state and runs done per shard; exit 0 when finished\n"
-    "  merge DIR... --out DIR      join the shards of one sweep\n"
-    "  fit DIR                     fits and verdicts: DIR/fits.json, DIR/fits.csv\n"
-    "  report DIR                  DIR/report.md with plots (matplotlib)\n"
-    "  calibrate [--json]          the fitter on workloads of known complexity\n"
-    "  check --config C --baseline B [--tolerance P] [--update]   op-count regression gate\n"
-    "  list [--json]               methods, structures, reconstructions, engines, generators, "
-    "counters\n"
-    "  convert DATA --out FILE.ply [--ascii]   write a dataset (e.g. a generated cloud) as PLY\n\n"
-    "DATA is a file (.ply .xyz .pwn .off) or a generator spec such as "
-    "sphere:n=100000,seed=1,noise=0.001\n";
+// Every command, listed once: its name, what runs it and its line in `pcrt --help`.
+struct Command {
+  const char* name;
+  int (*run)(const pcrt::Args&);
+  const char* synopsis;
+};
+
+constexpr Command kCommands[] = {
+    {"info", pcrt::command_info,
+     "info DATA [--json]          points, bounds, attributes, mean spacing of a dataset"},
+    {"render", pcrt::command_render,
+     "render (--method ID --data DATA | --mesh FILE --engine ID) --out FILE.png|.exr ...   "
+     "render an image (Algorithms 1-2)"},
+    {"trace", pcrt::command_trace,
+     "trace (--method ID --data DATA | --mesh FILE --engine ID) --rays RAYS.csv --out HITS.csv "
+     "...   closest hits of given rays"},
+    {"accuracy", pcrt::command_accuracy,
+     "accuracy --method ID (--data GENERATOR | --truth MESH) ...   holes, see-through, early and "
+     "phantom hits, distance and normal error vs the exact surface"},
+    {"compare", pcrt::command_compare,
+     "compare --method ID --truth MESH --out DIFF.png ...   the method's frame vs the mesh's "
+     "(same camera, B=0): missing, extra, normal-off pixels, RMSE"},
+    {"anchor", pcrt::command_anchor,
+     "anchor --data DATA [--json]   our fastest splat method against Embree's oriented discs, "
+     "same rays"},
+    {"reconstruct", pcrt::command_reconstruct,
+     "reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]   global "
+     "reconstruction (CGAL)"},
+    {"crossover", pcrt::command_crossover,
+     "crossover --data DATA --method ID [--reconstruction afsr --engine bvh] [--json]   frames "
+     "after which reconstruct + trace beats direct tracing"},
+    {"sweep", pcrt::command_sweep,
+     "sweep CONFIG.json [--out DIR] [--resume] [--shard i/n] [--fit]   run a sweep"},
+    {"cluster", pcrt::command_cluster,
+     "cluster submit CONFIG.json --out DIR --shards N [...]   the sweep as a Slurm job array, "
+     "then merge, fit, report\n  cluster status DIR          Slurm state and runs done per shard; "
+     "exit 0 when finished"},
+    {"merge", pcrt::command_merge, "merge DIR... --out DIR      join the shards of one sweep"},
+    {"fit", pcrt::command_fit,
+     "fit DIR                     fits and verdicts: DIR/fits.json, DIR/fits.csv"},
+    {"report", pcrt::command_report,
+     "report DIR                  DIR/report.md with plots (matplotlib)"},
+    {"calibrate", pcrt::command_calibrate,
+     "calibrate [--json]          the fitter on workloads of known complexity"},
+    {"check", pcrt::command_check,
+     "check --config C --baseline B [--tolerance P] [--update]   op-count regression gate"},
+    {"list", pcrt::command_list,
+     "list [--json]               methods, structures, reconstructions, engines, generators, "
+     "counters"},
+    {"convert", pcrt::command_convert,
+     "convert DATA --out FILE.ply [--ascii]   write a dataset (e.g. a generated cloud) as PLY"},
+    {"_run", pcrt::command_run_one, nullptr},  // one sweep run in a child process (internal)
+};
+
+std::string usage() {
+  std::string u =
+      "usage: pcrt <command> [options]   (pcrt <command> --help for each)\n\ncommands:\n";
+  for (const Command& c : kCommands)
+    if (c.synopsis) u += fmt::format("  {}\n", c.synopsis);
+  return u +
+         "\nDATA is a file (.ply .xyz .pwn .off) or a generator spec such as "
+         "sphere:n=100000,seed=1,noise=0.001\n";
+}
 
 // One line whatever a message quotes (a path with a newline, bytes from a file): control
 // characters and backslashes are printed as C escapes.
@@ -98,32 +129,16 @@ int fail(const std::string& cmd, const std::string& what) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fputs(kUsage, stderr);
+    std::fputs(usage().c_str(), stderr);
     return 1;
   }
   const std::string cmd = argv[1];
   const pcrt::Args args(argv + 2, argv + argc);
   try {
-    if (cmd == "info") return pcrt::command_info(args);
-    if (cmd == "render") return pcrt::command_render(args);
-    if (cmd == "trace") return pcrt::command_trace(args);
-    if (cmd == "list") return pcrt::command_list(args);
-    if (cmd == "convert") return pcrt::command_convert(args);
-    if (cmd == "accuracy") return pcrt::command_accuracy(args);
-    if (cmd == "compare") return pcrt::command_compare(args);
-    if (cmd == "anchor") return pcrt::command_anchor(args);
-    if (cmd == "reconstruct") return pcrt::command_reconstruct(args);
-    if (cmd == "crossover") return pcrt::command_crossover(args);
-    if (cmd == "sweep") return pcrt::command_sweep(args);
-    if (cmd == "merge") return pcrt::command_merge(args);
-    if (cmd == "fit") return pcrt::command_fit(args);
-    if (cmd == "report") return pcrt::command_report(args);
-    if (cmd == "calibrate") return pcrt::command_calibrate(args);
-    if (cmd == "check") return pcrt::command_check(args);
-    if (cmd == "cluster") return pcrt::command_cluster(args);
-    if (cmd == "_run") return pcrt::command_run_one(args);
+    for (const Command& c : kCommands)
+      if (cmd == c.name) return c.run(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
-      std::fputs(kUsage, stdout);
+      std::fputs(usage().c_str(), stdout);
       return 0;
     }
     std::fprintf(stderr, "pcrt: error: unknown command '%s' (pcrt --help lists them)\n",
