@@ -3,13 +3,14 @@
 // the items' footprint boxes: every item sits in exactly one leaf, so no reference is duplicated.
 // Build: at each node the item box centres are binned (kBins per axis) and the split with the
 // least surface area heuristic cost is taken, until a node holds leaf_size items or fewer, so
-// leaves hold what leaf_size says. The binary tree is then collapsed into 4-wide nodes (Embree's
-// BVH4). Traversal: a node's four child boxes are tested at once (SSE) when it is visited, the
+// leaves hold what leaf_size says. The binary tree is then collapsed into 8-wide nodes (Embree's
+// BVH8). Traversal: a node's eight child boxes are tested at once (AVX2, else two SSE halves)
+// when it is visited, the
 // children hit are pushed farthest first so the nearest is walked next, and a waiting one is
 // dropped once its entry lies beyond the hit so far (boxes overlap, so the walk cannot stop at
 // the first hit).
+#include <immintrin.h>
 #include <tbb/parallel_invoke.h>
-#include <xmmintrin.h>
 
 #include <algorithm>
 #include <array>
@@ -28,13 +29,85 @@ struct BvhNode {
   uint32_t count = 0;  // leaf: items (> 0); inner: 0
 };
 
-// Four children's boxes in structure-of-arrays layout (lo[axis][child]), for one SSE slab test.
-struct alignas(16) WideNode {
-  float lo[3][4];
-  float hi[3][4];
-  uint32_t child[4] = {};  // inner child: wide node index; leaf child: first item in order_
-  uint32_t count[4] = {};  // leaf child: items (> 0); inner child or empty slot: 0
+// Eight children's boxes in structure-of-arrays layout (lo[axis][child]), for one 8-wide slab
+// test (AVX2 where the CPU has it, else two SSE halves); 256 bytes, four cache lines.
+constexpr int kWidth = 8;
+struct alignas(64) WideNode {
+  float lo[3][kWidth];
+  float hi[3][kWidth];
+  uint32_t child[kWidth] = {};  // inner child: wide node index; leaf child: first item in order_
+  uint32_t count[kWidth] = {};  // leaf child: items (> 0); inner child or empty slot: 0
 };
+
+// What a ray needs for the slab test: t = plane * inv - o * inv per axis, the near and far planes
+// chosen by the sign of each direction component (no min/max per box).
+struct RaySlabs {
+  float inv[3], oinv[3];
+  bool neg[3];
+  float tmin;
+};
+
+// The slab test of a node's eight boxes against [slabs.tmin, limit]: a bit per child hit, and
+// each child's entry and exit t. Both versions evaluate the same IEEE operations per lane (no
+// fused multiply-add), so they hit the same children bit for bit. The interval is widened by
+// 3 ulps (pbrt's 1 + 2 gamma(3)) and the plane-minus-origin rounding of this form, so a footprint
+// on a box face is never culled; NaN (0 * inf) keeps the interval (max/min return their second
+// operand then).
+uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s, float* t1s) {
+  const __m128 eps = _mm_set1_ps(1e-6f), sign = _mm_set1_ps(-0.0f);
+  uint32_t mask = 0;
+  for (int h = 0; h < kWidth; h += 4) {
+    __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(limit);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 inv = _mm_set1_ps(r.inv[a]), oinv = _mm_set1_ps(r.oinv[a]);
+      const __m128 lo = _mm_load_ps(n.lo[a] + h), hi = _mm_load_ps(n.hi[a] + h);
+      const __m128 near = _mm_sub_ps(_mm_mul_ps(r.neg[a] ? hi : lo, inv), oinv);
+      const __m128 far = _mm_sub_ps(_mm_mul_ps(r.neg[a] ? lo : hi, inv), oinv);
+      const __m128 oabs = _mm_andnot_ps(sign, oinv);
+      const __m128 far_w =
+          _mm_add_ps(far, _mm_mul_ps(eps, _mm_add_ps(_mm_andnot_ps(sign, far), oabs)));
+      const __m128 near_w =
+          _mm_sub_ps(near, _mm_mul_ps(eps, _mm_add_ps(_mm_andnot_ps(sign, near), oabs)));
+      tn = _mm_max_ps(near_w, tn);
+      tf = _mm_min_ps(far_w, tf);
+    }
+    _mm_storeu_ps(t0s + h, tn);
+    _mm_storeu_ps(t1s + h, tf);
+    mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << h;
+  }
+  return mask;
+}
+
+__attribute__((target("avx2"))) uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
+                                                        float limit, float* t0s, float* t1s) {
+  const __m256 eps = _mm256_set1_ps(1e-6f), sign = _mm256_set1_ps(-0.0f);
+  __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
+  for (int a = 0; a < 3; ++a) {
+    const __m256 inv = _mm256_set1_ps(r.inv[a]), oinv = _mm256_set1_ps(r.oinv[a]);
+    const __m256 lo = _mm256_load_ps(n.lo[a]), hi = _mm256_load_ps(n.hi[a]);
+    const __m256 near = _mm256_sub_ps(_mm256_mul_ps(r.neg[a] ? hi : lo, inv), oinv);
+    const __m256 far = _mm256_sub_ps(_mm256_mul_ps(r.neg[a] ? lo : hi, inv), oinv);
+    const __m256 oabs = _mm256_andnot_ps(sign, oinv);
+    const __m256 far_w =
+        _mm256_add_ps(far, _mm256_mul_ps(eps, _mm256_add_ps(_mm256_andnot_ps(sign, far), oabs)));
+    const __m256 near_w =
+        _mm256_sub_ps(near, _mm256_mul_ps(eps, _mm256_add_ps(_mm256_andnot_ps(sign, near), oabs)));
+    tn = _mm256_max_ps(near_w, tn);
+    tf = _mm256_min_ps(far_w, tf);
+  }
+  _mm256_storeu_ps(t0s, tn);
+  _mm256_storeu_ps(t1s, tf);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+}
+
+using NodeTest = uint32_t (*)(const WideNode&, const RaySlabs&, float, float*, float*);
+
+// The widest node test this CPU runs, chosen once.
+NodeTest best_node_test() {
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2")) return node_test_avx2;
+  return node_test_sse;
+}
 
 constexpr int kBins = 16;
 constexpr uint32_t kParallelBuildItems = 50000;
@@ -75,8 +148,8 @@ class Bvh final : public Structure {
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, order_.size());
     counters.add(kBuildItemVisits, nodes_.empty() ? 0 : item_visits(0, 1));
-    // Traversal runs on the binary tree collapsed into 4-wide nodes (Embree's BVH4): a node's
-    // four child boxes are tested at once with SSE.
+    // Traversal runs on the binary tree collapsed into 8-wide nodes (Embree's BVH8): a node's
+    // eight child boxes are tested at once.
     wide_.clear();
     if (!nodes_.empty()) collapse(0);
     wide_.shrink_to_fit();
@@ -85,13 +158,15 @@ class Bvh final : public Structure {
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
-    return walk<false>(ray, leaf, hit, counters);
+    return avx2_ ? walk<false, node_test_avx2>(ray, leaf, hit, counters)
+                 : walk<false, node_test_sse>(ray, leaf, hit, counters);
   }
 
   bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
     Hit hit;
     hit.t = ray.tmax;
-    return walk<true>(ray, leaf, hit, counters);
+    return avx2_ ? walk<true, node_test_avx2>(ray, leaf, hit, counters)
+                 : walk<true, node_test_sse>(ray, leaf, hit, counters);
   }
 
   [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return order_; }
@@ -109,9 +184,9 @@ class Bvh final : public Structure {
 
   // Makes the wide node for binary inner node b (or, for a leaf root, one holding just it):
   // its children are b's children, the largest-area inner one replaced by its own two children
-  // until four are gathered. Returns the wide node's index.
+  // until kWidth are gathered. Returns the wide node's index.
   uint32_t collapse(uint32_t b) {
-    std::array<uint32_t, 4> kids{};
+    std::array<uint32_t, kWidth> kids{};
     int nk = 0;
     if (nodes_[b].count > 0) {
       kids[size_t(nk++)] = b;
@@ -119,7 +194,7 @@ class Bvh final : public Structure {
       kids[size_t(nk++)] = b + 1;
       kids[size_t(nk++)] = nodes_[b].index;
     }
-    while (nk < 4) {
+    while (nk < kWidth) {
       int open = -1;
       float best = -1;
       for (int k = 0; k < nk; ++k) {
@@ -134,7 +209,7 @@ class Bvh final : public Structure {
     }
     const auto me = uint32_t(wide_.size());
     wide_.emplace_back();
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kWidth; ++k) {
       WideNode& w = wide_[me];
       if (k >= nk) {  // an empty slot: child 0 and count 0 (the root is no one's child)
         for (int a = 0; a < 3; ++a) w.lo[a][k] = kInfinity, w.hi[a][k] = -kInfinity;
@@ -155,25 +230,22 @@ class Bvh final : public Structure {
     return me;
   }
 
-  template <bool kAny>
+  template <bool kAny, NodeTest kTest>
   bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
     if (wide_.empty()) return false;
-    // Per ray: the slab planes as t = plane * inv - o * inv, near and far planes chosen by the
-    // sign of each direction component (no min/max per box).
-    const Vec3 inv = ray.d.cwiseInverse();
-    __m128 inv4[3], oinv4[3];
-    bool neg[3];
+    RaySlabs slabs;
     for (int a = 0; a < 3; ++a) {
-      inv4[a] = _mm_set1_ps(inv[a]);
-      oinv4[a] = _mm_set1_ps(ray.o[a] * inv[a]);
-      neg[a] = inv[a] < 0;
+      slabs.inv[a] = 1.0f / ray.d[a];
+      slabs.oinv[a] = ray.o[a] * slabs.inv[a];
+      slabs.neg[a] = slabs.inv[a] < 0;
     }
+    slabs.tmin = ray.tmin;
     struct Todo {
       uint32_t index;  // wide node, or first item of a leaf
       uint32_t count;  // leaf: items; 0: a wide node
       float t0, t1;
     };
-    std::array<Todo, 3 * kMaxDepth + 4> stack;
+    std::array<Todo, (kWidth - 1) * kMaxDepth + kWidth> stack;
     int top = 0;
     stack[size_t(top++)] = Todo{0, 0, ray.tmin, ray.tmax};
     bool found = false;
@@ -194,37 +266,15 @@ class Bvh final : public Structure {
       }
       const WideNode& n = wide_[cur.index];
       const float limit = std::min(ray.tmax, hit.t * (1.0f + 1e-5f) + 1e-30f);
-      __m128 tn = _mm_set1_ps(ray.tmin), tf = _mm_set1_ps(limit);
-      for (int a = 0; a < 3; ++a) {
-        const __m128 lo = _mm_load_ps(n.lo[a]), hi = _mm_load_ps(n.hi[a]);
-        const __m128 near = _mm_sub_ps(_mm_mul_ps(neg[a] ? hi : lo, inv4[a]), oinv4[a]);
-        const __m128 far = _mm_sub_ps(_mm_mul_ps(neg[a] ? lo : hi, inv4[a]), oinv4[a]);
-        // Widened by 3 ulps (pbrt's 1 + 2 gamma(3)) and the plane-minus-origin rounding of
-        // this form, so a footprint on a box face is never culled; NaN (0 * inf) keeps the
-        // interval (max/min return their second operand then).
-        const __m128 far_w =
-            _mm_add_ps(far, _mm_mul_ps(_mm_set1_ps(1e-6f),
-                                       _mm_add_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), far),
-                                                  _mm_andnot_ps(_mm_set1_ps(-0.0f), oinv4[a]))));
-        const __m128 near_w =
-            _mm_sub_ps(near, _mm_mul_ps(_mm_set1_ps(1e-6f),
-                                        _mm_add_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), near),
-                                                   _mm_andnot_ps(_mm_set1_ps(-0.0f), oinv4[a]))));
-        tn = _mm_max_ps(near_w, tn);
-        tf = _mm_min_ps(far_w, tf);
-      }
-      int mask = _mm_movemask_ps(_mm_cmple_ps(tn, tf));
-      if (!mask) continue;
-      alignas(16) float t0s[4], t1s[4];
-      _mm_store_ps(t0s, tn);
-      _mm_store_ps(t1s, tf);
+      alignas(32) float t0s[kWidth], t1s[kWidth];
+      uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
       // Push the hit children farthest first, so the nearest is walked next.
-      Todo kids[4];
+      Todo kids[kWidth];
       int nk = 0;
       for (; mask; mask &= mask - 1) {
-        const int k = __builtin_ctz(unsigned(mask));
+        const int k = __builtin_ctz(mask);
         if (n.child[k] == 0 && n.count[k] == 0) continue;  // an empty slot (NaN may let it pass)
-        Todo t{n.child[k], n.count[k], t0s[k], t1s[k]};
+        const Todo t{n.child[k], n.count[k], t0s[k], t1s[k]};
         int j = nk++;
         for (; j > 0 && kids[j - 1].t0 < t.t0; --j) kids[j] = kids[j - 1];
         kids[j] = t;
@@ -336,9 +386,10 @@ class Bvh final : public Structure {
   }
 
   uint32_t leaf_size_;
-  std::vector<Aabb> boxes_;     // build only
-  std::vector<Vec3> centres_;   // build only
-  std::vector<BvhNode> nodes_;  // the binary tree, build only
+  bool avx2_ = best_node_test() != node_test_sse;  // the 8-wide node test (chosen once)
+  std::vector<Aabb> boxes_;                        // build only
+  std::vector<Vec3> centres_;                      // build only
+  std::vector<BvhNode> nodes_;                     // the binary tree, build only
   std::vector<WideNode> wide_;
   std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
 };
