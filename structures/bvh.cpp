@@ -42,34 +42,32 @@ struct alignas(64) WideNode {
 // What a ray needs for the slab test: t = plane * inv - o * inv per axis, the near and far planes
 // chosen by the sign of each direction component (no min/max per box).
 struct RaySlabs {
-  float inv[3], oinv[3];
+  float o[3], inv[3];
   bool neg[3];
   float tmin;
 };
 
+// 1 + 2 gamma(3) (pbrt-v4, section 6.8.2): (plane - o) * inv is within gamma(3) of the exact
+// (plane - o) / d, so an exit t scaled by this is never below the exact one.
+constexpr float kWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+
 // The slab test of a node's eight boxes against [slabs.tmin, limit]: a bit per child hit, and
-// each child's entry and exit t. Both versions evaluate the same IEEE operations per lane (no
-// fused multiply-add), so they hit the same children bit for bit. The interval is widened by
-// 3 ulps (pbrt's 1 + 2 gamma(3)) and the plane-minus-origin rounding of this form, so a footprint
-// on a box face is never culled; NaN (0 * inf) keeps the interval (max/min return their second
-// operand then).
+// each child's entry and exit t (t = (plane - o) * inv, the near and far planes chosen by the
+// sign of each direction component, no min/max per box; the exit widened by kWiden, so a
+// footprint on a box face is never culled; NaN (0 * inf) keeps the interval: max/min return
+// their second operand then). Both versions evaluate the same IEEE operations per lane (no fused
+// multiply-add), so they hit the same children bit for bit.
 uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s, float* t1s) {
-  const __m128 eps = _mm_set1_ps(1e-6f), sign = _mm_set1_ps(-0.0f);
   uint32_t mask = 0;
   for (int h = 0; h < kWidth; h += 4) {
     __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(limit);
     for (int a = 0; a < 3; ++a) {
-      const __m128 inv = _mm_set1_ps(r.inv[a]), oinv = _mm_set1_ps(r.oinv[a]);
+      const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
       const __m128 lo = _mm_load_ps(n.lo[a] + h), hi = _mm_load_ps(n.hi[a] + h);
-      const __m128 near = _mm_sub_ps(_mm_mul_ps(r.neg[a] ? hi : lo, inv), oinv);
-      const __m128 far = _mm_sub_ps(_mm_mul_ps(r.neg[a] ? lo : hi, inv), oinv);
-      const __m128 oabs = _mm_andnot_ps(sign, oinv);
-      const __m128 far_w =
-          _mm_add_ps(far, _mm_mul_ps(eps, _mm_add_ps(_mm_andnot_ps(sign, far), oabs)));
-      const __m128 near_w =
-          _mm_sub_ps(near, _mm_mul_ps(eps, _mm_add_ps(_mm_andnot_ps(sign, near), oabs)));
-      tn = _mm_max_ps(near_w, tn);
-      tf = _mm_min_ps(far_w, tf);
+      const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? hi : lo, o), inv);
+      const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? lo : hi, o), inv);
+      tn = _mm_max_ps(near, tn);
+      tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
     }
     _mm_storeu_ps(t0s + h, tn);
     _mm_storeu_ps(t1s + h, tf);
@@ -80,20 +78,14 @@ uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float*
 
 __attribute__((target("avx2"))) uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
                                                         float limit, float* t0s, float* t1s) {
-  const __m256 eps = _mm256_set1_ps(1e-6f), sign = _mm256_set1_ps(-0.0f);
   __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
   for (int a = 0; a < 3; ++a) {
-    const __m256 inv = _mm256_set1_ps(r.inv[a]), oinv = _mm256_set1_ps(r.oinv[a]);
+    const __m256 o = _mm256_set1_ps(r.o[a]), inv = _mm256_set1_ps(r.inv[a]);
     const __m256 lo = _mm256_load_ps(n.lo[a]), hi = _mm256_load_ps(n.hi[a]);
-    const __m256 near = _mm256_sub_ps(_mm256_mul_ps(r.neg[a] ? hi : lo, inv), oinv);
-    const __m256 far = _mm256_sub_ps(_mm256_mul_ps(r.neg[a] ? lo : hi, inv), oinv);
-    const __m256 oabs = _mm256_andnot_ps(sign, oinv);
-    const __m256 far_w =
-        _mm256_add_ps(far, _mm256_mul_ps(eps, _mm256_add_ps(_mm256_andnot_ps(sign, far), oabs)));
-    const __m256 near_w =
-        _mm256_sub_ps(near, _mm256_mul_ps(eps, _mm256_add_ps(_mm256_andnot_ps(sign, near), oabs)));
-    tn = _mm256_max_ps(near_w, tn);
-    tf = _mm256_min_ps(far_w, tf);
+    const __m256 near = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? hi : lo, o), inv);
+    const __m256 far = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? lo : hi, o), inv);
+    tn = _mm256_max_ps(near, tn);
+    tf = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(kWiden)), tf);
   }
   _mm256_storeu_ps(t0s, tn);
   _mm256_storeu_ps(t1s, tf);
@@ -146,7 +138,8 @@ class Bvh final : public Structure {
     boxes_ = {};
     centres_ = {};
     counters.add(kBuildNodes, nodes_.size());
-    counters.add(kBuildItemRefs, order_.size());
+    counters.add(kBuildItemRefs, n);
+    align_leaves();
     counters.add(kBuildItemVisits, nodes_.empty() ? 0 : item_visits(0, 1));
     // Traversal runs on the binary tree collapsed into 8-wide nodes (Embree's BVH8): a node's
     // eight child boxes are tested at once.
@@ -180,6 +173,28 @@ class Bvh final : public Structure {
     const BvhNode& n = nodes_[node];
     if (n.count > 0) return uint64_t(n.count) * level;
     return item_visits(node + 1, level + 1) + item_visits(n.index, level + 1);
+  }
+
+  // Lays the leaves out in order_ so that none touches more blocks of kBlock references than its
+  // size needs (a leaf of up to kBlock items within one block, a larger one starting at a block):
+  // methods that copy their data in leaf order in blocks of eight (DiscBlock) then read one block
+  // per small leaf, not two. The gaps hold copies of the preceding reference (never visited:
+  // leaves are (first, count) pieces), so leaf_references stays a list of valid items.
+  void align_leaves() {
+    constexpr uint32_t kBlock = 8;
+    std::vector<uint32_t> out;
+    out.reserve(order_.size() + order_.size() / 4);
+    for (BvhNode& node : nodes_) {  // in build order, which is the order of order_
+      if (node.count == 0) continue;
+      const auto pos = uint32_t(out.size());
+      const uint32_t in_block = pos % kBlock;
+      if (in_block != 0 && (node.count > kBlock || in_block + node.count > kBlock))
+        out.resize(pos + kBlock - in_block, out.back());
+      const uint32_t first = node.index;
+      node.index = uint32_t(out.size());
+      out.insert(out.end(), order_.begin() + first, order_.begin() + first + node.count);
+    }
+    order_ = std::move(out);
   }
 
   // Makes the wide node for binary inner node b (or, for a leaf root, one holding just it):
@@ -235,8 +250,8 @@ class Bvh final : public Structure {
     if (wide_.empty()) return false;
     RaySlabs slabs;
     for (int a = 0; a < 3; ++a) {
+      slabs.o[a] = ray.o[a];
       slabs.inv[a] = 1.0f / ray.d[a];
-      slabs.oinv[a] = ray.o[a] * slabs.inv[a];
       slabs.neg[a] = slabs.inv[a] < 0;
     }
     slabs.tmin = ray.tmin;
@@ -265,7 +280,8 @@ class Bvh final : public Structure {
         continue;
       }
       const WideNode& n = wide_[cur.index];
-      const float limit = std::min(ray.tmax, hit.t * (1.0f + 1e-5f) + 1e-30f);
+      // An entry t within gamma(3) of the exact one passes an exact limit (kWiden).
+      const float limit = std::min(ray.tmax * kWiden, hit.t * (1.0f + 1e-5f) + 1e-30f);
       alignas(32) float t0s[kWidth], t1s[kWidth];
       uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
       // Push the hit children farthest first, so the nearest is walked next.
@@ -391,7 +407,7 @@ class Bvh final : public Structure {
   std::vector<Vec3> centres_;                      // build only
   std::vector<BvhNode> nodes_;                     // the binary tree, build only
   std::vector<WideNode> wide_;
-  std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
+  std::vector<uint32_t> order_;  // items in leaf order, each leaf contiguous (align_leaves)
 };
 
 const RegisterStructure kRegister{StructureInfo{
