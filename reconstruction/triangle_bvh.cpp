@@ -1,6 +1,8 @@
 // Our triangle BVH: binned surface-area-heuristic splits (16 bins over centroids, Wald 2007), at
-// most 4 triangles per leaf; both children's boxes tested when their parent is visited and the
-// nearer (by entry distance) walked first; triangles stored in leaf order with their vertices. It
+// most 4 triangles per leaf, the binary tree collapsed into 8-wide nodes (Embree's BVH8, shared
+// with the point bvh: structures/wide_node.hpp) whose eight boxes are tested at once when the
+// node is visited, the children hit walked nearest first; triangles stored in leaf order with
+// their vertices. It
 // reports into the same counters as the point structures (nodes, leaves, triangle tests), so
 // triangle tracing and direct point tracing are compared operation by operation.
 #include <algorithm>
@@ -11,6 +13,7 @@
 
 #include "reconstruction/mesh_engine.hpp"
 #include "structures/structure.hpp"
+#include "structures/wide_node.hpp"
 
 namespace pcrt {
 namespace {
@@ -45,14 +48,6 @@ struct Node {
   uint32_t count = 0;  // leaf: triangles; inner: 0
 };
 
-// The slab test of a node's box against [ray.tmin, t_max].
-inline bool box_hit(const Node& n, const Ray& ray, const Vec3& inv, float t_max, float& t0,
-                    float& t1) {
-  Ray clipped = ray;
-  clipped.tmax = t_max;
-  return n.box.intersect(clipped, inv, t0, t1);
-}
-
 class TriangleBvh final : public MeshEngine {
  public:
   TriangleBvh(const TriangleMesh& mesh, OpCounters& counters) : mesh_(mesh) {
@@ -80,49 +75,50 @@ class TriangleBvh final : public MeshEngine {
     centroids_ = {};
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, n);
+    if (!nodes_.empty()) WideCollapse<TriangleBvh>(*this, wide_).collapse(0);
+    nodes_ = {};
   }
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
-    const Vec3 inv = ray.d.cwiseInverse();
-    struct Todo {
-      uint32_t node;
-      float t0;
-    };
-    std::array<Todo, 64> stack;
-    size_t top = 0;
+    return avx2_ ? walk<node_test_avx2>(ray, hit, counters)
+                 : walk<node_test_sse>(ray, hit, counters);
+  }
+
+  [[nodiscard]] size_t memory_bytes() const override {
+    return wide_.size() * sizeof(WideNode) + leaf_triangles_.size() * sizeof(LeafTriangle);
+  }
+
+ private:
+  friend class WideCollapse<TriangleBvh>;
+  // The binary tree as WideCollapse reads it.
+  [[nodiscard]] uint32_t count(uint32_t b) const { return nodes_[b].count; }
+  [[nodiscard]] uint32_t first(uint32_t b) const { return nodes_[b].first; }
+  [[nodiscard]] uint32_t right(uint32_t b) const { return nodes_[b].first; }
+  [[nodiscard]] Aabb box(uint32_t b) const { return nodes_[b].box; }
+
+  template <auto kTest>
+  bool walk(const Ray& ray, Hit& hit, OpCounters& counters) const {
+    if (wide_.empty()) return false;
+    const RaySlabs slabs(ray);
+    std::array<WideTodo, (kWideWidth - 1) * 64 + kWideWidth> stack;
+    int top = 0;
     float t_max = std::min(ray.tmax, hit.t);
-    float t0 = 0, t1 = 0;
-    if (nodes_.empty() || !box_hit(nodes_[0], ray, inv, t_max, t0, t1)) return false;
-    stack[top++] = Todo{0, t0};
+    stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, t_max};
     bool found = false;
     uint64_t nodes = 0, leaves = 0, tests = 0;
     while (top > 0) {
-      const Todo cur = stack[--top];
+      const WideTodo cur = stack[size_t(--top)];
       if (cur.t0 > t_max) continue;  // entered beyond the hit found since it was pushed
-      const Node& node = nodes_[cur.node];
       ++nodes;
-      if (node.count > 0) {
+      if (cur.count > 0) {
         ++leaves;
-        tests += node.count;
-        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-          const LeafTriangle& tri = leaf_triangles_[k];
-          // Up to and including t_max, so that a tie in t goes to the lower triangle index
-          // whatever the traversal order.
-          const float t =
-              intersect_triangle(ray, tri.v[0], tri.v[1], tri.v[2], ray.tmin, next_up(t_max));
-          if (t == kInfinity || (t == t_max && tri.prim > hit.prim)) continue;
-          t_max = t, hit.t = t, hit.prim = tri.prim, found = true;
-        }
+        tests += cur.count;
+        found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit);
         continue;
       }
-      // Both children's boxes are tested now (at push), and the nearer is walked first: a
-      // missed child is never pushed, a far one is dropped at pop once a hit lies before it.
-      Todo kids[2];
-      int nk = 0;
-      for (uint32_t c : {cur.node + 1, node.first})
-        if (box_hit(nodes_[c], ray, inv, t_max, t0, t1)) kids[nk++] = Todo{c, t0};
-      if (nk == 2 && kids[0].t0 < kids[1].t0) std::swap(kids[0], kids[1]);
-      for (int k = 0; k < nk; ++k) stack[top++] = kids[k];
+      alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
+      const uint32_t mask = kTest(wide_[cur.index], slabs, t_max * kWiden, t0s, t1s);
+      top = push_hit_children(wide_[cur.index], mask, t0s, t1s, stack.data(), top);
     }
     counters.add(kNodesVisited, nodes);
     counters.add(kLeavesVisited, leaves);
@@ -135,11 +131,22 @@ class TriangleBvh final : public MeshEngine {
     return found;
   }
 
-  [[nodiscard]] size_t memory_bytes() const override {
-    return nodes_.size() * sizeof(Node) + leaf_triangles_.size() * sizeof(LeafTriangle);
+  // The leaf's triangles against [ray.tmin, t_max]; narrows t_max and hit.t, hit.prim.
+  bool intersect_leaf(const Ray& ray, uint32_t first, uint32_t count, float& t_max,
+                      Hit& hit) const {
+    bool found = false;
+    for (uint32_t k = first; k < first + count; ++k) {
+      const LeafTriangle& tri = leaf_triangles_[k];
+      // Up to and including t_max, so that a tie in t goes to the lower triangle index whatever
+      // the traversal order.
+      const float t =
+          intersect_triangle(ray, tri.v[0], tri.v[1], tri.v[2], ray.tmin, next_up(t_max));
+      if (t == kInfinity || (t == t_max && tri.prim > hit.prim)) continue;
+      t_max = t, hit.t = t, hit.prim = tri.prim, found = true;
+    }
+    return found;
   }
 
- private:
   // Depth is capped well below the traversal stack's 64 entries.
   uint32_t build(uint32_t begin, uint32_t end, int depth) {
     const uint32_t index = uint32_t(nodes_.size());
@@ -221,7 +228,9 @@ class TriangleBvh final : public MeshEngine {
   }
 
   const TriangleMesh& mesh_;
-  std::vector<Node> nodes_;
+  bool avx2_ = wide_nodes_use_avx2();
+  std::vector<Node> nodes_;  // the binary tree, build only
+  std::vector<WideNode> wide_;
   std::vector<LeafTriangle> leaf_triangles_;
   std::vector<uint32_t> order_;
   std::vector<Aabb> boxes_;
@@ -230,8 +239,8 @@ class TriangleBvh final : public MeshEngine {
 
 const RegisterMeshEngine kRegister{MeshEngineInfo{
     "bvh",
-    "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, counted like the point "
-    "structures",
+    "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, 8-wide nodes, counted like "
+    "the point structures",
     [](const TriangleMesh& mesh, OpCounters& counters, Timings& timings) {
       ScopedTimer t(timings, "build");
       return std::unique_ptr<MeshEngine>(std::make_unique<TriangleBvh>(mesh, counters));

@@ -9,13 +9,13 @@
 // children hit are pushed farthest first so the nearest is walked next, and a waiting one is
 // dropped once its entry lies beyond the hit so far (boxes overlap, so the walk cannot stop at
 // the first hit).
-#include <immintrin.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
 
 #include "structures/structure.hpp"
+#include "structures/wide_node.hpp"
 
 namespace pcrt {
 namespace {
@@ -28,78 +28,6 @@ struct BvhNode {
   Vec3 hi;
   uint32_t count = 0;  // leaf: items (> 0); inner: 0
 };
-
-// Eight children's boxes in structure-of-arrays layout (lo[axis][child]), for one 8-wide slab
-// test (AVX2 where the CPU has it, else two SSE halves); 256 bytes, four cache lines.
-constexpr int kWidth = 8;
-struct alignas(64) WideNode {
-  float lo[3][kWidth];
-  float hi[3][kWidth];
-  uint32_t child[kWidth] = {};  // inner child: wide node index; leaf child: first item in order_
-  uint32_t count[kWidth] = {};  // leaf child: items (> 0); inner child or empty slot: 0
-};
-
-// What a ray needs for the slab test: t = plane * inv - o * inv per axis, the near and far planes
-// chosen by the sign of each direction component (no min/max per box).
-struct RaySlabs {
-  float o[3], inv[3];
-  bool neg[3];
-  float tmin;
-};
-
-// 1 + 2 gamma(3) (pbrt-v4, section 6.8.2): (plane - o) * inv is within gamma(3) of the exact
-// (plane - o) / d, so an exit t scaled by this is never below the exact one.
-constexpr float kWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
-
-// The slab test of a node's eight boxes against [slabs.tmin, limit]: a bit per child hit, and
-// each child's entry and exit t (t = (plane - o) * inv, the near and far planes chosen by the
-// sign of each direction component, no min/max per box; the exit widened by kWiden, so a
-// footprint on a box face is never culled; NaN (0 * inf) keeps the interval: max/min return
-// their second operand then). Both versions evaluate the same IEEE operations per lane (no fused
-// multiply-add), so they hit the same children bit for bit.
-uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s, float* t1s) {
-  uint32_t mask = 0;
-  for (int h = 0; h < kWidth; h += 4) {
-    __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(limit);
-    for (int a = 0; a < 3; ++a) {
-      const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
-      const __m128 lo = _mm_load_ps(n.lo[a] + h), hi = _mm_load_ps(n.hi[a] + h);
-      const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? hi : lo, o), inv);
-      const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? lo : hi, o), inv);
-      tn = _mm_max_ps(near, tn);
-      tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
-    }
-    _mm_storeu_ps(t0s + h, tn);
-    _mm_storeu_ps(t1s + h, tf);
-    mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << h;
-  }
-  return mask;
-}
-
-__attribute__((target("avx2"))) uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
-                                                        float limit, float* t0s, float* t1s) {
-  __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
-  for (int a = 0; a < 3; ++a) {
-    const __m256 o = _mm256_set1_ps(r.o[a]), inv = _mm256_set1_ps(r.inv[a]);
-    const __m256 lo = _mm256_load_ps(n.lo[a]), hi = _mm256_load_ps(n.hi[a]);
-    const __m256 near = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? hi : lo, o), inv);
-    const __m256 far = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? lo : hi, o), inv);
-    tn = _mm256_max_ps(near, tn);
-    tf = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(kWiden)), tf);
-  }
-  _mm256_storeu_ps(t0s, tn);
-  _mm256_storeu_ps(t1s, tf);
-  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
-}
-
-using NodeTest = uint32_t (*)(const WideNode&, const RaySlabs&, float, float*, float*);
-
-// The widest node test this CPU runs, chosen once.
-NodeTest best_node_test() {
-  __builtin_cpu_init();
-  if (__builtin_cpu_supports("avx2")) return node_test_avx2;
-  return node_test_sse;
-}
 
 constexpr int kBins = 16;
 constexpr uint32_t kParallelBuildItems = 50000;
@@ -144,7 +72,7 @@ class Bvh final : public Structure {
     // Traversal runs on the binary tree collapsed into 8-wide nodes (Embree's BVH8): a node's
     // eight child boxes are tested at once.
     wide_.clear();
-    if (!nodes_.empty()) collapse(0);
+    if (!nodes_.empty()) WideCollapse<Bvh>(*this, wide_).collapse(0);
     wide_.shrink_to_fit();
     nodes_ = {};
   }
@@ -168,6 +96,8 @@ class Bvh final : public Structure {
   }
 
  private:
+  friend class WideCollapse<Bvh>;
+
   // Sum over leaves of items x levels from the root (the build's partitioning work).
   [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
     const BvhNode& n = nodes_[node];
@@ -197,75 +127,22 @@ class Bvh final : public Structure {
     order_ = std::move(out);
   }
 
-  // Makes the wide node for binary inner node b (or, for a leaf root, one holding just it):
-  // its children are b's children, the largest-area inner one replaced by its own two children
-  // until kWidth are gathered. Returns the wide node's index.
-  uint32_t collapse(uint32_t b) {
-    std::array<uint32_t, kWidth> kids{};
-    int nk = 0;
-    if (nodes_[b].count > 0) {
-      kids[size_t(nk++)] = b;
-    } else {
-      kids[size_t(nk++)] = b + 1;
-      kids[size_t(nk++)] = nodes_[b].index;
-    }
-    while (nk < kWidth) {
-      int open = -1;
-      float best = -1;
-      for (int k = 0; k < nk; ++k) {
-        const BvhNode& c = nodes_[kids[size_t(k)]];
-        const float a = area(Aabb{c.lo, c.hi});
-        if (c.count == 0 && a > best) best = a, open = k;
-      }
-      if (open < 0) break;
-      const uint32_t c = kids[size_t(open)];
-      kids[size_t(open)] = c + 1;
-      kids[size_t(nk++)] = nodes_[c].index;
-    }
-    const auto me = uint32_t(wide_.size());
-    wide_.emplace_back();
-    for (int k = 0; k < kWidth; ++k) {
-      WideNode& w = wide_[me];
-      if (k >= nk) {  // an empty slot: child 0 and count 0 (the root is no one's child)
-        for (int a = 0; a < 3; ++a) w.lo[a][k] = kInfinity, w.hi[a][k] = -kInfinity;
-        continue;
-      }
-      const BvhNode& c = nodes_[kids[size_t(k)]];
-      for (int a = 0; a < 3; ++a) w.lo[a][k] = c.lo[a], w.hi[a][k] = c.hi[a];
-      w.count[k] = c.count;
-      w.child[k] = c.count > 0 ? c.index : 0;
-    }
-    for (int k = 0; k < nk; ++k) {
-      const BvhNode& c = nodes_[kids[size_t(k)]];
-      if (c.count == 0) {
-        const uint32_t child = collapse(kids[size_t(k)]);
-        wide_[me].child[k] = child;
-      }
-    }
-    return me;
-  }
+  // The binary tree as WideCollapse reads it.
+  [[nodiscard]] uint32_t count(uint32_t b) const { return nodes_[b].count; }
+  [[nodiscard]] uint32_t first(uint32_t b) const { return nodes_[b].index; }
+  [[nodiscard]] uint32_t right(uint32_t b) const { return nodes_[b].index; }
+  [[nodiscard]] Aabb box(uint32_t b) const { return Aabb{nodes_[b].lo, nodes_[b].hi}; }
 
-  template <bool kAny, NodeTest kTest>
+  template <bool kAny, auto kTest>
   bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
     if (wide_.empty()) return false;
-    RaySlabs slabs;
-    for (int a = 0; a < 3; ++a) {
-      slabs.o[a] = ray.o[a];
-      slabs.inv[a] = 1.0f / ray.d[a];
-      slabs.neg[a] = slabs.inv[a] < 0;
-    }
-    slabs.tmin = ray.tmin;
-    struct Todo {
-      uint32_t index;  // wide node, or first item of a leaf
-      uint32_t count;  // leaf: items; 0: a wide node
-      float t0, t1;
-    };
-    std::array<Todo, (kWidth - 1) * kMaxDepth + kWidth> stack;
+    const RaySlabs slabs(ray);
+    std::array<WideTodo, (kWideWidth - 1) * kMaxDepth + kWideWidth> stack;
     int top = 0;
-    stack[size_t(top++)] = Todo{0, 0, ray.tmin, ray.tmax};
+    stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, ray.tmax};
     bool found = false;
     while (top > 0) {
-      const Todo cur = stack[size_t(--top)];
+      const WideTodo cur = stack[size_t(--top)];
       if (!may_improve(cur.t0, hit.t)) continue;
       counters.add(kNodesVisited);
       if (cur.count > 0) {
@@ -280,22 +157,10 @@ class Bvh final : public Structure {
         continue;
       }
       const WideNode& n = wide_[cur.index];
-      // An entry t within gamma(3) of the exact one passes an exact limit (kWiden).
       const float limit = std::min(ray.tmax * kWiden, hit.t * (1.0f + 1e-5f) + 1e-30f);
-      alignas(32) float t0s[kWidth], t1s[kWidth];
-      uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
-      // Push the hit children farthest first, so the nearest is walked next.
-      Todo kids[kWidth];
-      int nk = 0;
-      for (; mask; mask &= mask - 1) {
-        const int k = __builtin_ctz(mask);
-        if (n.child[k] == 0 && n.count[k] == 0) continue;  // an empty slot (NaN may let it pass)
-        const Todo t{n.child[k], n.count[k], t0s[k], t1s[k]};
-        int j = nk++;
-        for (; j > 0 && kids[j - 1].t0 < t.t0; --j) kids[j] = kids[j - 1];
-        kids[j] = t;
-      }
-      for (int k = 0; k < nk; ++k) stack[size_t(top++)] = kids[k];
+      alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
+      const uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
+      top = push_hit_children(n, mask, t0s, t1s, stack.data(), top);
     }
     return found;
   }
@@ -402,10 +267,10 @@ class Bvh final : public Structure {
   }
 
   uint32_t leaf_size_;
-  bool avx2_ = best_node_test() != node_test_sse;  // the 8-wide node test (chosen once)
-  std::vector<Aabb> boxes_;                        // build only
-  std::vector<Vec3> centres_;                      // build only
-  std::vector<BvhNode> nodes_;                     // the binary tree, build only
+  bool avx2_ = wide_nodes_use_avx2();
+  std::vector<Aabb> boxes_;     // build only
+  std::vector<Vec3> centres_;   // build only
+  std::vector<BvhNode> nodes_;  // the binary tree, build only
   std::vector<WideNode> wide_;
   std::vector<uint32_t> order_;  // items in leaf order, each leaf contiguous (align_leaves)
 };

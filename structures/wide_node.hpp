@@ -1,0 +1,147 @@
+// 8-wide BVH nodes (Embree's BVH8) shared by the point bvh and the triangle BVH: a binary tree
+// collapsed into nodes of up to eight children whose boxes are tested at once (AVX2 where the CPU
+// has it, chosen once, else two SSE halves with the same IEEE operations per lane, so both hit the
+// same children bit for bit).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/aabb.hpp"
+#include "core/geometry.hpp"
+
+namespace pcrt {
+
+constexpr int kWideWidth = 8;
+
+// Eight children's boxes in structure-of-arrays layout (lo[axis][child]); 256 bytes, four cache
+// lines.
+struct alignas(64) WideNode {
+  float lo[3][kWideWidth];
+  float hi[3][kWideWidth];
+  uint32_t child[kWideWidth] = {};  // inner child: wide node index; leaf child: its first item
+  uint32_t count[kWideWidth] = {};  // leaf child: items (> 0); inner child or empty slot: 0
+};
+
+// What a ray needs for the slab test (once per ray).
+struct RaySlabs {
+  float o[3], inv[3];
+  bool neg[3];
+  float tmin;
+  explicit RaySlabs(const Ray& ray) : tmin(ray.tmin) {
+    for (int a = 0; a < 3; ++a) {
+      o[a] = ray.o[a];
+      inv[a] = 1.0f / ray.d[a];
+      neg[a] = inv[a] < 0;
+    }
+  }
+};
+
+// 1 + 2 gamma(3) (pbrt-v4, section 6.8.2): (plane - o) * inv is within gamma(3) of the exact
+// (plane - o) / d, so an exit t scaled by this is never below the exact one, and an entry t
+// compared with a limit scaled by it never culls a box the exact test keeps.
+constexpr float kWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+
+// The slab test of a node's eight boxes against [slabs.tmin, limit]: a bit per child hit, and each
+// child's entry and exit t in t0s, t1s (t = (plane - o) * inv, near and far planes chosen by the
+// sign of each direction component; the exit widened by kWiden; NaN, 0 * inf, keeps the interval).
+uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s, float* t1s);
+__attribute__((target("avx2"))) uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
+                                                        float limit, float* t0s, float* t1s);
+// Whether this CPU runs node_test_avx2 (checked once).
+bool wide_nodes_use_avx2();
+
+// A binary tree in the layout both builders make: node b's left child is b + 1, its right child
+// right(b); a leaf has count(b) > 0 items starting at first(b).
+template <class Binary>
+class WideCollapse {
+ public:
+  WideCollapse(const Binary& tree, std::vector<WideNode>& out) : tree_(tree), out_(out) {}
+
+  // Makes the wide node for binary inner node b (or, for a leaf root, one holding just it): its
+  // children are b's children, the largest-area inner one replaced by its own two children until
+  // eight are gathered. Returns the wide node's index.
+  uint32_t collapse(uint32_t b) {
+    std::array<uint32_t, kWideWidth> kids{};
+    int nk = 0;
+    if (tree_.count(b) > 0) {
+      kids[size_t(nk++)] = b;
+    } else {
+      kids[size_t(nk++)] = b + 1;
+      kids[size_t(nk++)] = tree_.right(b);
+    }
+    while (nk < kWideWidth) {
+      int open = -1;
+      float best = -1;
+      for (int k = 0; k < nk; ++k) {
+        const float a = half_area(tree_.box(kids[size_t(k)]));
+        if (tree_.count(kids[size_t(k)]) == 0 && a > best) best = a, open = k;
+      }
+      if (open < 0) break;
+      const uint32_t c = kids[size_t(open)];
+      kids[size_t(open)] = c + 1;
+      kids[size_t(nk++)] = tree_.right(c);
+    }
+    const auto me = uint32_t(out_.size());
+    out_.emplace_back();
+    for (int k = 0; k < kWideWidth; ++k) {
+      WideNode& w = out_[me];
+      if (k >= nk) {  // an empty slot: child 0 and count 0 (the root is no one's child)
+        for (int a = 0; a < 3; ++a) w.lo[a][k] = kInfinity, w.hi[a][k] = -kInfinity;
+        continue;
+      }
+      const uint32_t c = kids[size_t(k)];
+      const Aabb box = tree_.box(c);
+      for (int a = 0; a < 3; ++a) w.lo[a][k] = box.lo[a], w.hi[a][k] = box.hi[a];
+      w.count[k] = tree_.count(c);
+      w.child[k] = tree_.count(c) > 0 ? tree_.first(c) : 0;
+    }
+    for (int k = 0; k < nk; ++k) {
+      const uint32_t c = kids[size_t(k)];
+      if (tree_.count(c) == 0) {
+        const uint32_t child = collapse(c);
+        out_[me].child[k] = child;
+      }
+    }
+    return me;
+  }
+
+  static float half_area(const Aabb& b) {
+    if (b.empty()) return 0;
+    const Vec3 e = b.extent();
+    return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
+  }
+
+ private:
+  const Binary& tree_;
+  std::vector<WideNode>& out_;
+};
+
+// A child a walk has yet to enter: a wide node (count 0) or a leaf's items.
+struct WideTodo {
+  uint32_t index;
+  uint32_t count;
+  float t0, t1;
+};
+
+// Pushes the children of n hit by the ray (bits of mask, entry and exit t in t0s, t1s) onto
+// stack[top...], farthest first, so the nearest is walked next. Empty slots (which NaN may let
+// pass) are skipped.
+inline int push_hit_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
+                             WideTodo* stack, int top) {
+  WideTodo kids[kWideWidth];
+  int nk = 0;
+  for (; mask; mask &= mask - 1) {
+    const int k = __builtin_ctz(mask);
+    if (n.child[k] == 0 && n.count[k] == 0) continue;
+    const WideTodo t{n.child[k], n.count[k], t0s[k], t1s[k]};
+    int j = nk++;
+    for (; j > 0 && kids[j - 1].t0 < t.t0; --j) kids[j] = kids[j - 1];
+    kids[j] = t;
+  }
+  for (int k = 0; k < nk; ++k) stack[top++] = kids[k];
+  return top;
+}
+
+}  // namespace pcrt
