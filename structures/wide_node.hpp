@@ -4,6 +4,8 @@
 // same children bit for bit).
 #pragma once
 
+#include <immintrin.h>
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -46,9 +48,43 @@ constexpr float kWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-2
 // The slab test of a node's eight boxes against [slabs.tmin, limit]: a bit per child hit, and each
 // child's entry and exit t in t0s, t1s (t = (plane - o) * inv, near and far planes chosen by the
 // sign of each direction component; the exit widened by kWiden; NaN, 0 * inf, keeps the interval).
-uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s, float* t1s);
-__attribute__((target("avx2"))) uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
-                                                        float limit, float* t0s, float* t1s);
+inline uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s,
+                              float* t1s) {
+  uint32_t mask = 0;
+  for (int h = 0; h < kWideWidth; h += 4) {
+    __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(limit);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
+      const __m128 lo = _mm_load_ps(n.lo[a] + h), hi = _mm_load_ps(n.hi[a] + h);
+      const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? hi : lo, o), inv);
+      const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? lo : hi, o), inv);
+      tn = _mm_max_ps(near, tn);
+      tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
+    }
+    _mm_storeu_ps(t0s + h, tn);
+    _mm_storeu_ps(t1s + h, tf);
+    mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << h;
+  }
+  return mask;
+}
+
+__attribute__((target("avx2"))) inline uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
+                                                               float limit, float* t0s,
+                                                               float* t1s) {
+  __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
+  for (int a = 0; a < 3; ++a) {
+    const __m256 o = _mm256_set1_ps(r.o[a]), inv = _mm256_set1_ps(r.inv[a]);
+    const __m256 lo = _mm256_load_ps(n.lo[a]), hi = _mm256_load_ps(n.hi[a]);
+    const __m256 near = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? hi : lo, o), inv);
+    const __m256 far = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? lo : hi, o), inv);
+    tn = _mm256_max_ps(near, tn);
+    tf = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(kWiden)), tf);
+  }
+  _mm256_storeu_ps(t0s, tn);
+  _mm256_storeu_ps(t1s, tf);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+}
+
 // Whether this CPU runs node_test_avx2 (checked once).
 bool wide_nodes_use_avx2();
 
@@ -126,21 +162,20 @@ struct WideTodo {
 };
 
 // Pushes the children of n hit by the ray (bits of mask, entry and exit t in t0s, t1s) onto
-// stack[top...], farthest first, so the nearest is walked next. Empty slots (which NaN may let
-// pass) are skipped.
+// stack[top...], farthest first, so the nearest is walked next (an insertion sort in place: no
+// copy loop the compiler would turn into a memcpy call). Empty slots (which NaN may let pass) are
+// skipped.
 inline int push_hit_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
                              WideTodo* stack, int top) {
-  WideTodo kids[kWideWidth];
-  int nk = 0;
+  const int base = top;
   for (; mask; mask &= mask - 1) {
     const int k = __builtin_ctz(mask);
     if (n.child[k] == 0 && n.count[k] == 0) continue;
     const WideTodo t{n.child[k], n.count[k], t0s[k], t1s[k]};
-    int j = nk++;
-    for (; j > 0 && kids[j - 1].t0 < t.t0; --j) kids[j] = kids[j - 1];
-    kids[j] = t;
+    int j = top++;
+    for (; j > base && stack[j - 1].t0 < t.t0; --j) stack[j] = stack[j - 1];
+    stack[j] = t;
   }
-  for (int k = 0; k < nk; ++k) stack[top++] = kids[k];
   return top;
 }
 
