@@ -4,11 +4,10 @@
 // Build: at each node the item box centres are binned (kBins per axis) and the split with the
 // least surface area heuristic cost is taken, until a node holds leaf_size items or fewer, so
 // leaves hold what leaf_size says. The binary tree is then collapsed into 8-wide nodes (Embree's
-// BVH8). Traversal: a node's eight child boxes are tested at once (AVX2, else two SSE halves)
-// when it is visited, the
-// children hit are pushed farthest first so the nearest is walked next, and a waiting one is
-// dropped once its entry lies beyond the hit so far (boxes overlap, so the walk cannot stop at
-// the first hit).
+// BVH8, wide_node.hpp). Traversal: a node's eight child boxes are tested at once (AVX2, else two
+// SSE halves) when it is visited, the children hit are pushed farthest first so the nearest is
+// walked next, and a waiting one is dropped once its entry lies beyond the hit so far (boxes
+// overlap, so the walk cannot stop at the first hit).
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
