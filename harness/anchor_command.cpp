@@ -23,6 +23,7 @@
 #include "methods/kernels/disc_lanes.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/triangle_mesh.hpp"
+#include "structures/wide_node.hpp"
 
 namespace pcrt {
 namespace {
@@ -150,6 +151,7 @@ json mesh_anchor(const std::string& path, int w, int h, int reps) {
             {"triangles", mesh.triangles.size()},
             {"reps", reps},
             {"engine", "bvh"},
+            {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
             {"reference", "embree"}};
   for (const RaySet* set : {&primary, &bounce, &shadow})
     j[set->name] = alternated({&ours, &embree}, *set, reps);
@@ -282,6 +284,7 @@ int command_anchor(const Args& args) {
                   {"reps", reps},
                   {"set", overrides},
                   {"leaf_simd", disc_lanes_name()},
+                  {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
                   {"references",
                    {"embree_oriented_disc morton_order=1", "embree_oriented_disc morton_order=0"}},
                   {"best", headline(best)},
