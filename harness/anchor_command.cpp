@@ -23,6 +23,7 @@
 #include "reconstruction/triangle_mesh.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
+#include "structures/wide_node.hpp"
 
 namespace pcrt {
 namespace {
@@ -150,54 +151,47 @@ json mesh_anchor(const std::string& path, int w, int h, int reps) {
             {"triangles", mesh.triangles.size()},
             {"reps", reps},
             {"engine", "bvh"},
+            {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
             {"reference", "embree"}};
   for (const RaySet* set : {&primary, &bounce, &shadow})
     j[set->name] = alternated({&ours, &embree}, *set, reps);
   return j;
 }
 
-}  // namespace
+std::vector<OptionSpec> anchor_options() {
+  return {{"data", "DATA", "point cloud file or generator spec"},
+          {"mesh", "MESH.ply",
+           "instead of --data: our triangle BVH against Embree's triangles on this mesh"},
+          {"method", "M", "only this splat-family method (default: all of them)"},
+          {"structure", "S", "only this structure (default: all but brute_force)"},
+          {"set", "NAME=VALUE", "a parameter of the candidates' method or structure (repeatable)"},
+          integer_option("width", "W", "image width", 512, 1, 16384),
+          integer_option("height", "H", "image height", 512, 1, 16384),
+          integer_option("reps", "R",
+                         "timed passes of each scene after one warm-up; medians are reported", 7, 1,
+                         1000),
+          threads_option(),
+          {"json", "", "print JSON"}};
+}
 
-int command_anchor(const Args& args) {
-  CliArgs a(
-      "anchor",
-      "pcrt anchor --data DATA [--method M] [--structure S] [--set NAME=VALUE] [--width W "
-      "--height H --threads T --reps R] [--json]",
-      {{"data", "DATA", "point cloud file or generator spec"},
-       {"mesh", "MESH.ply",
-        "instead of --data: our triangle BVH against Embree's triangles on this mesh"},
-       {"method", "M", "only this splat-family method (default: all of them)"},
-       {"structure", "S", "only this structure (default: all but brute_force)"},
-       {"set", "NAME=VALUE", "a parameter of the candidates' method or structure (repeatable)"},
-       integer_option("width", "W", "image width", 512, 1, 16384),
-       integer_option("height", "H", "image height", 512, 1, 16384),
-       integer_option("reps", "R",
-                      "timed passes of each scene after one warm-up; medians are reported", 7, 1,
-                      1000),
-       threads_option(),
-       {"json", "", "print JSON"}},
-      0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const int w = int(a.integer("width")), hgt = int(a.integer("height"));
-  const int reps = int(a.integer("reps"));
-  if (a.has("mesh")) {
-    if (a.has("data")) input_error("pcrt anchor: --mesh and --data exclude each other");
-    const json j = mesh_anchor(a.get("mesh"), w, hgt, reps);
-    if (a.has("json")) {
-      std::printf("%s\n", j.dump(2).c_str());
-      return 0;
-    }
-    for (const char* k : {"primary", "bounce", "shadow"})
-      std::printf("  %-8s bvh %6.2f Mrays/s, embree %6.2f Mrays/s: x%.3f\n", k,
-                  j[k]["mrays_per_s"].get<double>(),
-                  j[k]["references"][0]["mrays_per_s"].get<double>(),
-                  j[k]["references"][0]["ratio"].get<double>());
+// --mesh: our triangle BVH against Embree's triangles.
+int anchor_mesh(const CliArgs& a, int w, int hgt, int reps) {
+  if (a.has("data")) input_error("pcrt anchor: --mesh and --data exclude each other");
+  const json j = mesh_anchor(a.get("mesh"), w, hgt, reps);
+  if (a.has("json")) {
+    std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  const std::string data = a.require("data");
-  const Dataset d = load_dataset(data);
-  const Aabb bounds = d.cloud.bounds();
+  for (const char* k : {"primary", "bounce", "shadow"})
+    std::printf("  %-8s bvh %6.2f Mrays/s, embree %6.2f Mrays/s: x%.3f\n", k,
+                j[k]["mrays_per_s"].get<double>(),
+                j[k]["references"][0]["mrays_per_s"].get<double>(),
+                j[k]["references"][0]["ratio"].get<double>());
+  return 0;
+}
+
+// The --set values, and --method/--structure checked to name a splat method and a structure.
+ParamValues anchor_overrides(const CliArgs& a) {
   ParamValues overrides;
   for (const std::string& s : a.all("set")) {
     auto [name, value] = parse_assignment(s);
@@ -209,12 +203,109 @@ int command_anchor(const Args& args) {
     input_error("pcrt anchor: --method {} is not of the splat family", a.get("method"));
   if (a.has("structure"))
     (void)StructureRegistry::instance().get(a.get("structure"), "structure");  // known id?
+  return overrides;
+}
+
+// What every candidate is timed against, on the same rays.
+struct AnchorBench {
+  const Dataset& data;
+  ParamValues overrides;
+  std::vector<const SceneIntersector*> references;  // Embree's discs in Morton and in cloud order
+  std::vector<const RaySet*> sets;                  // primary, bounce, shadow
+  int reps;
+};
+
+void print_candidate(const json& e, const std::vector<const RaySet*>& sets) {
+  std::printf("  %-20s %-12s", e["method"].get<std::string>().c_str(),
+              e["structure"].get<std::string>().c_str());
+  for (const RaySet* set : sets) {
+    const json& r = e[set->name];
+    std::printf("  %s %6.2f Mrays/s x%.2f", set->name, r["mrays_per_s"].get<double>(),
+                r["references"][0]["ratio"].get<double>());
+  }
+  std::printf("\n");
+}
+
+// One splat-family method on one structure, timed pass by pass against the references.
+json time_candidate(const AnchorBench& b, const MethodInfo& m, const StructureInfo& s) {
+  Timings ct;
+  OpCounters cp;
+  const PointScene scene(b.data.cloud, SceneOptions{m.id, s.id, b.overrides}, cp, ct);
+  json e = {{"method", m.id},
+            {"same_discs", m.family == LeafFamily::kDisc},
+            {"structure", s.id},
+            {"build_s", ct["build"]},
+            {"refs_per_item", double(cp.get(kBuildItemRefs)) / double(b.data.cloud.size())},
+            {"structure_bytes", scene.structure_bytes()}};
+  std::vector<const SceneIntersector*> scenes = {&scene};
+  scenes.insert(scenes.end(), b.references.begin(), b.references.end());
+  for (const RaySet* set : b.sets) e[set->name] = alternated(scenes, *set, b.reps);
+  return e;
+}
+
+json time_candidates(const CliArgs& a, const AnchorBench& b) {
+  json candidates = json::array();
+  for (const MethodInfo& m : MethodRegistry::instance().all()) {
+    if (!splat_family(m.family) || !m.own_structure.empty()) continue;
+    if (a.has("method") && a.get("method") != m.id) continue;
+    for (const StructureInfo& s : StructureRegistry::instance().all()) {
+      if (s.id == "brute_force" || (a.has("structure") && a.get("structure") != s.id)) continue;
+      candidates.push_back(time_candidate(b, m, s));
+      if (!a.has("json")) print_candidate(candidates.back(), b.sets);
+    }
+  }
+  return candidates;
+}
+
+// The best candidate by its primary-ray ratio against Embree in Morton order: of all, or of those
+// tracing exactly Embree's surface (one disc per point; the blending methods trace splats of
+// their own making, often fewer than the points).
+json best_candidate(const json& candidates, bool same_discs_only) {
+  json best;
+  for (const json& c : candidates)
+    if ((!same_discs_only || c["same_discs"].get<bool>()) &&
+        (best.is_null() || c["primary"]["references"][0]["ratio"].get<double>() >
+                               best["primary"]["references"][0]["ratio"].get<double>()))
+      best = c;
+  if (best.is_null()) return best;
+  return {{"method", best["method"]},
+          {"structure", best["structure"]},
+          {"primary", best["primary"]},
+          {"bounce", best["bounce"]},
+          {"shadow", best["shadow"]}};
+}
+
+void print_best(const json& best, const json& best_same) {
+  for (const auto& [label, b] : {std::pair{"best", best}, std::pair{"best, same discs", best_same}})
+    if (!b.is_null())
+      std::printf("%s: %s on %s, primary rays x%.3f Embree (Morton order), x%.3f (cloud order)\n",
+                  label, b["method"].get<std::string>().c_str(),
+                  b["structure"].get<std::string>().c_str(),
+                  b["primary"]["references"][0]["ratio"].get<double>(),
+                  b["primary"]["references"][1]["ratio"].get<double>());
+}
+
+}  // namespace
+
+int command_anchor(const Args& args) {
+  CliArgs a("anchor",
+            "pcrt anchor --data DATA [--method M] [--structure S] [--set NAME=VALUE] [--width W "
+            "--height H --threads T --reps R] [--json]",
+            anchor_options(), 0, 0);
+  if (!a.parse(args)) return 0;
+  auto limit = limit_threads(a);
+  const int w = int(a.integer("width")), hgt = int(a.integer("height"));
+  const int reps = int(a.integer("reps"));
+  if (a.has("mesh")) return anchor_mesh(a, w, hgt, reps);
+  const std::string data = a.require("data");
+  const Dataset d = load_dataset(data);
+  const Aabb bounds = d.cloud.bounds();
+  const ParamValues overrides = anchor_overrides(a);
   const Camera cam = Camera::framing(bounds, w, hgt);
   RaySet primary{"primary", Query::kClosest, {}}, bounce{"bounce", Query::kClosest, {}},
       shadow{"shadow", Query::kAny, {}};
   for (int y = 0; y < hgt; ++y)
     for (int x = 0; x < w; ++x) primary.rays.push_back(cam.ray(float(x) + 0.5f, float(y) + 0.5f));
-
   // The references: Embree's discs in our Morton order (the headline) and in the cloud's order.
   Timings t;
   OpCounters prep;
@@ -223,58 +314,10 @@ int command_anchor(const Args& args) {
   const PointScene embree_cloud(
       d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 0}}}, prep, t);
   secondary_rays(embree_morton, primary.rays, bounds, bounce, shadow);
-  const std::vector<const RaySet*> sets = {&primary, &bounce, &shadow};
-
-  json candidates = json::array();
-  for (const MethodInfo& m : MethodRegistry::instance().all()) {
-    if (!splat_family(m.family) || !m.own_structure.empty()) continue;
-    if (a.has("method") && a.get("method") != m.id) continue;
-    for (const StructureInfo& s : StructureRegistry::instance().all()) {
-      if (s.id == "brute_force" || (a.has("structure") && a.get("structure") != s.id)) continue;
-      Timings ct;
-      OpCounters cp;
-      const PointScene scene(d.cloud, SceneOptions{m.id, s.id, overrides}, cp, ct);
-      json e = {{"method", m.id},
-                {"same_discs", m.family == LeafFamily::kDisc},
-                {"structure", s.id},
-                {"build_s", ct["build"]},
-                {"refs_per_item", double(cp.get(kBuildItemRefs)) / double(d.cloud.size())},
-                {"structure_bytes", scene.structure_bytes()}};
-      for (const RaySet* set : sets)
-        e[set->name] = alternated({&scene, &embree_morton, &embree_cloud}, *set, reps);
-      candidates.push_back(e);
-      if (!a.has("json")) {
-        std::printf("  %-20s %-12s", m.id.c_str(), s.id.c_str());
-        for (const RaySet* set : sets) {
-          const json& r = e[set->name];
-          std::printf("  %s %6.2f Mrays/s x%.2f", set->name, r["mrays_per_s"].get<double>(),
-                      r["references"][0]["ratio"].get<double>());
-        }
-        std::printf("\n");
-      }
-    }
-  }
-  // The best candidates by their primary-ray ratio against Embree in Morton order: of all, and of
-  // those tracing exactly Embree's surface (one disc per point; the blending methods trace splats
-  // of their own making, often fewer than the points).
-  auto best_of = [&](bool same_discs_only) {
-    json best;
-    for (const json& c : candidates)
-      if ((!same_discs_only || c["same_discs"].get<bool>()) &&
-          (best.is_null() || c["primary"]["references"][0]["ratio"].get<double>() >
-                                 best["primary"]["references"][0]["ratio"].get<double>()))
-        best = c;
-    return best;
-  };
-  const json best = best_of(false), best_same = best_of(true);
-  auto headline = [](const json& b) {
-    return b.is_null() ? json()
-                       : json{{"method", b["method"]},
-                              {"structure", b["structure"]},
-                              {"primary", b["primary"]},
-                              {"bounce", b["bounce"]},
-                              {"shadow", b["shadow"]}};
-  };
+  const AnchorBench bench{
+      d, overrides, {&embree_morton, &embree_cloud}, {&primary, &bounce, &shadow}, reps};
+  const json candidates = time_candidates(a, bench);
+  const json best = best_candidate(candidates, false), best_same = best_candidate(candidates, true);
   const json j = {{"dataset", data},
                   {"N", d.cloud.size()},
                   {"width", w},
@@ -282,23 +325,16 @@ int command_anchor(const Args& args) {
                   {"reps", reps},
                   {"set", overrides},
                   {"leaf_simd", disc_lanes_name()},
+                  {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
                   {"references",
                    {"embree_oriented_disc morton_order=1", "embree_oriented_disc morton_order=0"}},
-                  {"best", headline(best)},
-                  {"best_same_discs", headline(best_same)},
+                  {"best", best},
+                  {"best_same_discs", best_same},
                   {"candidates", candidates}};
-  if (a.has("json")) {
+  if (a.has("json"))
     std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    for (const auto& [label, b] :
-         {std::pair{"best", best}, std::pair{"best, same discs", best_same}})
-      if (!b.is_null())
-        std::printf("%s: %s on %s, primary rays x%.3f Embree (Morton order), x%.3f (cloud order)\n",
-                    label, b["method"].get<std::string>().c_str(),
-                    b["structure"].get<std::string>().c_str(),
-                    b["primary"]["references"][0]["ratio"].get<double>(),
-                    b["primary"]["references"][1]["ratio"].get<double>());
-  }
+  else
+    print_best(best, best_same);
   return 0;
 }
 

@@ -168,3 +168,36 @@ TEST_CASE("Huge mesh vertices: scenes refuse them, the BVH survives them", "[rec
   REQUIRE(bvh->closest_hit(ray, hit, counters));
   REQUIRE(hit.prim == 20);
 }
+
+TEST_CASE("The triangle BVH returns exactly brute force's closest triangle", "[reconstruction]") {
+  const Dataset d = load_dataset("sphere:n=3000");
+  const ReconstructionReport r = reconstruction("afsr").run(d.cloud);
+  OpCounters counters;
+  Timings timings;
+  const MeshScene bvh(r.mesh, "bvh", counters, timings);
+  Rng rng(11, 1);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    // Origins inside and outside, directions everywhere: near and far sides, grazing rays.
+    const Vec3 o = 2.5f * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
+    const Vec3 dir =
+        Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f).normalized();
+    const Ray ray{o, dir};
+    float best_t = kInfinity;
+    uint32_t best = 0;
+    for (uint32_t k = 0; k < r.mesh.triangles.size(); ++k) {
+      const auto& t = r.mesh.triangles[k];
+      const float tk = intersect_triangle(ray, r.mesh.vertices[t[0]], r.mesh.vertices[t[1]],
+                                          r.mesh.vertices[t[2]], ray.tmin, ray.tmax);
+      if (tk < best_t) best_t = tk, best = k;  // ascending k: the lower index wins a tie
+    }
+    Hit h;
+    const bool found = bvh.closest_hit(ray, h, counters);
+    REQUIRE(found == (best_t < kInfinity));
+    if (!found) continue;
+    ++hits;
+    REQUIRE(h.t == best_t);
+    REQUIRE(h.prim == best);
+  }
+  REQUIRE(hits > 500);  // about 800 of the 2000 rays hit
+}

@@ -1,8 +1,12 @@
 // Our triangle BVH: binned surface-area-heuristic splits (16 bins over centroids, Wald 2007), at
-// most 4 triangles per leaf; both children's boxes tested when their parent is visited and the
-// nearer (by entry distance) walked first; triangles stored in leaf order with their vertices. It
+// most 4 triangles per leaf, the binary tree collapsed into 8-wide nodes (Embree's BVH8, shared
+// with the point bvh: structures/wide_node.hpp) whose eight boxes are tested at once when the
+// node is visited, the children hit walked nearest first; triangles stored in leaf order with
+// their vertices. It
 // reports into the same counters as the point structures (nodes, leaves, triangle tests), so
 // triangle tracing and direct point tracing are compared operation by operation.
+#include <immintrin.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -11,6 +15,7 @@
 
 #include "reconstruction/mesh_engine.hpp"
 #include "structures/structure.hpp"
+#include "structures/wide_node.hpp"
 
 namespace pcrt {
 namespace {
@@ -25,11 +30,49 @@ int bin_of(float c, float lo, float ext) {
   return b >= 0 ? int(std::min(b, float(kBins - 1))) : 0;
 }
 
-// A triangle as a leaf stores it: its vertices and its index in the mesh.
-struct LeafTriangle {
-  Vec3 v[3];
-  uint32_t prim;
+// Four triangles of a leaf in structure-of-arrays layout, as Moeller-Trumbore reads them: the
+// first vertex a and the edges e1 = b - a, e2 = c - a (the same subtractions intersect_triangle
+// makes), and the mesh index. Unused lanes are zero triangles (det = 0: never hit). 160 bytes.
+constexpr uint32_t kLanes = 4;
+struct alignas(16) TriangleBlock {
+  float a[3][kLanes], e1[3][kLanes], e2[3][kLanes];
+  uint32_t prim[kLanes] = {};
 };
+
+// intersect_triangle on four triangles at once: the same IEEE operations in the same order per
+// lane (Eigen's cross, and its dot of three, which sums x + (y + z); no fused multiply-add), so a
+// lane's t is bit for bit the scalar t, and the same acceptance (written as negated comparisons
+// where the scalar code's NaN lets a triangle through). Returns a bit per lane hit in [tmin, tmax),
+// t in ts.
+inline uint32_t intersect_block(const __m128 o[3], const __m128 d[3], const TriangleBlock& b,
+                                float tmin, float tmax, float* ts) {
+  auto ld = [](const float* p) { return _mm_load_ps(p); };
+  const __m128 e1x = ld(b.e1[0]), e1y = ld(b.e1[1]), e1z = ld(b.e1[2]);
+  const __m128 e2x = ld(b.e2[0]), e2y = ld(b.e2[1]), e2z = ld(b.e2[2]);
+  auto mul = _mm_mul_ps;
+  auto sub = _mm_sub_ps;
+  auto add = _mm_add_ps;
+  const __m128 px = sub(mul(d[1], e2z), mul(d[2], e2y));
+  const __m128 py = sub(mul(d[2], e2x), mul(d[0], e2z));
+  const __m128 pz = sub(mul(d[0], e2y), mul(d[1], e2x));
+  const __m128 det = add(mul(e1x, px), add(mul(e1y, py), mul(e1z, pz)));
+  const __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), det);
+  const __m128 sx = sub(o[0], ld(b.a[0])), sy = sub(o[1], ld(b.a[1])), sz = sub(o[2], ld(b.a[2]));
+  const __m128 u = mul(add(mul(sx, px), add(mul(sy, py), mul(sz, pz))), inv);
+  const __m128 qx = sub(mul(sy, e1z), mul(sz, e1y));
+  const __m128 qy = sub(mul(sz, e1x), mul(sx, e1z));
+  const __m128 qz = sub(mul(sx, e1y), mul(sy, e1x));
+  const __m128 v = mul(add(mul(d[0], qx), add(mul(d[1], qy), mul(d[2], qz))), inv);
+  const __m128 t = mul(add(mul(e2x, qx), add(mul(e2y, qy), mul(e2z, qz))), inv);
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  __m128 ok = _mm_cmpneq_ps(det, zero);
+  ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpnlt_ps(u, zero), _mm_cmpngt_ps(u, one)));
+  ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpnlt_ps(v, zero), _mm_cmpngt_ps(add(u, v), one)));
+  ok = _mm_and_ps(
+      ok, _mm_and_ps(_mm_cmpge_ps(t, _mm_set1_ps(tmin)), _mm_cmplt_ps(t, _mm_set1_ps(tmax))));
+  _mm_storeu_ps(ts, t);
+  return uint32_t(_mm_movemask_ps(ok));
+}
 
 // The next float above t (std::nextafter(t, inf) without the library call).
 inline float next_up(float t) {
@@ -45,14 +88,6 @@ struct Node {
   uint32_t count = 0;  // leaf: triangles; inner: 0
 };
 
-// The slab test of a node's box against [ray.tmin, t_max].
-inline bool box_hit(const Node& n, const Ray& ray, const Vec3& inv, float t_max, float& t0,
-                    float& t1) {
-  Ray clipped = ray;
-  clipped.tmax = t_max;
-  return n.box.intersect(clipped, inv, t0, t1);
-}
-
 class TriangleBvh final : public MeshEngine {
  public:
   TriangleBvh(const TriangleMesh& mesh, OpCounters& counters) : mesh_(mesh) {
@@ -67,62 +102,78 @@ class TriangleBvh final : public MeshEngine {
     }
     nodes_.reserve(2 * n / kLeafSize + 1);
     build(0, uint32_t(n), 0);
-    // The triangles copied in leaf order, vertices inline: a leaf reads one contiguous block
-    // instead of an index, a triangle and three vertices each.
-    leaf_triangles_.resize(n);
-    for (uint32_t k = 0; k < n; ++k) {
-      const auto& t = mesh.triangles[order_[k]];
-      leaf_triangles_[k] = {{mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]},
-                            order_[k]};
-    }
+    make_blocks(mesh);
     order_ = {};
     boxes_ = {};
     centroids_ = {};
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, n);
+    if (!nodes_.empty()) WideCollapse<TriangleBvh>(*this, wide_).collapse(0);
+    nodes_ = {};
   }
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
-    const Vec3 inv = ray.d.cwiseInverse();
-    struct Todo {
-      uint32_t node;
-      float t0;
-    };
-    std::array<Todo, 64> stack;
-    size_t top = 0;
+    return avx2_ ? walk<node_test_avx2>(ray, hit, counters)
+                 : walk<node_test_sse>(ray, hit, counters);
+  }
+
+  [[nodiscard]] size_t memory_bytes() const override {
+    return wide_.size() * sizeof(WideNode) + blocks_.size() * sizeof(TriangleBlock);
+  }
+
+ private:
+  friend class WideCollapse<TriangleBvh>;
+
+  // The triangles copied in leaf order into blocks of four, each leaf starting a block: a leaf
+  // reads one contiguous run instead of an index, a triangle and three vertices each. Leaves
+  // then index blocks (first: the leaf's first block).
+  void make_blocks(const TriangleMesh& mesh) {
+    for (Node& node : nodes_) {
+      if (node.count == 0) continue;
+      const auto first = uint32_t(blocks_.size());
+      blocks_.resize(first + (node.count + kLanes - 1) / kLanes);
+      for (uint32_t k = 0; k < node.count; ++k) {
+        const uint32_t tri = order_[node.first + k];
+        const auto& t = mesh.triangles[tri];
+        const Vec3 a = mesh.vertices[t[0]];
+        const Vec3 e1 = mesh.vertices[t[1]] - a, e2 = mesh.vertices[t[2]] - a;
+        TriangleBlock& b = blocks_[first + k / kLanes];
+        for (int c = 0; c < 3; ++c)
+          b.a[c][k % kLanes] = a[c], b.e1[c][k % kLanes] = e1[c], b.e2[c][k % kLanes] = e2[c];
+        b.prim[k % kLanes] = tri;
+      }
+      node.first = first;
+    }
+  }
+  // The binary tree as WideCollapse reads it.
+  [[nodiscard]] uint32_t count(uint32_t b) const { return nodes_[b].count; }
+  [[nodiscard]] uint32_t first(uint32_t b) const { return nodes_[b].first; }
+  [[nodiscard]] uint32_t right(uint32_t b) const { return nodes_[b].first; }
+  [[nodiscard]] Aabb box(uint32_t b) const { return nodes_[b].box; }
+
+  template <auto kTest>
+  bool walk(const Ray& ray, Hit& hit, OpCounters& counters) const {
+    if (wide_.empty()) return false;
+    const RaySlabs slabs(ray);
+    std::array<WideTodo, (kWideWidth - 1) * 64 + kWideWidth> stack;
+    int top = 0;
     float t_max = std::min(ray.tmax, hit.t);
-    float t0 = 0, t1 = 0;
-    if (nodes_.empty() || !box_hit(nodes_[0], ray, inv, t_max, t0, t1)) return false;
-    stack[top++] = Todo{0, t0};
+    stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, t_max};
     bool found = false;
     uint64_t nodes = 0, leaves = 0, tests = 0;
     while (top > 0) {
-      const Todo cur = stack[--top];
+      const WideTodo cur = stack[size_t(--top)];
       if (cur.t0 > t_max) continue;  // entered beyond the hit found since it was pushed
-      const Node& node = nodes_[cur.node];
       ++nodes;
-      if (node.count > 0) {
+      if (cur.count > 0) {
         ++leaves;
-        tests += node.count;
-        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-          const LeafTriangle& tri = leaf_triangles_[k];
-          // Up to and including t_max, so that a tie in t goes to the lower triangle index
-          // whatever the traversal order.
-          const float t =
-              intersect_triangle(ray, tri.v[0], tri.v[1], tri.v[2], ray.tmin, next_up(t_max));
-          if (t == kInfinity || (t == t_max && tri.prim > hit.prim)) continue;
-          t_max = t, hit.t = t, hit.prim = tri.prim, found = true;
-        }
+        tests += cur.count;
+        found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit);
         continue;
       }
-      // Both children's boxes are tested now (at push), and the nearer is walked first: a
-      // missed child is never pushed, a far one is dropped at pop once a hit lies before it.
-      Todo kids[2];
-      int nk = 0;
-      for (uint32_t c : {cur.node + 1, node.first})
-        if (box_hit(nodes_[c], ray, inv, t_max, t0, t1)) kids[nk++] = Todo{c, t0};
-      if (nk == 2 && kids[0].t0 < kids[1].t0) std::swap(kids[0], kids[1]);
-      for (int k = 0; k < nk; ++k) stack[top++] = kids[k];
+      alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
+      const uint32_t mask = kTest(wide_[cur.index], slabs, t_max * kWiden, t0s, t1s);
+      top = push_hit_children(wide_[cur.index], mask, t0s, t1s, stack.data(), top);
     }
     counters.add(kNodesVisited, nodes);
     counters.add(kLeavesVisited, leaves);
@@ -135,11 +186,30 @@ class TriangleBvh final : public MeshEngine {
     return found;
   }
 
-  [[nodiscard]] size_t memory_bytes() const override {
-    return nodes_.size() * sizeof(Node) + leaf_triangles_.size() * sizeof(LeafTriangle);
+  // The leaf's triangles against [ray.tmin, t_max]; narrows t_max and hit.t, hit.prim. Four at
+  // a time against the t_max the block starts with, then lane by lane in leaf order against the
+  // narrowed one, so the result is the scalar loop's.
+  bool intersect_leaf(const Ray& ray, uint32_t first, uint32_t count, float& t_max,
+                      Hit& hit) const {
+    const __m128 o[3] = {_mm_set1_ps(ray.o.x()), _mm_set1_ps(ray.o.y()), _mm_set1_ps(ray.o.z())};
+    const __m128 d[3] = {_mm_set1_ps(ray.d.x()), _mm_set1_ps(ray.d.y()), _mm_set1_ps(ray.d.z())};
+    bool found = false;
+    for (uint32_t g = 0; g * kLanes < count; ++g) {
+      const TriangleBlock& b = blocks_[first + g];
+      alignas(16) float ts[kLanes];
+      // Up to and including t_max, so that a tie in t goes to the lower triangle index whatever
+      // the traversal order.
+      uint32_t mask = intersect_block(o, d, b, ray.tmin, next_up(t_max), ts);
+      for (; mask; mask &= mask - 1) {
+        const int k = __builtin_ctz(mask);
+        const float t = ts[k];
+        if (!(t < next_up(t_max)) || (t == t_max && b.prim[k] > hit.prim)) continue;
+        t_max = t, hit.t = t, hit.prim = b.prim[k], found = true;
+      }
+    }
+    return found;
   }
 
- private:
   // Depth is capped well below the traversal stack's 64 entries.
   uint32_t build(uint32_t begin, uint32_t end, int depth) {
     const uint32_t index = uint32_t(nodes_.size());
@@ -221,8 +291,10 @@ class TriangleBvh final : public MeshEngine {
   }
 
   const TriangleMesh& mesh_;
-  std::vector<Node> nodes_;
-  std::vector<LeafTriangle> leaf_triangles_;
+  bool avx2_ = wide_nodes_use_avx2();
+  std::vector<Node> nodes_;  // the binary tree, build only
+  std::vector<WideNode> wide_;
+  std::vector<TriangleBlock> blocks_;
   std::vector<uint32_t> order_;
   std::vector<Aabb> boxes_;
   std::vector<Vec3> centroids_;
@@ -233,8 +305,8 @@ class TriangleBvh final : public MeshEngine {
 void register_triangle_bvh(MeshEngineRegistry& registry) {
   registry.add(MeshEngineInfo{
       "bvh",
-      "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, counted like the point "
-      "structures",
+      "pcrt's triangle BVH: binned SAH (16 bins), 4 triangles per leaf, 8-wide nodes, counted "
+      "like the point structures",
       [](const TriangleMesh& mesh, OpCounters& counters, Timings& timings) {
         ScopedTimer t(timings, "build");
         return std::unique_ptr<MeshEngine>(std::make_unique<TriangleBvh>(mesh, counters));

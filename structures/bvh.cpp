@@ -3,18 +3,18 @@
 // the items' footprint boxes: every item sits in exactly one leaf, so no reference is duplicated.
 // Build: at each node the item box centres are binned (kBins per axis) and the split with the
 // least surface area heuristic cost is taken, until a node holds leaf_size items or fewer, so
-// leaves hold what leaf_size says. The binary tree is then collapsed into 4-wide nodes (Embree's
-// BVH4). Traversal: a node's four child boxes are tested at once (SSE) when it is visited, the
-// children hit are pushed farthest first so the nearest is walked next, and a waiting one is
-// dropped once its entry lies beyond the hit so far (boxes overlap, so the walk cannot stop at
-// the first hit).
+// leaves hold what leaf_size says. The binary tree is then collapsed into 8-wide nodes (Embree's
+// BVH8, wide_node.hpp). Traversal: a node's eight child boxes are tested at once (AVX2, else two
+// SSE halves) when it is visited, the children hit are pushed farthest first so the nearest is
+// walked next, and a waiting one is dropped once its entry lies beyond the hit so far (boxes
+// overlap, so the walk cannot stop at the first hit).
 #include <tbb/parallel_invoke.h>
-#include <xmmintrin.h>
 
 #include <algorithm>
 #include <array>
 
 #include "structures/structure.hpp"
+#include "structures/wide_node.hpp"
 
 namespace pcrt {
 namespace {
@@ -26,14 +26,6 @@ struct BvhNode {
   uint32_t index = 0;  // inner: right child; leaf: first item in order_
   Vec3 hi;
   uint32_t count = 0;  // leaf: items (> 0); inner: 0
-};
-
-// Four children's boxes in structure-of-arrays layout (lo[axis][child]), for one SSE slab test.
-struct alignas(16) WideNode {
-  float lo[3][4];
-  float hi[3][4];
-  uint32_t child[4] = {};  // inner child: wide node index; leaf child: first item in order_
-  uint32_t count[4] = {};  // leaf child: items (> 0); inner child or empty slot: 0
 };
 
 constexpr int kBins = 16;
@@ -73,25 +65,28 @@ class Bvh final : public Structure {
     boxes_ = {};
     centres_ = {};
     counters.add(kBuildNodes, nodes_.size());
-    counters.add(kBuildItemRefs, order_.size());
+    counters.add(kBuildItemRefs, n);
+    align_leaves();
     counters.add(kBuildItemVisits, nodes_.empty() ? 0 : item_visits(0, 1));
-    // Traversal runs on the binary tree collapsed into 4-wide nodes (Embree's BVH4): a node's
-    // four child boxes are tested at once with SSE.
+    // Traversal runs on the binary tree collapsed into 8-wide nodes (Embree's BVH8): a node's
+    // eight child boxes are tested at once.
     wide_.clear();
-    if (!nodes_.empty()) collapse(0);
+    if (!nodes_.empty()) WideCollapse<Bvh>(*this, wide_).collapse(0);
     wide_.shrink_to_fit();
     nodes_ = {};
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
-    return walk<false>(ray, leaf, hit, counters);
+    return avx2_ ? walk<false, node_test_avx2>(ray, leaf, hit, counters)
+                 : walk<false, node_test_sse>(ray, leaf, hit, counters);
   }
 
   bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
     Hit hit;
     hit.t = ray.tmax;
-    return walk<true>(ray, leaf, hit, counters);
+    return avx2_ ? walk<true, node_test_avx2>(ray, leaf, hit, counters)
+                 : walk<true, node_test_sse>(ray, leaf, hit, counters);
   }
 
   [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return order_; }
@@ -100,6 +95,8 @@ class Bvh final : public Structure {
   }
 
  private:
+  friend class WideCollapse<Bvh>;
+
   // Sum over leaves of items x levels from the root (the build's partitioning work).
   [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
     const BvhNode& n = nodes_[node];
@@ -107,78 +104,44 @@ class Bvh final : public Structure {
     return item_visits(node + 1, level + 1) + item_visits(n.index, level + 1);
   }
 
-  // Makes the wide node for binary inner node b (or, for a leaf root, one holding just it):
-  // its children are b's children, the largest-area inner one replaced by its own two children
-  // until four are gathered. Returns the wide node's index.
-  uint32_t collapse(uint32_t b) {
-    std::array<uint32_t, 4> kids{};
-    int nk = 0;
-    if (nodes_[b].count > 0) {
-      kids[size_t(nk++)] = b;
-    } else {
-      kids[size_t(nk++)] = b + 1;
-      kids[size_t(nk++)] = nodes_[b].index;
+  // Lays the leaves out in order_ so that none touches more blocks of kBlock references than its
+  // size needs (a leaf of up to kBlock items within one block, a larger one starting at a block):
+  // methods that copy their data in leaf order in blocks of eight (DiscBlock) then read one block
+  // per small leaf, not two. The gaps hold copies of the preceding reference (never visited:
+  // leaves are (first, count) pieces), so leaf_references stays a list of valid items.
+  void align_leaves() {
+    constexpr uint32_t kBlock = 8;
+    std::vector<uint32_t> out;
+    out.reserve(order_.size() + order_.size() / 4);
+    for (BvhNode& node : nodes_) {  // in build order, which is the order of order_
+      if (node.count == 0) continue;
+      const auto pos = uint32_t(out.size());
+      const uint32_t in_block = pos % kBlock;
+      if (in_block != 0 && (node.count > kBlock || in_block + node.count > kBlock))
+        out.resize(pos + kBlock - in_block, out.back());
+      const uint32_t first = node.index;
+      node.index = uint32_t(out.size());
+      out.insert(out.end(), order_.begin() + first, order_.begin() + first + node.count);
     }
-    while (nk < 4) {
-      int open = -1;
-      float best = -1;
-      for (int k = 0; k < nk; ++k) {
-        const BvhNode& c = nodes_[kids[size_t(k)]];
-        const float a = area(Aabb{c.lo, c.hi});
-        if (c.count == 0 && a > best) best = a, open = k;
-      }
-      if (open < 0) break;
-      const uint32_t c = kids[size_t(open)];
-      kids[size_t(open)] = c + 1;
-      kids[size_t(nk++)] = nodes_[c].index;
-    }
-    const auto me = uint32_t(wide_.size());
-    wide_.emplace_back();
-    for (int k = 0; k < 4; ++k) {
-      WideNode& w = wide_[me];
-      if (k >= nk) {  // an empty slot: child 0 and count 0 (the root is no one's child)
-        for (int a = 0; a < 3; ++a) w.lo[a][k] = kInfinity, w.hi[a][k] = -kInfinity;
-        continue;
-      }
-      const BvhNode& c = nodes_[kids[size_t(k)]];
-      for (int a = 0; a < 3; ++a) w.lo[a][k] = c.lo[a], w.hi[a][k] = c.hi[a];
-      w.count[k] = c.count;
-      w.child[k] = c.count > 0 ? c.index : 0;
-    }
-    for (int k = 0; k < nk; ++k) {
-      const BvhNode& c = nodes_[kids[size_t(k)]];
-      if (c.count == 0) {
-        const uint32_t child = collapse(kids[size_t(k)]);
-        wide_[me].child[k] = child;
-      }
-    }
-    return me;
+    order_ = std::move(out);
   }
 
-  template <bool kAny>
+  // The binary tree as WideCollapse reads it.
+  [[nodiscard]] uint32_t count(uint32_t b) const { return nodes_[b].count; }
+  [[nodiscard]] uint32_t first(uint32_t b) const { return nodes_[b].index; }
+  [[nodiscard]] uint32_t right(uint32_t b) const { return nodes_[b].index; }
+  [[nodiscard]] Aabb box(uint32_t b) const { return Aabb{nodes_[b].lo, nodes_[b].hi}; }
+
+  template <bool kAny, auto kTest>
   bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
     if (wide_.empty()) return false;
-    // Per ray: the slab planes as t = plane * inv - o * inv, near and far planes chosen by the
-    // sign of each direction component (no min/max per box).
-    const Vec3 inv = ray.d.cwiseInverse();
-    __m128 inv4[3], oinv4[3];
-    bool neg[3];
-    for (int a = 0; a < 3; ++a) {
-      inv4[a] = _mm_set1_ps(inv[a]);
-      oinv4[a] = _mm_set1_ps(ray.o[a] * inv[a]);
-      neg[a] = inv[a] < 0;
-    }
-    struct Todo {
-      uint32_t index;  // wide node, or first item of a leaf
-      uint32_t count;  // leaf: items; 0: a wide node
-      float t0, t1;
-    };
-    std::array<Todo, 3 * kMaxDepth + 4> stack;
+    const RaySlabs slabs(ray);
+    std::array<WideTodo, (kWideWidth - 1) * kMaxDepth + kWideWidth> stack;
     int top = 0;
-    stack[size_t(top++)] = Todo{0, 0, ray.tmin, ray.tmax};
+    stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, ray.tmax};
     bool found = false;
     while (top > 0) {
-      const Todo cur = stack[size_t(--top)];
+      const WideTodo cur = stack[size_t(--top)];
       if (!may_improve(cur.t0, hit.t)) continue;
       counters.add(kNodesVisited);
       if (cur.count > 0) {
@@ -193,43 +156,10 @@ class Bvh final : public Structure {
         continue;
       }
       const WideNode& n = wide_[cur.index];
-      const float limit = std::min(ray.tmax, hit.t * (1.0f + 1e-5f) + 1e-30f);
-      __m128 tn = _mm_set1_ps(ray.tmin), tf = _mm_set1_ps(limit);
-      for (int a = 0; a < 3; ++a) {
-        const __m128 lo = _mm_load_ps(n.lo[a]), hi = _mm_load_ps(n.hi[a]);
-        const __m128 near = _mm_sub_ps(_mm_mul_ps(neg[a] ? hi : lo, inv4[a]), oinv4[a]);
-        const __m128 far = _mm_sub_ps(_mm_mul_ps(neg[a] ? lo : hi, inv4[a]), oinv4[a]);
-        // Widened by 3 ulps (pbrt's 1 + 2 gamma(3)) and the plane-minus-origin rounding of
-        // this form, so a footprint on a box face is never culled; NaN (0 * inf) keeps the
-        // interval (max/min return their second operand then).
-        const __m128 far_w =
-            _mm_add_ps(far, _mm_mul_ps(_mm_set1_ps(1e-6f),
-                                       _mm_add_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), far),
-                                                  _mm_andnot_ps(_mm_set1_ps(-0.0f), oinv4[a]))));
-        const __m128 near_w =
-            _mm_sub_ps(near, _mm_mul_ps(_mm_set1_ps(1e-6f),
-                                        _mm_add_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), near),
-                                                   _mm_andnot_ps(_mm_set1_ps(-0.0f), oinv4[a]))));
-        tn = _mm_max_ps(near_w, tn);
-        tf = _mm_min_ps(far_w, tf);
-      }
-      int mask = _mm_movemask_ps(_mm_cmple_ps(tn, tf));
-      if (!mask) continue;
-      alignas(16) float t0s[4], t1s[4];
-      _mm_store_ps(t0s, tn);
-      _mm_store_ps(t1s, tf);
-      // Push the hit children farthest first, so the nearest is walked next.
-      Todo kids[4];
-      int nk = 0;
-      for (; mask; mask &= mask - 1) {
-        const int k = __builtin_ctz(unsigned(mask));
-        if (n.child[k] == 0 && n.count[k] == 0) continue;  // an empty slot (NaN may let it pass)
-        Todo t{n.child[k], n.count[k], t0s[k], t1s[k]};
-        int j = nk++;
-        for (; j > 0 && kids[j - 1].t0 < t.t0; --j) kids[j] = kids[j - 1];
-        kids[j] = t;
-      }
-      for (int k = 0; k < nk; ++k) stack[size_t(top++)] = kids[k];
+      const float limit = std::min(ray.tmax * kWiden, hit.t * (1.0f + 1e-5f) + 1e-30f);
+      alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
+      const uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
+      top = push_hit_children(n, mask, t0s, t1s, stack.data(), top);
     }
     return found;
   }
@@ -336,11 +266,12 @@ class Bvh final : public Structure {
   }
 
   uint32_t leaf_size_;
+  bool avx2_ = wide_nodes_use_avx2();
   std::vector<Aabb> boxes_;     // build only
   std::vector<Vec3> centres_;   // build only
   std::vector<BvhNode> nodes_;  // the binary tree, build only
   std::vector<WideNode> wide_;
-  std::vector<uint32_t> order_;  // items, permuted so each leaf's are contiguous
+  std::vector<uint32_t> order_;  // items in leaf order, each leaf contiguous (align_leaves)
 };
 
 }  // namespace

@@ -48,6 +48,18 @@ class Grid final : public Structure {
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
+    return walk<false>(ray, leaf, hit, counters);
+  }
+
+  bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
+    Hit hit;
+    hit.t = ray.tmax;
+    return walk<true>(ray, leaf, hit, counters);
+  }
+
+  // kAny: an occlusion query, ended by the first leaf that reports a hit.
+  template <bool kAny>
+  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
     if ((items_.size() == 0)) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     float t0 = 0, t1 = 0;
@@ -84,8 +96,12 @@ class Grid final : public Structure {
       if (count > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, count);
-        found |= leaf.intersect_leaf(
-            ray, LeafVisit{{refs_.data() + start_[c], count}, t_enter, t_exit}, hit, counters);
+        const LeafVisit visit{{refs_.data() + start_[c], count}, t_enter, t_exit};
+        if constexpr (kAny) {
+          if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+        } else {
+          found |= leaf.intersect_leaf(ray, visit, hit, counters);
+        }
       }
       if (!may_improve(t_exit, hit.t) || t_next[ax] >= t1) break;
       cell[ax] += step[ax];

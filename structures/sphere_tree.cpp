@@ -62,6 +62,18 @@ class SphereTree final : public Structure {
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
+    return walk<false>(ray, leaf, hit, counters);
+  }
+
+  bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
+    Hit hit;
+    hit.t = ray.tmax;
+    return walk<true>(ray, leaf, hit, counters);
+  }
+
+  // kAny: an occlusion query, ended by the first leaf that reports a hit.
+  template <bool kAny>
+  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
     if (nodes_.empty()) return false;
     struct Todo {
       uint32_t node;
@@ -81,8 +93,12 @@ class SphereTree final : public Structure {
       if (n.count > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, n.count);
-        found |= leaf.intersect_leaf(
-            ray, LeafVisit{{order_.data() + n.first, n.count}, cur.t0, cur.t1}, hit, counters);
+        const LeafVisit visit{{order_.data() + n.first, n.count}, cur.t0, cur.t1};
+        if constexpr (kAny) {
+          if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+        } else {
+          found |= leaf.intersect_leaf(ray, visit, hit, counters);
+        }
         continue;
       }
       Todo kids[2];

@@ -4,12 +4,14 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <cstring>
 #include <filesystem>
 
 #include "core/dataset.hpp"
 #include "core/rng.hpp"
 #include "methods/method.hpp"
 #include "structures/structure.hpp"
+#include "structures/wide_node.hpp"
 #include "tests/test_paths.hpp"
 
 using namespace pcrt;
@@ -252,4 +254,37 @@ TEST_CASE("bvh leaves hold at most leaf_size items", "[structures]") {
     REQUIRE(got <= size_t(k));
     REQUIRE(got >= 1);
   }
+}
+
+TEST_CASE("the 8-wide node test hits the same children with AVX2 and with SSE", "[structures]") {
+  if (!wide_nodes_use_avx2()) return;  // nothing to compare on this CPU
+  Rng rng(23);
+  size_t hits = 0;
+  for (int r = 0; r < 20000; ++r) {
+    WideNode n;
+    for (int k = 0; k < kWideWidth; ++k)
+      for (int a = 0; a < 3; ++a) {
+        const float c = rng.uniform() * 2 - 1, e = 0.3f * rng.uniform();
+        // Some boxes flat along an axis, some slots empty, as in real trees.
+        n.lo[a][k] = c - (k == 7 ? kInfinity : (r % 5 == 0 && a == 0 ? 0.0f : e));
+        n.hi[a][k] = c + (k == 7 ? -kInfinity : (r % 5 == 0 && a == 0 ? 0.0f : e));
+      }
+    Vec3 o(rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2);
+    Vec3 d = Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f).normalized();
+    if (r % 7 == 0) d[r % 3] = 0;        // axis-parallel rays: inv = inf
+    if (r % 11 == 0) o[0] = n.lo[0][0];  // an origin on a slab plane: 0 * inf = NaN
+    const RaySlabs slabs(Ray{o, d});
+    const float limit = r % 3 == 0 ? kInfinity : 2.0f;
+    alignas(32) float a0[kWideWidth], a1[kWideWidth], b0[kWideWidth], b1[kWideWidth];
+    const uint32_t ma = node_test_sse(n, slabs, limit, a0, a1);
+    const uint32_t mb = node_test_avx2(n, slabs, limit, b0, b1);
+    REQUIRE(ma == mb);
+    for (int k = 0; k < kWideWidth; ++k) {
+      if (!((ma >> k) & 1)) continue;
+      REQUIRE(std::memcmp(&a0[k], &b0[k], sizeof(float)) == 0);
+      REQUIRE(std::memcmp(&a1[k], &b1[k], sizeof(float)) == 0);
+      ++hits;
+    }
+  }
+  REQUIRE(hits > 500);  // about 1300 children hit
 }

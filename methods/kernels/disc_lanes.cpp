@@ -5,8 +5,8 @@
 namespace pcrt {
 
 #ifdef PCRT_AVX2
-void disc_candidates_avx2(const DiscArrays& a, uint32_t first, uint32_t count, const DiscQuery& q,
-                          uint64_t* words);
+void disc_candidates_avx2(const DiscBlock* blocks, uint32_t first, uint32_t count,
+                          const DiscQuery& q, uint64_t* word);
 #endif
 
 namespace {

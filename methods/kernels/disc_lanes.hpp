@@ -11,16 +11,15 @@
 
 namespace pcrt {
 
-// The leaf references' discs in structure-of-arrays layout (raw views; the storage is the
-// method's, padded so that a full lane group may be read past the last reference).
-struct DiscArrays {
-  const float* cx;
-  const float* cy;
-  const float* cz;
-  const float* nx;
-  const float* ny;
-  const float* nz;
-  const float* r2;  // squared radius
+// Eight consecutive leaf references' discs in structure-of-arrays layout, one 256-byte block
+// (four cache lines): a leaf's discs are a run of such blocks, read front to back, not seven
+// arrays far apart. Unused lanes hold zero discs (never candidates: den = 0).
+constexpr uint32_t kDiscGroup = 8;
+struct alignas(64) DiscBlock {
+  float cx[kDiscGroup], cy[kDiscGroup], cz[kDiscGroup];
+  float nx[kDiscGroup], ny[kDiscGroup], nz[kDiscGroup];
+  float r[kDiscGroup];         // radius (squared by the kernel as r * r, like the scalar test)
+  uint32_t index[kDiscGroup];  // the splat's point index (PackedSplat::index)
 };
 
 struct DiscQuery {
@@ -30,7 +29,7 @@ struct DiscQuery {
 
 // One group of L::kWidth discs: a bit per lane that is a candidate.
 template <class L>
-inline uint32_t disc_group(const DiscQuery& q, L cx, L cy, L cz, L nx, L ny, L nz, L r2) {
+inline uint32_t disc_group(const DiscQuery& q, L cx, L cy, L cz, L nx, L ny, L nz, L r) {
   const L vx = cx - L(q.o[0]), vy = cy - L(q.o[1]), vz = cz - L(q.o[2]);
   const L dx(q.d[0]), dy(q.d[1]), dz(q.d[2]);
   const L num = (nx * vx + ny * vy) + nz * vz;
@@ -39,23 +38,34 @@ inline uint32_t disc_group(const DiscQuery& q, L cx, L cy, L cz, L nx, L ny, L n
   const L q2 = (qx * qx + qy * qy) + qz * qz;
   const L num_abs = flip_sign(num, den), den_abs = abs(den);
   // den = 0 gives t_hi * 0 = NaN (t_hi = inf) or num_abs = 0 > 0 fails: a parallel ray misses.
-  return mask(le(q2, r2 * (den * den)) & le(L(q.t_lo) * den_abs, num_abs) &
+  return mask(le(q2, (r * r) * (den * den)) & le(L(q.t_lo) * den_abs, num_abs) &
               le(num_abs, L(q.t_hi) * den_abs) & gt(den_abs, L(0.0f)));
 }
 
-// Sets bit i of words[] (zeroed by the caller) for each candidate among the `count` discs from
-// `first` on.
+// The candidate bits of block b's lanes (L::kWidth at a time).
 template <class L>
-void disc_candidates(const DiscArrays& a, uint32_t first, uint32_t count, const DiscQuery& q,
-                     uint64_t* words) {
-  for (uint32_t g = 0; g < count; g += L::kWidth) {
-    const uint32_t k = first + g;
-    uint32_t m =
-        disc_group<L>(q, L::load(a.cx + k), L::load(a.cy + k), L::load(a.cz + k), L::load(a.nx + k),
-                      L::load(a.ny + k), L::load(a.nz + k), L::load(a.r2 + k));
-    if (count - g < L::kWidth) m &= (1u << (count - g)) - 1;
-    words[g / 64] |= uint64_t(m) << (g % 64);
+uint32_t disc_block(const DiscQuery& q, const DiscBlock& b) {
+  uint32_t m = 0;
+  for (uint32_t j = 0; j < kDiscGroup; j += L::kWidth)
+    m |= disc_group<L>(q, L::load(b.cx + j), L::load(b.cy + j), L::load(b.cz + j),
+                       L::load(b.nx + j), L::load(b.ny + j), L::load(b.nz + j), L::load(b.r + j))
+         << j;
+  return m;
+}
+
+// Sets bit i of *word (zeroed by the caller) for each candidate among the count <= 64 discs at
+// positions first, first + 1, ... of the blocks (position p: block p / 8, lane p % 8).
+template <class L>
+void disc_candidates(const DiscBlock* blocks, uint32_t first, uint32_t count, const DiscQuery& q,
+                     uint64_t* word) {
+  const uint32_t end = first + count;
+  uint64_t bits = 0;
+  for (uint32_t g = first / kDiscGroup; g * kDiscGroup < end; ++g) {
+    const uint64_t m = disc_block<L>(q, blocks[g]);
+    const uint32_t p = g * kDiscGroup;  // the block's first position
+    bits |= p >= first ? m << (p - first) : m >> (first - p);
   }
+  *word = count < 64 ? bits & ((uint64_t(1) << count) - 1) : bits;
 }
 
 // The scalar lane (W = 1) and its comparison result.
@@ -82,13 +92,13 @@ struct Lane1 {
   friend Mask1 gt(Lane1 a, Lane1 b) { return {a.v > b.v}; }
 };
 
-using DiscKernel = void (*)(const DiscArrays& a, uint32_t first, uint32_t count, const DiscQuery& q,
-                            uint64_t* words);
+using DiscKernel = void (*)(const DiscBlock* blocks, uint32_t first, uint32_t count,
+                            const DiscQuery& q, uint64_t* word);
 // The disc_candidates of the widest lane type this CPU runs (AVX2: 8 lanes), chosen once.
 DiscKernel best_disc_kernel();
-inline void disc_candidates_best(const DiscArrays& a, uint32_t first, uint32_t count,
-                                 const DiscQuery& q, uint64_t* words) {
-  best_disc_kernel()(a, first, count, q, words);
+inline void disc_candidates_best(const DiscBlock* blocks, uint32_t first, uint32_t count,
+                                 const DiscQuery& q, uint64_t* word) {
+  best_disc_kernel()(blocks, first, count, q, word);
 }
 // "avx2x8" or "scalar": what disc_candidates_best runs on this machine (for results' context).
 const char* disc_lanes_name();

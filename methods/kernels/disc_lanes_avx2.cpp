@@ -15,7 +15,7 @@ struct Lane8 {
   Lane8() = default;
   explicit Lane8(float x) : v(_mm256_set1_ps(x)) {}
   explicit Lane8(__m256 x) : v(x) {}
-  static Lane8 load(const float* p) { return Lane8(_mm256_loadu_ps(p)); }
+  static Lane8 load(const float* p) { return Lane8(_mm256_load_ps(p)); }
   friend Lane8 operator+(Lane8 a, Lane8 b) { return Lane8(_mm256_add_ps(a.v, b.v)); }
   friend Lane8 operator-(Lane8 a, Lane8 b) { return Lane8(_mm256_sub_ps(a.v, b.v)); }
   friend Lane8 operator*(Lane8 a, Lane8 b) { return Lane8(_mm256_mul_ps(a.v, b.v)); }
@@ -31,9 +31,9 @@ struct Lane8 {
 
 }  // namespace
 
-void disc_candidates_avx2(const DiscArrays& a, uint32_t first, uint32_t count, const DiscQuery& q,
-                          uint64_t* words) {
-  disc_candidates<Lane8>(a, first, count, q, words);
+void disc_candidates_avx2(const DiscBlock* blocks, uint32_t first, uint32_t count,
+                          const DiscQuery& q, uint64_t* word) {
+  disc_candidates<Lane8>(blocks, first, count, q, word);
 }
 
 }  // namespace pcrt

@@ -1,6 +1,7 @@
 // Splats laid out in a structure's leaf order (one entry per leaf reference, so the discs of a
-// leaf are contiguous) in structure-of-arrays layout: the leaf loop streams seven float arrays
-// W lanes at a time instead of chasing an index per disc. Made once the structure is built
+// leaf are contiguous) in blocks of eight in structure-of-arrays layout (DiscBlock): the leaf loop
+// streams a leaf's blocks eight lanes at a time instead of chasing an index per disc, and a
+// candidate's exact t and point index come from the same blocks. Made once the structure is built
 // (Method::bind_leaf_references); leaves that are not pieces of the bound references (a structure
 // built by a test, say) fall back to the same test one disc at a time.
 #pragma once
@@ -25,15 +26,14 @@ class SplatLeafBlocks {
       return -1;
     return items.data() - base_;
   }
-  [[nodiscard]] const DiscArrays& arrays() const { return arrays_; }
+  [[nodiscard]] const DiscBlock* blocks() const { return blocks_.data(); }
   [[nodiscard]] DiscKernel kernel() const { return kernel_; }
-  [[nodiscard]] size_t memory_bytes() const { return 7 * cx_.capacity() * sizeof(float); }
+  [[nodiscard]] size_t memory_bytes() const { return blocks_.capacity() * sizeof(DiscBlock); }
 
  private:
   const uint32_t* base_ = nullptr;
   size_t count_ = 0;
-  std::vector<float> cx_, cy_, cz_, nx_, ny_, nz_, r2_;
-  DiscArrays arrays_{};
+  std::vector<DiscBlock> blocks_;
   DiscKernel kernel_ = nullptr;  // chosen at bind: no guard or lookup per leaf
 };
 
@@ -50,38 +50,65 @@ inline DiscQuery disc_query(const Ray& ray, float t_best) {
 // Whether the one disc s is a candidate of q: the W = 1 kernel on it.
 inline bool disc_candidate(const DiscQuery& q, const PackedSplat& s) {
   return disc_group<Lane1>(q, Lane1(s.c.x()), Lane1(s.c.y()), Lane1(s.c.z()), Lane1(s.n.x()),
-                           Lane1(s.n.y()), Lane1(s.n.z()), Lane1(s.r * s.r)) != 0;
+                           Lane1(s.n.y()), Lane1(s.n.z()), Lane1(s.r)) != 0;
 }
 
 // The exact ray parameter of a candidate's plane crossing (the kernel's num / den, once per
 // candidate rather than per disc).
-inline float disc_t(const Ray& ray, const PackedSplat& s) {
-  const float vx = s.c.x() - ray.o.x(), vy = s.c.y() - ray.o.y(), vz = s.c.z() - ray.o.z();
-  const float num = (s.n.x() * vx + s.n.y() * vy) + s.n.z() * vz;
-  const float den = (s.n.x() * ray.d.x() + s.n.y() * ray.d.y()) + s.n.z() * ray.d.z();
+inline float disc_t(const DiscQuery& q, float cx, float cy, float cz, float nx, float ny,
+                    float nz) {
+  const float vx = cx - q.o[0], vy = cy - q.o[1], vz = cz - q.o[2];
+  const float num = (nx * vx + ny * vy) + nz * vz;
+  const float den = (nx * q.d[0] + ny * q.d[1]) + nz * q.d[2];
   return num / den;
 }
+inline float disc_t(const DiscQuery& q, const PackedSplat& s) {
+  return disc_t(q, s.c.x(), s.c.y(), s.c.z(), s.n.x(), s.n.y(), s.n.z());
+}
+inline float disc_t(const DiscQuery& q, const DiscBlock& b, uint32_t j) {
+  return disc_t(q, b.cx[j], b.cy[j], b.cz[j], b.nx[j], b.ny[j], b.nz[j]);
+}
 
-// Calls f(i) for each candidate i (position within the leaf, in order) of the leaf's discs:
-// through the bound leaf blocks with the widest lanes, else one disc at a time.
+// A candidate disc of a leaf: its position i within the leaf, the exact t of its plane crossing,
+// its point index, normal and radius (read from the block the kernel has just read, so a hit
+// touches no other array).
+struct DiscCandidate {
+  uint32_t i;
+  float t;
+  uint32_t prim;
+  Vec3 n;
+  float r;
+};
+
+// Calls f(candidate) for each candidate (in leaf order) of the leaf's discs: through the bound
+// leaf blocks with the widest lanes, else one disc at a time. Stops when f returns false.
 template <typename F>
 void for_each_disc_candidate(const SplatLeafBlocks& blocks, std::span<const PackedSplat> splats,
                              std::span<const uint32_t> items, const DiscQuery& q, F&& f) {
   const int64_t off = blocks.offset_of(items);
   if (off < 0) {
-    for (uint32_t i = 0; i < items.size(); ++i)
-      if (disc_candidate(q, splats[items[i]]) && !f(i)) return;
+    for (uint32_t i = 0; i < items.size(); ++i) {
+      const PackedSplat& s = splats[items[i]];
+      if (disc_candidate(q, s) && !f(DiscCandidate{i, disc_t(q, s), s.index, s.n, s.r})) return;
+    }
     return;
   }
   // Candidates are collected 64 discs at a time, as the bits of one word.
-  const DiscArrays& a = blocks.arrays();
+  const DiscBlock* b = blocks.blocks();
   const DiscKernel kernel = blocks.kernel();
   for (uint32_t c = 0; c < items.size(); c += 64) {
     const uint32_t n = std::min<uint32_t>(64, uint32_t(items.size()) - c);
     uint64_t bits = 0;
-    kernel(a, uint32_t(off) + c, n, q, &bits);
-    for (; bits; bits &= bits - 1)
-      if (!f(c + uint32_t(__builtin_ctzll(bits)))) return;
+    kernel(b, uint32_t(off) + c, n, q, &bits);
+    for (; bits; bits &= bits - 1) {
+      const uint32_t i = c + uint32_t(__builtin_ctzll(bits));
+      const uint32_t p = uint32_t(off) + i;
+      const DiscBlock& blk = b[p / kDiscGroup];
+      const uint32_t j = p % kDiscGroup;
+      if (!f(DiscCandidate{i, disc_t(q, blk, j), blk.index[j],
+                           Vec3(blk.nx[j], blk.ny[j], blk.nz[j]), blk.r[j]}))
+        return;
+    }
   }
 }
 

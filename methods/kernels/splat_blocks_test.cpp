@@ -1,5 +1,7 @@
 #include "methods/kernels/splat_blocks.hpp"
 
+#include <array>
+#include <bit>
 #include <catch2/catch.hpp>
 #include <vector>
 
@@ -38,15 +40,15 @@ TEST_CASE("disc lanes: the widest kernel accepts exactly the scalar kernel's dis
     // Leaves of every length and misalignment, as pieces of the bound references.
     const uint32_t first = rng.below(900), count = 1 + rng.below(99);
     const std::span<const uint32_t> leaf(refs.data() + first, count);
-    std::vector<uint32_t> wide, narrow;
-    for_each_disc_candidate(blocks, discs, leaf, q, [&](uint32_t i) {
-      wide.push_back(i);
+    std::vector<std::array<uint32_t, 3>> wide, narrow;  // position, t's bits, point index
+    for_each_disc_candidate(blocks, discs, leaf, q, [&](const DiscCandidate& c) {
+      wide.push_back({c.i, std::bit_cast<uint32_t>(c.t), c.prim});
       return true;
     });
     // The same leaf's items copied: not a piece of the bound references, so one disc at a time.
     const std::vector<uint32_t> copy(leaf.begin(), leaf.end());
-    for_each_disc_candidate(blocks, discs, copy, q, [&](uint32_t i) {
-      narrow.push_back(i);
+    for_each_disc_candidate(blocks, discs, copy, q, [&](const DiscCandidate& c) {
+      narrow.push_back({c.i, std::bit_cast<uint32_t>(c.t), c.prim});
       return true;
     });
     REQUIRE(wide == narrow);
@@ -72,7 +74,7 @@ TEST_CASE("disc lanes agree with the ray-disc kernel away from the rim", "[kerne
     REQUIRE(candidate == (t != kInfinity));
     if (candidate) {
       // Summed in another order than intersect_splat: they round apart where the ray grazes.
-      REQUIRE(disc_t(ray, s) == Approx(t).epsilon(1e-3));
+      REQUIRE(disc_t(disc_query(ray, kInfinity), s) == Approx(t).epsilon(1e-3));
       ++hits;
     }
   }

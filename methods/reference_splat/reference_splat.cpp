@@ -25,24 +25,16 @@ class ReferenceSplat final : public Method {
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
     counters.add(kSplatTests, leaf.items.size());
-    int best = -1;
+    bool found = false;
     for_each_disc_candidate(blocks_, splats_.packed, leaf.items, disc_query(ray, hit.t),
-                            [&](uint32_t i) {
-                              const uint32_t k = leaf.items[i];
-                              const PackedSplat& s = splats_.packed[k];
-                              const float t = disc_t(ray, s);
-                              if (t >= ray.tmin && closer(t, s.index, hit)) {
-                                hit.t = t;
-                                hit.prim = s.index;
-                                best = int(k);
+                            [&](const DiscCandidate& c) {
+                              if (c.t >= ray.tmin && closer(c.t, c.prim, hit)) {
+                                record_hit(ray, c.t, c.prim, c.n, c.r, hit);
+                                found = true;
                               }
                               return true;
                             });
-    if (best < 0) return false;
-    hit.p = ray.at(hit.t);
-    hit.n = splats_.normals[size_t(best)];
-    hit.footprint = splats_.radii[size_t(best)];
-    return true;
+    return found;
   }
 
   // Stops at the first disc that blocks; counts the whole leaf, as the lanes test it whole.
@@ -51,9 +43,8 @@ class ReferenceSplat final : public Method {
     counters.add(kSplatTests, leaf.items.size());
     bool blocked = false;
     for_each_disc_candidate(blocks_, splats_.packed, leaf.items, disc_query(ray, t_max),
-                            [&](uint32_t i) {
-                              const float t = disc_t(ray, splats_.packed[leaf.items[i]]);
-                              blocked = t >= ray.tmin && t <= t_max;
+                            [&](const DiscCandidate& c) {
+                              blocked = c.t >= ray.tmin && c.t <= t_max;
                               return !blocked;
                             });
     return blocked;

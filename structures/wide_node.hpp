@@ -1,0 +1,182 @@
+// 8-wide BVH nodes (Embree's BVH8) shared by the point bvh and the triangle BVH: a binary tree
+// collapsed into nodes of up to eight children whose boxes are tested at once (AVX2 where the CPU
+// has it, chosen once, else two SSE halves with the same IEEE operations per lane, so both hit the
+// same children bit for bit).
+#pragma once
+
+#include <immintrin.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/aabb.hpp"
+#include "core/geometry.hpp"
+
+namespace pcrt {
+
+constexpr int kWideWidth = 8;
+
+// Eight children's boxes in structure-of-arrays layout (lo[axis][child]); 256 bytes, four cache
+// lines.
+struct alignas(64) WideNode {
+  float lo[3][kWideWidth];
+  float hi[3][kWideWidth];
+  uint32_t child[kWideWidth] = {};  // inner child: wide node index; leaf child: its first item
+  uint32_t count[kWideWidth] = {};  // leaf child: items (> 0); inner child or empty slot: 0
+};
+
+// What a ray needs for the slab test (once per ray).
+struct RaySlabs {
+  float o[3], inv[3];
+  bool neg[3];
+  float tmin;
+  explicit RaySlabs(const Ray& ray) : tmin(ray.tmin) {
+    for (int a = 0; a < 3; ++a) {
+      o[a] = ray.o[a];
+      inv[a] = 1.0f / ray.d[a];
+      neg[a] = inv[a] < 0;
+    }
+  }
+};
+
+// 1 + 2 gamma(3) (pbrt-v4, section 6.8.2): (plane - o) * inv is within gamma(3) of the exact
+// (plane - o) / d, so an exit t scaled by this is never below the exact one, and an entry t
+// compared with a limit scaled by it never culls a box the exact test keeps.
+constexpr float kWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+
+// The slab test of a node's eight boxes against [slabs.tmin, limit]: a bit per child hit, and each
+// child's entry and exit t in t0s, t1s (t = (plane - o) * inv, near and far planes chosen by the
+// sign of each direction component; the exit widened by kWiden; NaN, 0 * inf, keeps the interval).
+inline uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s,
+                              float* t1s) {
+  uint32_t mask = 0;
+  for (int h = 0; h < kWideWidth; h += 4) {
+    __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(limit);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
+      const __m128 lo = _mm_load_ps(n.lo[a] + h), hi = _mm_load_ps(n.hi[a] + h);
+      const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? hi : lo, o), inv);
+      const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? lo : hi, o), inv);
+      tn = _mm_max_ps(near, tn);
+      tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
+    }
+    _mm_storeu_ps(t0s + h, tn);
+    _mm_storeu_ps(t1s + h, tf);
+    mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << h;
+  }
+  return mask;
+}
+
+__attribute__((target("avx2"))) inline uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
+                                                               float limit, float* t0s,
+                                                               float* t1s) {
+  __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
+  for (int a = 0; a < 3; ++a) {
+    const __m256 o = _mm256_set1_ps(r.o[a]), inv = _mm256_set1_ps(r.inv[a]);
+    const __m256 lo = _mm256_load_ps(n.lo[a]), hi = _mm256_load_ps(n.hi[a]);
+    const __m256 near = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? hi : lo, o), inv);
+    const __m256 far = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? lo : hi, o), inv);
+    tn = _mm256_max_ps(near, tn);
+    tf = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(kWiden)), tf);
+  }
+  _mm256_storeu_ps(t0s, tn);
+  _mm256_storeu_ps(t1s, tf);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+}
+
+// Whether this CPU runs node_test_avx2 (checked once).
+bool wide_nodes_use_avx2();
+
+// A binary tree in the layout both builders make: node b's left child is b + 1, its right child
+// right(b); a leaf has count(b) > 0 items starting at first(b).
+template <class Binary>
+class WideCollapse {
+ public:
+  WideCollapse(const Binary& tree, std::vector<WideNode>& out) : tree_(tree), out_(out) {}
+
+  // Makes the wide node for binary inner node b (or, for a leaf root, one holding just it): its
+  // children are b's children, the largest-area inner one replaced by its own two children until
+  // eight are gathered. Returns the wide node's index.
+  uint32_t collapse(uint32_t b) {
+    std::array<uint32_t, kWideWidth> kids{};
+    int nk = 0;
+    if (tree_.count(b) > 0) {
+      kids[size_t(nk++)] = b;
+    } else {
+      kids[size_t(nk++)] = b + 1;
+      kids[size_t(nk++)] = tree_.right(b);
+    }
+    while (nk < kWideWidth) {
+      int open = -1;
+      float best = -1;
+      for (int k = 0; k < nk; ++k) {
+        const float a = half_area(tree_.box(kids[size_t(k)]));
+        if (tree_.count(kids[size_t(k)]) == 0 && a > best) best = a, open = k;
+      }
+      if (open < 0) break;
+      const uint32_t c = kids[size_t(open)];
+      kids[size_t(open)] = c + 1;
+      kids[size_t(nk++)] = tree_.right(c);
+    }
+    const auto me = uint32_t(out_.size());
+    out_.emplace_back();
+    for (int k = 0; k < kWideWidth; ++k) {
+      WideNode& w = out_[me];
+      if (k >= nk) {  // an empty slot: child 0 and count 0 (the root is no one's child)
+        for (int a = 0; a < 3; ++a) w.lo[a][k] = kInfinity, w.hi[a][k] = -kInfinity;
+        continue;
+      }
+      const uint32_t c = kids[size_t(k)];
+      const Aabb box = tree_.box(c);
+      for (int a = 0; a < 3; ++a) w.lo[a][k] = box.lo[a], w.hi[a][k] = box.hi[a];
+      w.count[k] = tree_.count(c);
+      w.child[k] = tree_.count(c) > 0 ? tree_.first(c) : 0;
+    }
+    for (int k = 0; k < nk; ++k) {
+      const uint32_t c = kids[size_t(k)];
+      if (tree_.count(c) == 0) {
+        const uint32_t child = collapse(c);
+        out_[me].child[k] = child;
+      }
+    }
+    return me;
+  }
+
+  static float half_area(const Aabb& b) {
+    if (b.empty()) return 0;
+    const Vec3 e = b.extent();
+    return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
+  }
+
+ private:
+  const Binary& tree_;
+  std::vector<WideNode>& out_;
+};
+
+// A child a walk has yet to enter: a wide node (count 0) or a leaf's items.
+struct WideTodo {
+  uint32_t index;
+  uint32_t count;
+  float t0, t1;
+};
+
+// Pushes the children of n hit by the ray (bits of mask, entry and exit t in t0s, t1s) onto
+// stack[top...], farthest first, so the nearest is walked next (an insertion sort in place: no
+// copy loop the compiler would turn into a memcpy call). Empty slots (which NaN may let pass) are
+// skipped.
+inline int push_hit_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
+                             WideTodo* stack, int top) {
+  const int base = top;
+  for (; mask; mask &= mask - 1) {
+    const int k = __builtin_ctz(mask);
+    if (n.child[k] == 0 && n.count[k] == 0) continue;
+    const WideTodo t{n.child[k], n.count[k], t0s[k], t1s[k]};
+    int j = top++;
+    for (; j > base && stack[j - 1].t0 < t.t0; --j) stack[j] = stack[j - 1];
+    stack[j] = t;
+  }
+  return top;
+}
+
+}  // namespace pcrt
