@@ -45,9 +45,20 @@ struct Subtree {
   }
 };
 
+struct BvhParams {
+  uint32_t leaf_size = 8;
+};
+const ParamList<BvhParams>& bvh_params() {
+  static const auto l = ParamList<BvhParams>().add(
+      &BvhParams::leaf_size,
+      {"leaf_size", 8, 1, 1e6,
+       "largest leaf (K of the leaf-based methods; 8: one AVX2 lane group)"});
+  return l;
+}
+
 class Bvh final : public Structure {
  public:
-  explicit Bvh(const ParamValues& p) : leaf_size_(uint32_t(p.at("leaf_size"))) {}
+  explicit Bvh(const BvhParams& p) : leaf_size_(p.leaf_size) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     const auto n = uint32_t(set.size());
@@ -277,16 +288,12 @@ class Bvh final : public Structure {
 }  // namespace
 
 void register_bvh(StructureRegistry& registry) {
-  registry.add(
-      StructureInfo{"bvh",
-                    "binned-SAH bounding volume hierarchy over the item boxes, one leaf per item, "
-                    "children tested "
-                    "at push and walked nearer first",
-                    "O(N log N)",
-                    "O(log N)",
-                    {{"leaf_size", 8, 1, 1e6,
-                      "largest leaf (K of the leaf-based methods; 8: one AVX2 lane group)", true}},
-                    [](const ParamValues& p) { return std::make_unique<Bvh>(p); }});
+  registry.add(StructureInfo{
+      "bvh",
+      "binned-SAH bounding volume hierarchy over the item boxes, one leaf per item, "
+      "children tested "
+      "at push and walked nearer first",
+      "O(N log N)", "O(log N)", bvh_params().specs(), structure_from<Bvh>(bvh_params(), "bvh")});
 }
 
 }  // namespace pcrt

@@ -15,12 +15,31 @@
 namespace pcrt {
 namespace {
 
+struct GridParams {
+  double points_per_cell = 2;
+  double max_cells = 1 << 26;
+  double max_refs_per_point = 32;
+};
+const ParamList<GridParams>& grid_params() {
+  using P = GridParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::points_per_cell,
+               {"points_per_cell", 2, 0.01, 1e6,
+                "c in G = N/c: average points per cell if they filled the volume"})
+          .add(&P::max_cells,
+               {"max_cells", 1 << 26, 1, 1 << 30, "upper bound on G (memory: 4 bytes per cell)"})
+          .add(&P::max_refs_per_point,
+               {"max_refs_per_point", 32, 1, 1e4,
+                "coarsen the grid (halving each axis) while footprints would need more cell "
+                "references than this per point"});
+  return l;
+}
+
 class Grid final : public Structure {
  public:
-  explicit Grid(const ParamValues& p)
-      : per_cell_(p.at("points_per_cell")),
-        max_cells_(p.at("max_cells")),
-        max_refs_(p.at("max_refs_per_point")) {}
+  explicit Grid(const GridParams& p)
+      : per_cell_(p.points_per_cell), max_cells_(p.max_cells), max_refs_(p.max_refs_per_point) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
@@ -196,19 +215,9 @@ class Grid final : public Structure {
 }  // namespace
 
 void register_grid(StructureRegistry& registry) {
-  registry.add(StructureInfo{
-      "grid",
-      "uniform grid of about N/c cubic cells, 3D-DDA traversal",
-      "O(N)",
-      "O(1)",
-      {{"points_per_cell", 2, 0.01, 1e6,
-        "c in G = N/c: average points per cell if they filled the volume"},
-       {"max_cells", 1 << 26, 1, 1 << 30, "upper bound on G (memory: 4 bytes per cell)"},
-       {"max_refs_per_point", 32, 1, 1e4,
-        "coarsen the grid (halving each axis) while footprints would need more cell references "
-        "than "
-        "this per point"}},
-      [](const ParamValues& p) { return std::make_unique<Grid>(p); }});
+  registry.add(StructureInfo{"grid", "uniform grid of about N/c cubic cells, 3D-DDA traversal",
+                             "O(N)", "O(1)", grid_params().specs(),
+                             structure_from<Grid>(grid_params(), "grid")});
 }
 
 }  // namespace pcrt

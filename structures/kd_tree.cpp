@@ -44,12 +44,28 @@ struct Subtree {
 
 constexpr size_t kParallelBuildItems = 50000;
 
+struct KdTreeParams {
+  size_t leaf_size = 8;
+  int max_depth = 40;
+  double max_straddle = 0.4;
+};
+const ParamList<KdTreeParams>& kd_tree_params() {
+  using P = KdTreeParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::leaf_size, {"leaf_size", 8, 1, 1e6,
+                               "stop splitting at this many items (K of the leaf-based methods)"})
+          .add(&P::max_depth, {"max_depth", 40, 0, 100, "maximum depth"})
+          .add(&P::max_straddle,
+               {"max_straddle", 0.4, 0, 0.9,
+                "stop splitting when more than this fraction of the items straddle the plane"});
+  return l;
+}
+
 class KdTree final : public Structure {
  public:
-  explicit KdTree(const ParamValues& p)
-      : leaf_size_(size_t(p.at("leaf_size"))),
-        max_depth_(int(p.at("max_depth"))),
-        max_straddle_(p.at("max_straddle")) {}
+  explicit KdTree(const KdTreeParams& p)
+      : leaf_size_(p.leaf_size), max_depth_(p.max_depth), max_straddle_(p.max_straddle) {}
 
   // Sum over leaves of references x levels from the root (the build's partitioning work).
   [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
@@ -266,18 +282,12 @@ class KdTree final : public Structure {
 }  // namespace
 
 void register_kd_tree(StructureRegistry& registry) {
-  registry.add(StructureInfo{
-      "kd_tree",
-      "spatial kd-tree, median split of the longest axis, items referenced in every "
-      "leaf they overlap",
-      "O(N log N)",
-      "O(log N)",
-      {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)",
-        true},
-       {"max_depth", 40, 0, 100, "maximum depth", true},
-       {"max_straddle", 0.4, 0, 0.9,
-        "stop splitting when more than this fraction of the items straddle the plane"}},
-      [](const ParamValues& p) { return std::make_unique<KdTree>(p); }});
+  registry.add(
+      StructureInfo{"kd_tree",
+                    "spatial kd-tree, median split of the longest axis, items referenced in every "
+                    "leaf they overlap",
+                    "O(N log N)", "O(log N)", kd_tree_params().specs(),
+                    structure_from<KdTree>(kd_tree_params(), "kd_tree")});
 }
 
 }  // namespace pcrt

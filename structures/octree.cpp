@@ -21,10 +21,23 @@ struct OctNode {
   [[nodiscard]] bool leaf() const { return count != kInner; }
 };
 
+struct OctreeParams {
+  size_t leaf_size = 8;
+  int max_depth = 21;
+};
+const ParamList<OctreeParams>& octree_params() {
+  using P = OctreeParams;
+  static const auto l =
+      ParamList<P>()
+          .add(&P::leaf_size, {"leaf_size", 8, 1, 1e6,
+                               "stop splitting at this many items (K of the leaf-based methods)"})
+          .add(&P::max_depth, {"max_depth", 21, 0, 30, "maximum depth"});
+  return l;
+}
+
 class Octree final : public Structure {
  public:
-  explicit Octree(const ParamValues& p)
-      : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
+  explicit Octree(const OctreeParams& p) : leaf_size_(p.leaf_size), max_depth_(p.max_depth) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
@@ -191,12 +204,8 @@ void register_octree(StructureRegistry& registry) {
   registry.add(StructureInfo{
       "octree",
       "regular octree over the bounding cube, items referenced in every child they overlap",
-      "O(N log N)",
-      "O(log N)",
-      {{"leaf_size", 8, 1, 1e6, "stop splitting at this many items (K of the leaf-based methods)",
-        true},
-       {"max_depth", 21, 0, 30, "maximum depth", true}},
-      [](const ParamValues& p) { return std::make_unique<Octree>(p); }});
+      "O(N log N)", "O(log N)", octree_params().specs(),
+      structure_from<Octree>(octree_params(), "octree")});
 }
 
 }  // namespace pcrt

@@ -37,10 +37,23 @@ bool ray_sphere(const Ray& ray, const Vec3& c, float r, float limit, float& t0, 
   return t0 <= t1;
 }
 
+struct SphereTreeParams {
+  size_t leaf_size = 8;
+  int max_depth = 64;
+};
+const ParamList<SphereTreeParams>& sphere_tree_params() {
+  using P = SphereTreeParams;
+  static const auto l = ParamList<P>()
+                            .add(&P::leaf_size, {"leaf_size", 8, 1, 1e6,
+                                                 "largest leaf (K of the leaf-based methods)"})
+                            .add(&P::max_depth, {"max_depth", 64, 0, 64, "maximum depth"});
+  return l;
+}
+
 class SphereTree final : public Structure {
  public:
-  explicit SphereTree(const ParamValues& p)
-      : leaf_size_(size_t(p.at("leaf_size"))), max_depth_(int(p.at("max_depth"))) {}
+  explicit SphereTree(const SphereTreeParams& p)
+      : leaf_size_(p.leaf_size), max_depth_(p.max_depth) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
@@ -167,14 +180,10 @@ class SphereTree final : public Structure {
 }  // namespace
 
 void register_sphere_tree(StructureRegistry& registry) {
-  registry.add(
-      StructureInfo{"sphere_tree",
-                    "bounding sphere hierarchy, median object split, one leaf per item",
-                    "O(N log N)",
-                    "O(log N)",
-                    {{"leaf_size", 8, 1, 1e6, "largest leaf (K of the leaf-based methods)", true},
-                     {"max_depth", 64, 0, 64, "maximum depth", true}},
-                    [](const ParamValues& p) { return std::make_unique<SphereTree>(p); }});
+  registry.add(StructureInfo{"sphere_tree",
+                             "bounding sphere hierarchy, median object split, one leaf per item",
+                             "O(N log N)", "O(log N)", sphere_tree_params().specs(),
+                             structure_from<SphereTree>(sphere_tree_params(), "sphere_tree")});
 }
 
 }  // namespace pcrt

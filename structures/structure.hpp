@@ -97,6 +97,15 @@ struct StructureInfo {
   std::function<std::unique_ptr<Structure>(const ParamValues&)> create;
 };
 
+// StructureInfo::create for a structure constructed from its typed parameters (declared by `list`).
+template <class S, class P>
+std::function<std::unique_ptr<Structure>(const ParamValues&)> structure_from(
+    const ParamList<P>& list, const char* id) {
+  return [&list, id](const ParamValues& given) -> std::unique_ptr<Structure> {
+    return std::make_unique<S>(list.read(given, id));
+  };
+}
+
 using StructureRegistry = Registry<StructureInfo>;
 
 // The structures pcrt ships (structures/builtin_structures.cpp, the one list).
