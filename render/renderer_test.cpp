@@ -55,7 +55,7 @@ TEST_CASE("every structure renders the same image with the same counters at 1 an
           "[renderer]") {
   const Dataset d = load_dataset("bumpy_sphere:n=20000,seed=5");
   const Frame reference = render_with_threads(d.cloud, 1);
-  for (const char* id : {"kd_tree", "octree", "sphere_tree", "grid"}) {
+  for (const char* id : {"kd_tree", "octree", "sphere_tree", "grid", "bvh"}) {
     INFO(id);
     const Frame one = render_with_threads(d.cloud, 1, id);
     const Frame two = render_with_threads(d.cloud, 2, id);
@@ -70,14 +70,20 @@ TEST_CASE("every structure renders the same image with the same counters at 1 an
 TEST_CASE("every method renders the same image with the same counters at 1 and 2 threads",
           "[renderer]") {
   const Dataset d = load_dataset("torus:n=20000,seed=9");
-  for (const MethodInfo& m : MethodRegistry::instance().all()) {
-    INFO(m.id);
-    auto frame = [&](int threads) {
+  // Every method with its defaults, and the compressed variants (their own walks and decoding).
+  std::vector<std::pair<const MethodInfo*, ParamValues>> runs;
+  for (const MethodInfo& m : MethodRegistry::instance().all()) runs.push_back({&m, {}});
+  runs.push_back({&MethodRegistry::instance().get("hubo_2006", "method"), {{"quantized", 1}}});
+  runs.push_back({&MethodRegistry::instance().get("hubo_2007", "method"), {{"compressed", 1}}});
+  for (const auto& [method, set] : runs) {
+    const MethodInfo& m = *method;
+    INFO(m.id << (set.empty() ? "" : " (compressed variant)"));
+    auto frame = [&, &set = set](int threads) {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
       OpCounters prep;
       Timings t;
       const std::string structure = m.structure == "brute_force" ? "kd_tree" : "";
-      const PointScene scene(d.cloud, SceneOptions{m.id, structure, {}}, prep, t);
+      const PointScene scene(d.cloud, SceneOptions{m.id, structure, set}, prep, t);
       RenderSettings s;
       s.width = 48;
       s.height = 32;

@@ -38,47 +38,58 @@ const ParamList<Hubo2006Params>& hubo_2006_params() {
   return l;
 }
 
+// The Gaussian-weighted implicit surface both variants search, and the search: Algorithm 6 from
+// the front-most tangent crossing on the ray's piece [t_lo, t_hi] over points[items].
+struct GaussianSurface {
+  float sigma = 0, cutoff = 3, reach = 0;  // absolute: sigma and reach in scene units
+  NewtonSettings newton;
+
+  GaussianSurface() = default;
+  GaussianSurface(const Hubo2006Params& p, float h)
+      : sigma(p.gaussian.sigma * h),
+        cutoff(p.gaussian.cutoff),
+        reach(sigma * cutoff),
+        newton(newton_settings(p.iteration, h)) {}
+
+  bool search(const Ray& ray, std::span<const uint32_t> items, std::span<const PackedSplat> points,
+              float t_lo, float t_hi, Hit& hit, OpCounters& counters) const {
+    float t = 0;
+    if (!nearest_tangent_crossing(ray, items, points, reach, t_lo, t_hi, t)) return false;
+    const GaussianWeight theta(sigma, cutoff);
+    auto eval = [&](const Vec3& x) { return weighted_plane(x, items, points, theta, counters); };
+    Vec3 n = Vec3::Zero();
+    t = newton_on_weighted_plane(ray, t, t_lo, t_hi, eval, newton, n, counters);
+    if (t == kInfinity) return false;
+    const uint32_t prim = nearest_point(ray.at(t), items, points);
+    if (!closer(t, prim, hit)) return false;
+    record_hit(ray, t, prim, n, sigma, hit);
+    return true;
+  }
+};
+
 class Hubo2006 final : public Method {
  public:
   explicit Hubo2006(const Hubo2006Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    const float h = prepare_spacing(cloud, ctx);
-    sigma_ = params_.gaussian.sigma * h;
-    cutoff_ = params_.gaussian.cutoff;
-    reach_ = sigma_ * cutoff_;
-    newton_ = newton_settings(params_.iteration, h);
-    splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx,
-                             reach_);  // item radius: the weight's reach
+    surface_ = GaussianSurface(params_, prepare_spacing(cloud, ctx));
+    // Item radius: the weight's reach.
+    splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, surface_.reach);
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    const float t_lo = std::max(leaf.t_enter - reach_, ray.tmin);
+    const float t_lo = std::max(leaf.t_enter - surface_.reach, ray.tmin);
     const float t_hi = std::min(leaf.t_exit, hit.t);
-    float t = 0;
-    if (!(t_lo <= t_hi) ||
-        !nearest_tangent_crossing(ray, leaf.items, splats_.packed, reach_, t_lo, t_hi, t))
-      return false;
-    const GaussianWeight theta(sigma_, cutoff_);
-    auto eval = [&](const Vec3& x) {
-      return weighted_plane(x, leaf.items, splats_.packed, theta, counters);
-    };
-    Vec3 n = Vec3::Zero();
-    t = newton_on_weighted_plane(ray, t, t_lo, t_hi, eval, newton_, n, counters);
-    if (t == kInfinity) return false;
-    const uint32_t prim = nearest_point(ray.at(t), leaf.items, splats_.packed);
-    if (!closer(t, prim, hit)) return false;
-    record_hit(ray, t, prim, n, sigma_, hit);
-    return true;
+    if (!(t_lo <= t_hi)) return false;
+    return surface_.search(ray, leaf.items, splats_.packed, t_lo, t_hi, hit, counters);
   }
 
  private:
   Hubo2006Params params_;
   SplatSet splats_;
-  float sigma_ = 0, cutoff_ = 3, reach_ = 0;
-  NewtonSettings newton_;
+  GaussianSurface surface_;
 };
 
 // The quantized variant: the points live only in the quantized kd-tree, which this method walks
@@ -89,11 +100,7 @@ class Hubo2006Quantized final : public Method {
   explicit Hubo2006Quantized(const Hubo2006Params& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    const float h = prepare_spacing(cloud, ctx);
-    sigma_ = params_.gaussian.sigma * h;
-    cutoff_ = params_.gaussian.cutoff;
-    reach_ = sigma_ * cutoff_;
-    newton_ = newton_settings(params_.iteration, h);
+    surface_ = GaussianSurface(params_, prepare_spacing(cloud, ctx));
     std::vector<Vec3> estimated;
     if (!cloud.has_normals() || params_.normals.estimate_normals) {
       ScopedTimer t(ctx.timings, "prepare/normals");
@@ -104,7 +111,7 @@ class Hubo2006Quantized final : public Method {
     tree_.build(cloud.positions, estimated.empty() ? cloud.normals : estimated, params_.leaf_points,
                 ctx.counters);
     ball_centre_[0] = tree_.bounds().center();
-    ball_radius_[0] = 0.5f * tree_.bounds().diagonal() + reach_;
+    ball_radius_[0] = 0.5f * tree_.bounds().diagonal() + surface_.reach;
   }
   [[nodiscard]] ItemSet items() const override { return {ball_centre_, ball_radius_, {}}; }
 
@@ -112,7 +119,7 @@ class Hubo2006Quantized final : public Method {
                       OpCounters& counters) const override {
     bool found = false;
     tree_.walk(
-        ray, reach_, &hit.t,
+        ray, surface_.reach, &hit.t,
         [&](float t_enter, float t_exit) {
           found |= search_cell(ray, t_enter, t_exit, hit, counters);
         },
@@ -130,8 +137,8 @@ class Hubo2006Quantized final : public Method {
     const float t_hi = std::min(t_exit, hit.t);
     if (!(t_lo <= t_hi)) return false;
     Aabb near;
-    near.extend(ray.at(t_lo), reach_);
-    near.extend(ray.at(t_hi), reach_);
+    near.extend(ray.at(t_lo), surface_.reach);
+    near.extend(ray.at(t_hi), surface_.reach);
     thread_local std::vector<PackedSplat> points;  // per thread: no allocation once warm
     thread_local std::vector<uint32_t> items;
     points.clear();
@@ -140,25 +147,14 @@ class Hubo2006Quantized final : public Method {
     if (points.empty()) return false;
     items.resize(points.size());
     std::iota(items.begin(), items.end(), 0u);
-    float t = 0;
-    if (!nearest_tangent_crossing(ray, items, points, reach_, t_lo, t_hi, t)) return false;
-    const GaussianWeight theta(sigma_, cutoff_);
-    auto eval = [&](const Vec3& x) { return weighted_plane(x, items, points, theta, counters); };
-    Vec3 n = Vec3::Zero();
-    t = newton_on_weighted_plane(ray, t, t_lo, t_hi, eval, newton_, n, counters);
-    if (t == kInfinity) return false;
-    const uint32_t prim = nearest_point(ray.at(t), items, points);
-    if (!closer(t, prim, hit)) return false;
-    record_hit(ray, t, prim, n, sigma_, hit);
-    return true;
+    return surface_.search(ray, items, points, t_lo, t_hi, hit, counters);
   }
 
   Hubo2006Params params_;
   QuantizedKdTree tree_;
   std::array<Vec3, 1> ball_centre_{Vec3::Zero()};
   std::array<float, 1> ball_radius_{0.0f};
-  float sigma_ = 0, cutoff_ = 3, reach_ = 0;
-  NewtonSettings newton_;
+  GaussianSurface surface_;
 };
 
 }  // namespace

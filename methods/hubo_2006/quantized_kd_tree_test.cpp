@@ -5,9 +5,10 @@
 #include <set>
 
 #include "core/dataset.hpp"
+#include "preprocess/point_attributes.hpp"
 #include "render/accuracy.hpp"
 #include "render/scene.hpp"
-#include "preprocess/point_attributes.hpp"
+#include "tests/variant_hits.hpp"
 
 namespace pcrt {
 namespace {
@@ -101,25 +102,12 @@ TEST_CASE("quantized kd-tree: the walk reaches every point within reach of the r
 // The compression's accuracy loss against the uncompressed method, on the accuracy harness's rays:
 // the same surface within a small fraction of the spacing.
 TEST_CASE("hubo_2006 quantized finds the uncompressed method's hits", "[quantized_kd_tree]") {
-  const Dataset d = load_dataset("sphere:n=20000,seed=3");
-  OpCounters c;
-  const double h = mean_spacing(d.cloud.positions, c);
-  const auto rays = accuracy_rays(*d.truth, h, 3000, 5);
-  Timings t;
-  const PointScene plain(d.cloud, SceneOptions{"hubo_2006", "", {}}, c, t);
-  const PointScene packed(d.cloud, SceneOptions{"hubo_2006", "", {{"quantized", 1}}}, c, t);
-  size_t both = 0, one = 0, far = 0;
-  for (const Ray& r : rays) {
-    Hit a, b;
-    const bool ha = plain.closest_hit(r, a, c), hb = packed.closest_hit(r, b, c);
-    if (ha != hb) ++one;
-    if (!(ha && hb)) continue;
-    ++both;
-    if (std::abs((a.p - b.p).dot(a.n)) > 0.05 * h) ++far;  // apart along the surface normal
-  }
-  CHECK(both > 1000);
-  CHECK(one <= rays.size() / 500);
-  CHECK(far <= both / 200);
+  const auto v = test::compare_variant_hits("sphere:n=20000,seed=3", "hubo_2006",
+                                            {{"quantized", 1}}, 0.05, 3000);
+  INFO("apart " << v.far << " of " << v.both);
+  CHECK(v.both > 1000);
+  CHECK(v.one <= 3000 / 500);
+  CHECK(v.far <= v.both / 200);
 }
 
 }  // namespace pcrt

@@ -6,9 +6,10 @@
 #include <map>
 
 #include "core/dataset.hpp"
+#include "preprocess/point_attributes.hpp"
 #include "render/accuracy.hpp"
 #include "render/scene.hpp"
-#include "preprocess/point_attributes.hpp"
+#include "tests/variant_hits.hpp"
 
 namespace pcrt {
 namespace {
@@ -85,26 +86,12 @@ TEST_CASE("patch codebook: instances of few representatives stay on the surface"
 }
 
 TEST_CASE("hubo_2007 compressed finds the uncompressed method's hits", "[patch_codebook]") {
-  const Dataset d = load_dataset("sphere:n=20000,seed=3");
-  OpCounters c;
-  const double h = mean_spacing(d.cloud.positions, c);
-  const auto rays = accuracy_rays(*d.truth, h, 3000, 5);
-  Timings t;
-  const PointScene plain(d.cloud, SceneOptions{"hubo_2007", "", {}}, c, t);
-  const PointScene packed(d.cloud, SceneOptions{"hubo_2007", "", {{"compressed", 1}}}, c, t);
-  size_t both = 0, one = 0, far = 0;
-  for (const Ray& r : rays) {
-    Hit a, b;
-    const bool ha = plain.closest_hit(r, a, c), hb = packed.closest_hit(r, b, c);
-    if (ha != hb) ++one;
-    if (!(ha && hb)) continue;
-    ++both;
-    if (std::abs((a.p - b.p).dot(a.n)) > 0.25 * h) ++far;  // apart along the surface normal
-  }
-  CHECK(both > 1000);
-  CHECK(one <= rays.size() / 200);
-  INFO("apart " << far << " of " << both);
-  CHECK(far <= both / 100);
+  const auto v = test::compare_variant_hits("sphere:n=20000,seed=3", "hubo_2007",
+                                            {{"compressed", 1}}, 0.25, 3000);
+  INFO("apart " << v.far << " of " << v.both);
+  CHECK(v.both > 1000);
+  CHECK(v.one <= 3000 / 200);
+  CHECK(v.far <= v.both / 100);
 }
 
 }  // namespace pcrt
