@@ -105,6 +105,9 @@ struct MethodInfo {
   // steps, ...): with the traversal's nodes and items, the work frame claims are judged on.
   std::vector<const Counter*> work = {};
   LeafFamily family = LeafFamily::kOther;
+  // Methods whose memory the splat-and-structure estimate (render/memory_estimate) does not
+  // describe for some parameters: their bytes per point for those parameters, else 0.
+  std::function<size_t(const PointCloud&, const ParamValues&)> own_bytes_per_point = {};
 
   // One of the thesis's surveyed methods (it has a reference number), not a reference oracle.
   [[nodiscard]] bool surveyed() const { return thesis_ref != "-"; }

@@ -47,10 +47,9 @@ size_t structure_bytes_per_item(const std::string& structure) {
 
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,
                             const PointCloud& cloud, const ParamValues& method_params) {
-  // hubo_2006 quantized=1: its quantized kd-tree (<= 16 B/point), no splats, no structure (21
-  // B/point over the cloud measured at 10^7), and the normal estimation's graph where it runs.
-  if (const auto q = method_params.find("quantized"); q != method_params.end() && q->second != 0)
-    return cloud.size() * (24 + (cloud.has_normals() ? 0 : 16 * sizeof(uint32_t) + 1 + 12));
+  if (method.own_bytes_per_point)
+    if (const size_t own = method.own_bytes_per_point(cloud, method_params); own > 0)
+      return cloud.size() * own;
   return cloud.size() * (prepared_bytes_per_point(method, cloud, method_params) +
                          structure_bytes_per_item(structure));
 }

@@ -29,4 +29,13 @@ TEST_CASE("memory estimate: grows with N, counts normal estimation, MLS below sp
   CHECK(estimate_scene_bytes(splat, "kd_tree", twice, p) == 2 * a);
 }
 
+TEST_CASE("memory estimate: a method's own rule for its compressed variant") {
+  const auto& hubo = MethodRegistry::instance().get("hubo_2006", "method");
+  const PointCloud cloud = load_dataset("sphere:n=1000").cloud;
+  const size_t plain = estimate_scene_bytes(hubo, "kd_tree", cloud, {});
+  const size_t quantized = estimate_scene_bytes(hubo, "kd_tree", cloud, {{"quantized", 1}});
+  CHECK(quantized == 1000 * 24);  // the quantized kd-tree alone, normals given
+  CHECK(plain > 3 * quantized);
+}
+
 }  // namespace pcrt

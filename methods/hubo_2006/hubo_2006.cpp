@@ -178,7 +178,14 @@ void register_hubo_2006(MethodRegistry& registry) {
         return std::make_unique<Hubo2006>(p);
       },
       {},
-      {&kWeightedPointTerms}});
+      {&kWeightedPointTerms},
+      LeafFamily::kOther,
+      // quantized=1: its quantized kd-tree (<= 16 B/point), no splats and no structure (21
+      // B/point over the cloud measured at 10^7), and the normal estimation's graph where it runs.
+      [](const PointCloud& cloud, const ParamValues& given) -> size_t {
+        if (!hubo_2006_params().read(given, "hubo_2006").quantized) return 0;
+        return 24 + (cloud.has_normals() ? 0 : 16 * sizeof(uint32_t) + 1 + 12);
+      }});
 }
 
 }  // namespace pcrt
