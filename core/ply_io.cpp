@@ -67,21 +67,79 @@ struct PlyHeader {
   size_t header_lines = 0;
 };
 
+// One header line's place for its errors: "FILE: header line N".
+struct HeaderLine {
+  const std::string& path;
+  size_t number;
+  const std::vector<std::string>& tok;
+};
+
+PlyFormat parse_format_line(const HeaderLine& l) {
+  const auto& tok = l.tok;
+  if (tok.size() != 3) input_error("{}: header line {}: malformed format line", l.path, l.number);
+  if (tok[1] == "ascii") return PlyFormat::kAscii;
+  if (tok[1] == "binary_little_endian") return PlyFormat::kBinaryLittleEndian;
+  if (tok[1] == "binary_big_endian") return PlyFormat::kBinaryBigEndian;
+  input_error("{}: header line {}: unknown format '{}'", l.path, l.number, tok[1]);
+}
+
+PlyElement parse_element_line(const HeaderLine& l) {
+  const auto& tok = l.tok;
+  if (tok.size() != 3) input_error("{}: header line {}: malformed element line", l.path, l.number);
+  PlyElement e;
+  e.name = tok[1];
+  auto [p, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), e.count);
+  if (ec != std::errc() || p != tok[2].data() + tok[2].size())
+    input_error("{}: header line {}: element count '{}' is not a non-negative integer", l.path,
+                l.number, tok[2]);
+  return e;
+}
+
+PlyProperty parse_property_line(const HeaderLine& l) {
+  const auto& tok = l.tok;
+  if (tok.size() == 5 && tok[1] == "list") {
+    auto ct = parse_type(tok[2]);
+    auto it = parse_type(tok[3]);
+    if (!ct || !it) input_error("{}: header line {}: unknown list types", l.path, l.number);
+    if (*ct == PlyType::kFloat32 || *ct == PlyType::kFloat64)
+      input_error("{}: header line {}: a list count cannot be a float", l.path, l.number);
+    return PlyProperty{tok[4], *it, true, *ct};
+  }
+  if (tok.size() == 3) {
+    auto t = parse_type(tok[1]);
+    if (!t) input_error("{}: header line {}: unknown property type '{}'", l.path, l.number, tok[1]);
+    return PlyProperty{tok[2], *t, false, PlyType::kUint8};
+  }
+  input_error("{}: header line {}: malformed property line", l.path, l.number);
+}
+
+std::vector<std::string> tokens_of(std::string line) {
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  std::istringstream in(line);
+  std::vector<std::string> tok;
+  for (std::string t; in >> t;) tok.push_back(t);
+  return tok;
+}
+
+void check_header(const PlyHeader& h, bool have_format, const std::string& path) {
+  if (!have_format) input_error("{}: PLY header has no format line", path);
+  // A record without properties takes no bytes, so no file length could bound its count.
+  for (const PlyElement& e : h.elements)
+    if (e.count > 0 && e.properties.empty())
+      input_error("{}: element '{}' has {} records but no properties", path, e.name, e.count);
+}
+
 PlyHeader parse_header(const std::string& text, const std::string& path) {
   PlyHeader h;
   size_t pos = 0;
   size_t line_no = 0;
   bool have_format = false;
   while (true) {
-    size_t end = text.find('\n', pos);
+    const size_t end = text.find('\n', pos);
     if (end == std::string::npos) input_error("{}: PLY header has no end_header line", path);
-    std::string line = text.substr(pos, end - pos);
+    const std::vector<std::string> tok = tokens_of(text.substr(pos, end - pos));
     pos = end + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream in(line);
-    std::vector<std::string> tok;
-    for (std::string t; in >> t;) tok.push_back(t);
+    const HeaderLine line{path, ++line_no, tok};
     if (line_no == 1) {
       if (tok.size() != 1 || tok[0] != "ply")
         input_error("{}: not a PLY file (first line is not 'ply')", path);
@@ -90,54 +148,19 @@ PlyHeader parse_header(const std::string& text, const std::string& path) {
     if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
     if (tok[0] == "end_header") break;
     if (tok[0] == "format") {
-      if (tok.size() != 3) input_error("{}: header line {}: malformed format line", path, line_no);
-      if (tok[1] == "ascii")
-        h.format = PlyFormat::kAscii;
-      else if (tok[1] == "binary_little_endian")
-        h.format = PlyFormat::kBinaryLittleEndian;
-      else if (tok[1] == "binary_big_endian")
-        h.format = PlyFormat::kBinaryBigEndian;
-      else
-        input_error("{}: header line {}: unknown format '{}'", path, line_no, tok[1]);
+      h.format = parse_format_line(line);
       have_format = true;
     } else if (tok[0] == "element") {
-      if (tok.size() != 3) input_error("{}: header line {}: malformed element line", path, line_no);
-      PlyElement e;
-      e.name = tok[1];
-      auto [p, ec] = std::from_chars(tok[2].data(), tok[2].data() + tok[2].size(), e.count);
-      if (ec != std::errc() || p != tok[2].data() + tok[2].size())
-        input_error("{}: header line {}: element count '{}' is not a non-negative integer", path,
-                    line_no, tok[2]);
-      h.elements.push_back(std::move(e));
+      h.elements.push_back(parse_element_line(line));
     } else if (tok[0] == "property") {
       if (h.elements.empty())
         input_error("{}: header line {}: property before any element", path, line_no);
-      PlyProperty prop;
-      if (tok.size() == 5 && tok[1] == "list") {
-        auto ct = parse_type(tok[2]);
-        auto it = parse_type(tok[3]);
-        if (!ct || !it) input_error("{}: header line {}: unknown list types", path, line_no);
-        if (*ct == PlyType::kFloat32 || *ct == PlyType::kFloat64)
-          input_error("{}: header line {}: a list count cannot be a float", path, line_no);
-        prop = PlyProperty{tok[4], *it, true, *ct};
-      } else if (tok.size() == 3) {
-        auto t = parse_type(tok[1]);
-        if (!t)
-          input_error("{}: header line {}: unknown property type '{}'", path, line_no, tok[1]);
-        prop = PlyProperty{tok[2], *t, false, PlyType::kUint8};
-      } else {
-        input_error("{}: header line {}: malformed property line", path, line_no);
-      }
-      h.elements.back().properties.push_back(prop);
+      h.elements.back().properties.push_back(parse_property_line(line));
     } else {
       input_error("{}: header line {}: unexpected '{}'", path, line_no, tok[0]);
     }
   }
-  if (!have_format) input_error("{}: PLY header has no format line", path);
-  // A record without properties takes no bytes, so no file length could bound its count.
-  for (const PlyElement& e : h.elements)
-    if (e.count > 0 && e.properties.empty())
-      input_error("{}: element '{}' has {} records but no properties", path, e.name, e.count);
+  check_header(h, have_format, path);
   h.data_offset = pos;
   h.header_lines = line_no;
   return h;

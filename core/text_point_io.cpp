@@ -99,15 +99,22 @@ PointCloud read_off(const std::string& path, std::vector<std::array<uint32_t, 3>
   return parse_off(read_file(path), path, triangles);
 }
 
-PointCloud parse_off(const std::string& text, const std::string& path,
-                     std::vector<std::array<uint32_t, 3>>* triangles) {
-  TextScanner scan(text, path);
+namespace {
+
+// What an OFF header says: the attribute prefixes of its keyword and the counts.
+struct OffHeader {
+  bool has_normals = false, has_colour = false;
+  long long vertices = 0, faces = 0;
+};
+
+// The header keyword may carry C (colour) and N (normal) prefixes, and the counts may follow on
+// the same line.
+OffHeader parse_off_header(TextScanner& scan, const std::string& path) {
   if (!scan.next_line()) input_error("{}: empty file", path);
-  // The header keyword may carry C (colour) and N (normal) prefixes, and the counts may follow
-  // on the same line.
-  std::string_view kw = scan.tokens()[0];
-  const bool has_normals = kw.find('N') != std::string_view::npos && kw.find('N') < kw.find("OFF");
-  const bool has_colour = kw.find('C') != std::string_view::npos && kw.find('C') < kw.find("OFF");
+  const std::string_view kw = scan.tokens()[0];
+  OffHeader h;
+  h.has_normals = kw.find('N') != std::string_view::npos && kw.find('N') < kw.find("OFF");
+  h.has_colour = kw.find('C') != std::string_view::npos && kw.find('C') < kw.find("OFF");
   if (kw.size() < 3 || kw.substr(kw.size() - 3) != "OFF" || kw.size() > 5)
     input_error("{}: line {}: not an OFF file (expected 'OFF')", path, scan.line());
   size_t first = 1;
@@ -117,20 +124,21 @@ PointCloud parse_off(const std::string& text, const std::string& path,
   }
   if (scan.tokens().size() < first + 2)
     input_error("{}: line {}: expected 'vertices faces [edges]'", path, scan.line());
-  const auto nv = scan.number<long long>(first);
-  const auto nf = scan.number<long long>(first + 1);
-  if (nv < 0 || nf < 0) input_error("{}: line {}: negative counts", path, scan.line());
-  PointCloud cloud;
-  cloud.name = path;
-  const size_t min_cols = 3 + (has_normals ? 3 : 0);
-  const size_t lines_left = static_cast<size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
-  if (static_cast<size_t>(nv) > lines_left)
-    input_error("{}: header promises {} vertices but the file has {} lines", path, nv, lines_left);
-  cloud.positions.reserve(static_cast<size_t>(nv));
-  for (long long i = 0; i < nv; ++i) {
-    if (!scan.next_line()) input_error("{}: truncated: file ends at vertex {} of {}", path, i, nv);
+  h.vertices = scan.number<long long>(first);
+  h.faces = scan.number<long long>(first + 1);
+  if (h.vertices < 0 || h.faces < 0) input_error("{}: line {}: negative counts", path, scan.line());
+  return h;
+}
+
+void read_off_vertices(TextScanner& scan, const OffHeader& h, const std::string& path,
+                       PointCloud& cloud) {
+  const size_t min_cols = 3 + (h.has_normals ? 3 : 0);
+  cloud.positions.reserve(static_cast<size_t>(h.vertices));
+  for (long long i = 0; i < h.vertices; ++i) {
+    if (!scan.next_line())
+      input_error("{}: truncated: file ends at vertex {} of {}", path, i, h.vertices);
     const auto& tok = scan.tokens();
-    if (tok.size() < min_cols || (!has_colour && tok.size() != min_cols))
+    if (tok.size() < min_cols || (!h.has_colour && tok.size() != min_cols))
       input_error("{}: line {}: vertex {} has {} values, expected {}", path, scan.line(), i,
                   tok.size(), min_cols);
     Vec3 p(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
@@ -140,28 +148,50 @@ PointCloud parse_off(const std::string& text, const std::string& path,
       input_error("{}: line {}: vertex {} has a coordinate beyond +-{:g}", path, scan.line(), i,
                   kMaxCoordinate);
     cloud.positions.push_back(p);
-    if (has_normals)
+    if (h.has_normals)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
                                  scan.number<float>(5));
   }
-  for (long long f = 0; f < nf; ++f) {
-    if (!scan.next_line()) input_error("{}: truncated: file ends at face {} of {}", path, f, nf);
+}
+
+// Faces are checked (their vertices exist) and, when asked for, fanned into triangles.
+void read_off_faces(TextScanner& scan, const OffHeader& h, const std::string& path,
+                    std::vector<std::array<uint32_t, 3>>* triangles) {
+  for (long long f = 0; f < h.faces; ++f) {
+    if (!scan.next_line())
+      input_error("{}: truncated: file ends at face {} of {}", path, f, h.faces);
     const auto n = scan.number<long long>(0);
     if (n < 1 || scan.tokens().size() < size_t(n) + 1)
       input_error("{}: line {}: face {} is malformed", path, scan.line(), f);
     for (long long k = 1; k <= n; ++k) {
       const auto v = scan.number<long long>(size_t(k));
-      if (v < 0 || v >= nv)
-        input_error("{}: line {}: face {} names vertex {} of {}", path, scan.line(), f, v, nv);
+      if (v < 0 || v >= h.vertices)
+        input_error("{}: line {}: face {} names vertex {} of {}", path, scan.line(), f, v,
+                    h.vertices);
     }
-    if (triangles) {
-      if (n < 3) input_error("{}: line {}: face {} has {} vertices", path, scan.line(), f, n);
-      for (long long k = 2; k < n; ++k)
-        triangles->push_back({uint32_t(scan.number<long long>(1)),
-                              uint32_t(scan.number<long long>(size_t(k))),
-                              uint32_t(scan.number<long long>(size_t(k + 1)))});
-    }
+    if (!triangles) continue;
+    if (n < 3) input_error("{}: line {}: face {} has {} vertices", path, scan.line(), f, n);
+    for (long long k = 2; k < n; ++k)
+      triangles->push_back({uint32_t(scan.number<long long>(1)),
+                            uint32_t(scan.number<long long>(size_t(k))),
+                            uint32_t(scan.number<long long>(size_t(k + 1)))});
   }
+}
+
+}  // namespace
+
+PointCloud parse_off(const std::string& text, const std::string& path,
+                     std::vector<std::array<uint32_t, 3>>* triangles) {
+  TextScanner scan(text, path);
+  const OffHeader h = parse_off_header(scan, path);
+  const size_t lines_left = static_cast<size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  if (static_cast<size_t>(h.vertices) > lines_left)
+    input_error("{}: header promises {} vertices but the file has {} lines", path, h.vertices,
+                lines_left);
+  PointCloud cloud;
+  cloud.name = path;
+  read_off_vertices(scan, h, path, cloud);
+  read_off_faces(scan, h, path, triangles);
   if (scan.next_line())
     input_error("{}: line {}: data after the last face; the header's counts are wrong", path,
                 scan.line());

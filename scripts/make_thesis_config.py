@@ -4,7 +4,7 @@
 Run it after changing the design; the config is committed."""
 import json, sys
 
-SCAN = "data/cgal/points_3/building.ply"
+SCAN = "../data/cgal/points_3/building.ply"  # relative to the config's folder
 def geo(lo, hi, n):
     return [int(round(lo * (hi / lo) ** (i / (n - 1)))) for i in range(n)]
 N_SPHERE = geo(1000, 128000, 8)
@@ -26,7 +26,7 @@ def fit(claim, variable=None, metric=WORK, per=None, **kw):
 E = []
 for name, ds, ns in [("build_sphere", "sphere", N_BUILD), ("build_scan", SCAN, N_SCAN)]:
     E.append({"name": name, "kind": "build", "methods": ["reference_splat"],
-              "structures": ["kd_tree", "octree", "sphere_tree", "grid"],
+              "structures": ["kd_tree", "octree", "sphere_tree", "bvh", "grid"],
               "datasets": [ds], "grid": {"N": ns}, "repetitions": 5,
               "fits": [fit("{structure}/build", "N", "ops_prep_build_item_visits"),
                        fit("{structure}/build", "N", "time")]})
@@ -38,7 +38,7 @@ E.append({"name": "build_own_items", "kind": "build",
 N_QUERY = geo(1000, 512000, 10)  # to 512000: below 10^5 a sphere hierarchy's log N is marginal
 for name, ds, ns in [("query_sphere", "sphere", N_QUERY), ("query_scan", SCAN, N_SCAN)]:
     E.append({"name": name, "kind": "render", "methods": ["reference_splat"],
-              "structures": ["kd_tree", "octree", "sphere_tree", "grid"],
+              "structures": ["kd_tree", "octree", "sphere_tree", "bvh", "grid"],
               "datasets": [ds], "grid": {"N": ns, "M": [4096], "B": [0]},
               "fits": [fit("{structure}/query", "N", "ops_nodes_visited", "ops_rays_cast", free=["K"])]})
 # Table 5.4's row without a structure: the brute-force oracle counts no build work (it lists the
