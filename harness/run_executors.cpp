@@ -5,11 +5,11 @@
 
 #include "core/error.hpp"
 #include "harness/crossover.hpp"
-#include "render/renderer.hpp"
-#include "render/scene.hpp"
 #include "harness/sweep_datasets.hpp"
 #include "harness/workloads.hpp"
 #include "reconstruction/reconstruction.hpp"
+#include "render/renderer.hpp"
+#include "render/scene.hpp"
 
 namespace pcrt {
 namespace {
@@ -84,7 +84,7 @@ RunResult execute_reconstruct(const RunSpec& spec) {
     for (const auto& [k, v] : counts)
       if (v) r.counters[k] = *v;
     r.counters["vertices"] = rec.vertices;
-    r.extra["memory_bytes"] = rec.memory_bytes;
+    r.measures.memory_bytes = rec.memory_bytes;
   }
   return r;
 }
@@ -101,8 +101,8 @@ RunResult execute_build(const RunSpec& spec) {
     const PointScene scene(cloud, so, p, t);
     if (i == 0) r.prepare_counters = p.to_map();
     if (i >= spec.warmup) r.times_s.push_back(t["build"]);
-    r.extra["prepare_s"] = t["prepare"];
-    r.extra["structure_bytes"] = scene.structure_bytes();
+    r.measures.prepare_s = t["prepare"];
+    r.measures.structure_bytes = scene.structure_bytes();
   }
   r.counters = OpCounters().to_map();
   r.pixels = rs.width * rs.height;
@@ -123,9 +123,9 @@ RunResult execute_render(const RunSpec& spec) {
     RenderResult res = render(scene, cloud, rs);
     if (i >= spec.warmup) r.times_s.push_back(res.seconds);
     if (i == 0) r.counters = res.counters.to_map();
-    r.extra["prepare_s"] = t["prepare"];
-    r.extra["build_s"] = t["build"];
-    r.extra["structure_bytes"] = scene.structure_bytes();
+    r.measures.prepare_s = t["prepare"];
+    r.measures.build_s = t["build"];
+    r.measures.structure_bytes = scene.structure_bytes();
   }
   r.pixels = rs.width * rs.height;
   return r;
@@ -137,13 +137,9 @@ RunResult execute_crossover(const RunSpec& spec) {
   const PointCloud cloud = cloud_of(spec, r);
   const CrossoverResult x = measure_crossover(cloud, scene_options(spec), spec.reconstruction,
                                               spec.engine, render_settings(spec, cloud), spec.reps);
-  r.extra = {{"direct_setup_s", x.direct_setup_s()},
-             {"direct_frame_s", x.direct_frame_s},
-             {"mesh_setup_s", x.mesh_setup_s()},
-             {"mesh_frame_s", x.mesh_frame_s},
-             {"reconstruct_s", x.reconstruct_s},
-             {"triangles", x.triangles},
-             {"crossover_frames", x.crossover_frames ? json(*x.crossover_frames) : json(nullptr)}};
+  r.measures.crossover =
+      CrossoverMeasures{x.direct_setup_s(), x.direct_frame_s, x.mesh_setup_s(),  x.mesh_frame_s,
+                        x.reconstruct_s,    x.triangles,      x.crossover_frames};
   r.times_s.push_back(x.mesh_setup_s() + x.mesh_frame_s);
   return r;
 }

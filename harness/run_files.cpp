@@ -114,7 +114,8 @@ json run_row(const RunResult& r) {
     row[k] = spec.value(k, json(nullptr));
   // Flagged, never dropped: repetitions more than 20% apart.
   row["time_noisy"] = r.times_s.size() > 1 && spec.value("time_spread", 0.0) > 0.2;
-  for (const auto& [k, v] : r.extra.items()) row[k] = v;
+  const json measures = r.measures;
+  for (const auto& [k, v] : measures.items()) row[k] = v;
   return row;
 }
 

@@ -134,6 +134,55 @@ RunStatus status_from_name(const std::string& name) {
 
 }  // namespace
 
+namespace {
+
+template <typename T>
+void put(json& j, const char* key, const std::optional<T>& v) {
+  if (v) j[key] = *v;
+}
+
+template <typename T>
+void take(const json& j, const char* key, std::optional<T>& v) {
+  if (j.contains(key)) v = j[key].get<T>();
+}
+
+}  // namespace
+
+void to_json(json& j, const RunMeasures& m) {
+  j = json::object();
+  put(j, "prepare_s", m.prepare_s);
+  put(j, "build_s", m.build_s);
+  put(j, "structure_bytes", m.structure_bytes);
+  put(j, "memory_bytes", m.memory_bytes);
+  if (const auto& x = m.crossover) {
+    j["direct_setup_s"] = x->direct_setup_s;
+    j["direct_frame_s"] = x->direct_frame_s;
+    j["mesh_setup_s"] = x->mesh_setup_s;
+    j["mesh_frame_s"] = x->mesh_frame_s;
+    j["reconstruct_s"] = x->reconstruct_s;
+    j["triangles"] = x->triangles;
+    j["crossover_frames"] = x->crossover_frames ? json(*x->crossover_frames) : json(nullptr);
+  }
+}
+
+void from_json(const json& j, RunMeasures& m) {
+  m = RunMeasures{};
+  take(j, "prepare_s", m.prepare_s);
+  take(j, "build_s", m.build_s);
+  take(j, "structure_bytes", m.structure_bytes);
+  take(j, "memory_bytes", m.memory_bytes);
+  if (!j.contains("direct_setup_s")) return;
+  CrossoverMeasures x;
+  x.direct_setup_s = j.at("direct_setup_s").get<double>();
+  x.direct_frame_s = j.at("direct_frame_s").get<double>();
+  x.mesh_setup_s = j.at("mesh_setup_s").get<double>();
+  x.mesh_frame_s = j.at("mesh_frame_s").get<double>();
+  x.reconstruct_s = j.at("reconstruct_s").get<double>();
+  x.triangles = j.at("triangles").get<uint64_t>();
+  if (!j.at("crossover_frames").is_null()) x.crossover_frames = j["crossover_frames"].get<double>();
+  m.crossover = x;
+}
+
 void to_json(json& j, const RunResult& r) {
   j = r.spec;
   j["spec"] = r.spec;  // as given: what --resume and merges identify the run by
@@ -144,7 +193,7 @@ void to_json(json& j, const RunResult& r) {
     j["counters"] = r.counters;
     if (r.prepare_counters) j["prepare_counters"] = *r.prepare_counters;
     write_times(j, r.times_s);
-    j["extra"] = r.extra;
+    j["extra"] = r.measures;
   } else {
     j["error"] = r.error;
   }
@@ -163,7 +212,7 @@ void from_json(const json& j, RunResult& r) {
   if (j.contains("prepare_counters"))
     r.prepare_counters = j["prepare_counters"].get<std::map<std::string, uint64_t>>();
   if (j.contains("times_s")) r.times_s = j["times_s"].get<std::vector<double>>();
-  r.extra = j.value("extra", json::object());
+  if (j.contains("extra")) r.measures = j["extra"].get<RunMeasures>();
   if (j.contains("wall_s") && j["wall_s"].is_number()) r.wall_s = j["wall_s"].get<double>();
 }
 

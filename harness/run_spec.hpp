@@ -57,6 +57,27 @@ std::string run_key(const RunSpec& spec);
 enum class RunStatus { kOk, kFailed, kTimeout };
 const char* run_status_name(RunStatus s);
 
+// What a crossover run measured (harness/crossover.hpp has how).
+struct CrossoverMeasures {
+  double direct_setup_s = 0, direct_frame_s = 0, mesh_setup_s = 0, mesh_frame_s = 0;
+  double reconstruct_s = 0;
+  uint64_t triangles = 0;
+  std::optional<double> crossover_frames;  // none: the mesh's frames are not faster
+  bool operator==(const CrossoverMeasures&) const = default;
+};
+
+// A kind's own measurements besides times and counters, one CSV column each; each is written
+// only by the kinds that measure it.
+struct RunMeasures {
+  std::optional<double> prepare_s, build_s;  // builds and renders: scene preparation and build
+  std::optional<uint64_t> structure_bytes;   // builds and renders
+  std::optional<uint64_t> memory_bytes;      // reconstructions: the triangulation's estimate
+  std::optional<CrossoverMeasures> crossover;
+  bool operator==(const RunMeasures&) const = default;
+};
+void to_json(json& j, const RunMeasures& m);  // flat: one key per measurement present
+void from_json(const json& j, RunMeasures& m);
+
 struct RunResult {
   RunSpec spec;
   RunStatus status = RunStatus::kOk;
@@ -67,7 +88,7 @@ struct RunResult {
   std::map<std::string, uint64_t> counters;
   std::optional<std::map<std::string, uint64_t>> prepare_counters;  // methods' runs
   std::vector<double> times_s;   // one per repetition; summarised in the JSON
-  json extra = json::object();   // the kind's own measurements (seconds, bytes), one column each
+  RunMeasures measures;          // written as "extra"
   std::optional<double> wall_s;  // the whole child process, preparation included
 
   [[nodiscard]] bool ok() const { return status == RunStatus::kOk; }

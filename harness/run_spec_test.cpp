@@ -3,12 +3,14 @@
 #include "harness/run_spec.hpp"
 
 #include <catch2/catch.hpp>
+#include <fstream>
 #include <limits>
 
 #include "core/error.hpp"
 #include "harness/csv_table.hpp"
 #include "harness/run_files.hpp"
 #include "harness/sweep_fits.hpp"
+#include "tests/test_paths.hpp"
 
 using namespace pcrt;
 
@@ -30,6 +32,34 @@ TEST_CASE("a result read and written again is the same JSON", "[sweep][runs]") {
   REQUIRE(r.prepare_counters->at("knn_results") == 22500);
   REQUIRE(json(r).dump() == line.dump());
   REQUIRE(run_key(r) == json::parse(kBuildResult)["spec"].dump());
+}
+
+TEST_CASE("every committed thesis result reads and writes back byte for byte", "[sweep][runs]") {
+  // Every kind's measurements (build, render, reconstruct, crossover) as the sweep wrote them.
+  std::ifstream in(test::source_dir() / "results/thesis/runs.jsonl");
+  REQUIRE(in);
+  std::map<RunKind, int> kinds;
+  for (std::string line; std::getline(in, line);) {
+    const RunResult r = json::parse(line).get<RunResult>();
+    ++kinds[r.spec.kind];
+    REQUIRE(json(r).dump() == json::parse(line).dump());
+  }
+  for (RunKind k : {RunKind::kRender, RunKind::kBuild, RunKind::kReconstruct, RunKind::kCrossover})
+    REQUIRE(kinds[k] > 0);
+}
+
+TEST_CASE("a crossover whose mesh never pays off writes null frames and reads them back",
+          "[sweep][runs]") {
+  RunMeasures m;
+  m.crossover = CrossoverMeasures{1, 2, 3, 4, 0.5, 10, std::nullopt};
+  const json j = m;
+  REQUIRE(j["crossover_frames"].is_null());
+  REQUIRE(j["triangles"].is_number_unsigned());
+  REQUIRE(!j.contains("prepare_s"));
+  REQUIRE(j.get<RunMeasures>() == m);
+  m.crossover->crossover_frames = 7.5;
+  REQUIRE(json(m).get<RunMeasures>() == m);
+  REQUIRE(json(RunMeasures{}) == json::object());
 }
 
 TEST_CASE("specs write only the keys their kind uses", "[sweep][runs]") {
