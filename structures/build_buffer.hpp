@@ -7,6 +7,8 @@
 // chunk above the result.
 #pragma once
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +22,7 @@ template <class T>
 class ChunkedArray {
  public:
   static constexpr size_t kChunk = size_t(1) << 14;  // elements per chunk
+  static constexpr size_t kChunksPerTrim = 64;
 
   // Where an element lives: valid until the array is flattened, whatever is appended or spliced.
   struct Handle {
@@ -66,16 +69,22 @@ class ChunkedArray {
     sub.size_ = 0;
   }
 
-  // The elements as one array of exactly size() elements; leaves this array empty.
+  // The elements as one array of exactly size() elements; leaves this array empty. The chunks
+  // are small enough to come from the allocator's heap, which keeps freed pages resident: they
+  // are handed back to the system (malloc_trim) every few megabytes copied, so that the result
+  // and its chunks are never all resident at once.
   std::vector<T> flatten() {
     std::vector<T> out;
     out.reserve(size_);
+    size_t freed = 0;
     for (std::vector<T>& c : chunks_) {
       out.insert(out.end(), c.begin(), c.end());
       std::vector<T>().swap(c);
+      if (++freed % kChunksPerTrim == 0) malloc_trim(0);
     }
     chunks_.clear();
     size_ = 0;
+    malloc_trim(0);
     return out;
   }
 
