@@ -18,6 +18,12 @@
 
 namespace pcrt {
 
+// Frees v's memory (`v = {}` and clear() keep the capacity).
+template <class T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
 template <class T>
 class ChunkedArray {
  public:
@@ -79,7 +85,7 @@ class ChunkedArray {
     size_t freed = 0;
     for (std::vector<T>& c : chunks_) {
       out.insert(out.end(), c.begin(), c.end());
-      std::vector<T>().swap(c);
+      release(c);
       if (++freed % kChunksPerTrim == 0) malloc_trim(0);
     }
     chunks_.clear();

@@ -80,7 +80,7 @@ class Bvh final : public Structure {
     wide_.clear();
     if (!nodes_.empty()) WideCollapse<Bvh>(*this, wide_).collapse(0);
     wide_.shrink_to_fit();
-    nodes_ = {};
+    release(nodes_);
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,

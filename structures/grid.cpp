@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "core/offsets.hpp"
+#include "structures/build_buffer.hpp"
 #include "structures/structure.hpp"
 
 namespace pcrt {
@@ -55,7 +56,7 @@ class Grid final : public Structure {
     // Pass 1: count references per cell (a cell holds at most N < 2^32) into start32_[c + 1];
     // their total decides the offsets' width; pass 2 fills.
     start32_.assign(cells + 1, 0);
-    start64_ = {};
+    release(start64_);
     for (uint32_t i = 0; i < items_.size(); ++i)
       for_cells_of(i, [&](size_t c) { ++start32_[c + 1]; });
     uint64_t total = 0;
@@ -66,7 +67,7 @@ class Grid final : public Structure {
     } else {
       start64_.assign(cells + 1, 0);
       for (size_t c = 0; c < cells; ++c) start64_[c + 1] = start64_[c] + start32_[c + 1];
-      start32_ = {};
+      release(start32_);
       fill(start64_);
     }
     counters.add(kBuildNodes, cells);

@@ -79,7 +79,7 @@ class KdTree final : public Structure {
     tree.stack.resize(items_.size());
     for (uint32_t i = 0; i < tree.stack.size(); ++i) tree.stack[i] = i;
     if (!tree.stack.empty()) build_node(tree, 0, bounds_, 0);
-    std::vector<uint32_t>().swap(tree.stack);
+    release(tree.stack);
     nodes_ = tree.nodes.flatten();
     refs_ = tree.refs.flatten();
     counters.add(kBuildNodes, nodes_.size());
@@ -223,8 +223,7 @@ class KdTree final : public Structure {
       if (hi(st[k], ax) >= split) rsub.stack.push_back(st[k]);
     }
     st.resize(begin);
-    if (begin == 0)
-      std::vector<uint32_t>().swap(st);  // nothing below: free it while children build
+    if (begin == 0) release(st);  // nothing below: free it while children build
     tbb::parallel_invoke([&] { build_node(lsub, 0, lcell, depth + 1); },
                          [&] { build_node(rsub, 0, rcell, depth + 1); });
     out.append(std::move(lsub));

@@ -62,9 +62,9 @@ class Octree final : public Structure {
     root_side_ = side;
     try {
       build_all(nodes32_);
-      nodes64_ = {};
+      release(nodes64_);
     } catch (const NeedsWideOffsets&) {
-      nodes32_ = {};
+      release(nodes32_);
       build_all(nodes64_);
     }
     counters.add(kBuildNodes, nodes32_.size() + nodes64_.size());
@@ -185,7 +185,7 @@ class Octree final : public Structure {
     for (uint32_t i = 0; i < b.stack.size(); ++i) b.stack[i] = i;
     const auto root = b.nodes.push_back(N{});
     build_node(b, root, 0, root_lo_, root_side_, 0);
-    std::vector<uint32_t>().swap(b.stack);
+    release(b.stack);
     nodes = b.nodes.flatten();
     refs_ = b.refs.flatten();
   }
