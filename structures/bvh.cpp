@@ -81,6 +81,7 @@ class Bvh final : public Structure {
     if (!nodes_.empty()) WideCollapse<Bvh>(*this, wide_).collapse(0);
     wide_.shrink_to_fit();
     release(nodes_);
+    malloc_trim(0);  // the collapse's freed growth stays resident in the heap otherwise
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,

@@ -3,7 +3,7 @@
 // reference_splat's (radius 2.4 mean spacings, fixed analytically; disc boxes of half extents
 // r sqrt(1 - n_a^2)) and prints one JSON line: resident bytes before the build, the build's peak
 // above them (VmHWM, reset through /proc/self/clear_refs just before), what stays resident after
-// it, and the structure's memory_bytes(), each also per item.
+// it, the structure's memory_bytes() and its leaf references, each also per item.
 // Usage: pcrt_structure_memory STRUCTURE N
 #include <fmt/format.h>
 
@@ -50,9 +50,10 @@ int run(const std::string& id, size_t n) {
   fmt::print(
       "{{\"structure\": \"{}\", \"N\": {}, \"rss_before\": {}, \"build_peak_above\": {}, "
       "\"kept_above\": {}, \"memory_bytes\": {}, \"build_peak_per_item\": {:.2f}, "
-      "\"kept_per_item\": {:.2f}, \"memory_bytes_per_item\": {:.2f}}}\n",
+      "\"kept_per_item\": {:.2f}, \"memory_bytes_per_item\": {:.2f}, "
+      "\"references_per_item\": {:.3f}}}\n",
       id, n, before, peak - before, after - before, kept, per(peak - before), per(after - before),
-      per(kept));
+      per(kept), per(counters.get(kBuildItemRefs)));
   return 0;
 }
 
