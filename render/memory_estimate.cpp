@@ -40,9 +40,10 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
 size_t structure_bytes_per_item(const std::string& structure) {
   // The build's peak above what was resident before it, per item, measured by
   // scripts/structure_memory.sh at 2x10^6 and 10^7 points (results/scale/structmem/builds.jsonl:
-  // a sphere with reference_splat's footprints), the larger of the two rounded up. The kd-tree and octree build in place and keep
-  // their nodes and references in chunks until one final copy, so their peaks are their results
-  // plus a few bytes; the bvh's also holds its binary tree while collapsing it.
+  // a sphere with reference_splat's footprints), the larger of the two rounded up. The kd-tree and
+  // octree build in place and keep their nodes and references in chunks until one final copy, so
+  // their peaks are their results plus a few bytes; the bvh's also holds its binary tree while
+  // collapsing it.
   if (structure == "brute_force") return sizeof(uint32_t);
   if (structure == "grid") return 12;
   if (structure == "sphere_tree") return 17;
