@@ -80,12 +80,13 @@ size_t morton_sort_bytes(size_t n) {
   return n * std::max(sizeof(Keyed) + sizeof(uint32_t), 2 * sizeof(uint32_t) + sizeof(Vec3));
 }
 
-void morton_sort(PointCloud& cloud) {
-  const std::vector<uint32_t> order = morton_order(cloud.positions);
+std::vector<uint32_t> morton_sort(PointCloud& cloud) {
+  std::vector<uint32_t> order = morton_order(cloud.positions);
   permute(cloud.positions, order);
   permute(cloud.normals, order);
   permute(cloud.radii, order);
   permute(cloud.colours, order);
+  return order;
 }
 
 }  // namespace pcrt

@@ -23,8 +23,9 @@ uint64_t morton_key(const Vec3& p, const Aabb& bounds);
 std::vector<uint32_t> morton_order(std::span<const Vec3> positions);
 
 // Sorts every per-point array of the cloud into morton_order, one array at a time (at most one
-// array's worth of extra memory besides the permutation).
-void morton_sort(PointCloud& cloud);
+// array's worth of extra memory besides the permutation). Returns the permutation: point k of the
+// sorted cloud was point order[k].
+std::vector<uint32_t> morton_sort(PointCloud& cloud);
 // The scratch memory morton_sort needs for n points at its peak.
 size_t morton_sort_bytes(size_t n);
 

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
+#include "core/morton.hpp"
 #include "render/accuracy.hpp"
 #include "render/mesh_truth.hpp"
 
@@ -92,6 +93,19 @@ TEST_CASE("Sampled clouds: noise in units of h, estimated or absent normals", "[
   CHECK(aligned > 3200);  // PCA normals agree except within a few spacings of the 12 edges
   spec.normals = NormalSource::kNone;
   CHECK_FALSE(sample_cloud(s, spec, "box", c).cloud.has_normals());
+}
+
+TEST_CASE("Sampled clouds are Morton-ordered like loaded ones, noisy or not", "[mesh_truth]") {
+  const MeshSurface s(box_mesh(Vec3(0, 0, 0), Vec3(2, 1, 1), false), "box", "bvh");
+  OpCounters c;
+  for (const char* spec : {"n=3000", "n=3000,noise=0.5", "n=3000,noise=0.3,normals=estimated"}) {
+    INFO(spec);
+    const SampledCloud sampled = sample_cloud(s, parse_mesh_sampling(spec), "box", c);
+    const std::vector<uint32_t> order = morton_order(sampled.cloud.positions);
+    size_t in_place = 0;
+    for (size_t k = 0; k < order.size(); ++k) in_place += order[k] == k;
+    CHECK(in_place == sampled.cloud.size());
+  }
 }
 
 TEST_CASE("The evaluator splits false hits into see-through, early and phantom", "[mesh_truth]") {

@@ -19,6 +19,9 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
                                 const ParamValues& method_params);
 // Bytes per item the structure holds at its build peak.
 size_t structure_bytes_per_item(const std::string& structure);
+// Leaf references per item the structure stores (the entries of data a method lays out in leaf
+// order, such as reference_splat's disc blocks: one slot per reference).
+double structure_references_per_item(const std::string& structure);
 // Both, for the cloud's size.
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,
                             const PointCloud& cloud, const ParamValues& method_params);

@@ -39,3 +39,25 @@ TEST_CASE("memory estimate: a method's own rule for its compressed variant") {
 }
 
 }  // namespace pcrt
+
+namespace pcrt {
+
+TEST_CASE("memory estimate: each structure's build peak holds at least its references") {
+  const auto& splat = MethodRegistry::instance().get("reference_splat", "method");
+  const PointCloud cloud = load_dataset("sphere:n=1000").cloud;
+  const ParamValues p = resolve_params(splat.params, {}, "test");
+  for (const char* s : {"brute_force", "sphere_tree", "bvh", "grid", "kd_tree", "octree"}) {
+    INFO(s);
+    CHECK(double(structure_bytes_per_item(s)) >=
+          sizeof(uint32_t) * structure_references_per_item(s));
+    CHECK(structure_references_per_item(s) >= 1);
+    CHECK(estimate_scene_bytes(splat, s, cloud, p) -
+              estimate_scene_bytes(splat, "brute_force", cloud, p) ==
+          1000 * (structure_bytes_per_item(s) - structure_bytes_per_item("brute_force")));
+  }
+  // The structures that duplicate references hold more of them than the object partitions.
+  CHECK(structure_references_per_item("kd_tree") > structure_references_per_item("bvh"));
+  CHECK(structure_references_per_item("octree") > structure_references_per_item("sphere_tree"));
+}
+
+}  // namespace pcrt

@@ -4,6 +4,8 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
+#include "core/morton.hpp"
 #include "core/params.hpp"
 #include "core/rng.hpp"
 #include "preprocess/point_attributes.hpp"
@@ -71,6 +73,26 @@ MeshSampling parse_mesh_sampling(const std::string& spec) {
   return s;
 }
 
+namespace {
+
+// Gaussian noise of s.noise_h spacings, from its own stream (the noise does not change which
+// points are drawn) and drawn in the sampler's order (point k's is draw order[k]), so that the
+// noisy cloud is the same set of points whatever order it is kept in; then Morton-ordered again by
+// its noisy positions, as a loaded cloud would be.
+void add_noise(PointCloud& c, const std::vector<uint32_t>& order, const MeshSampling& s,
+               double spacing, const std::string& name) {
+  std::mt19937_64 engine(mix64(s.seed ^ 0x6e6f697365ull));
+  std::normal_distribution<double> gauss(0.0, s.noise_h * spacing);
+  std::vector<Vec3> noise(c.size());
+  for (Vec3& x : noise) x = Vec3(float(gauss(engine)), float(gauss(engine)), float(gauss(engine)));
+  for (size_t k = 0; k < c.size(); ++k) c.positions[k] += noise[order[k]];
+  std::vector<Vec3>().swap(noise);
+  require_memory(morton_sort_bytes(c.size()), name);
+  morton_sort(c);
+}
+
+}  // namespace
+
 std::string describe(const MeshSampling& s) {
   return fmt::format("n={},seed={},noise={},density={},normals={}", s.n, s.seed, s.noise_h,
                      s.density, normal_source_name(s.normals));
@@ -81,15 +103,13 @@ SampledCloud sample_cloud(const Surface& truth, const MeshSampling& s, const std
   SampledCloud out;
   out.cloud = sample_surface(truth, s.n, s.seed, 0.0, s.density, name);
   PointCloud& c = out.cloud;
+  // In Morton order like every loaded cloud (core/morton.hpp), so that the k-NN passes here and
+  // everything downstream walk memory coherently.
+  require_memory(morton_sort_bytes(c.size()), name);
+  const std::vector<uint32_t> order = morton_sort(c);
   const KnnIndex clean(c.positions);
   out.spacing = mean_spacing(c.positions, clean, counters);
-  if (s.noise_h > 0) {
-    // Its own stream: the noise does not change which points are drawn.
-    std::mt19937_64 engine(mix64(s.seed ^ 0x6e6f697365ull));
-    std::normal_distribution<double> gauss(0.0, s.noise_h * out.spacing);
-    for (Vec3& x : c.positions)
-      x += Vec3(float(gauss(engine)), float(gauss(engine)), float(gauss(engine)));
-  }
+  if (s.noise_h > 0) add_noise(c, order, s, out.spacing, name);
   if (s.normals == NormalSource::kEstimated) {
     const KnnIndex noisy(c.positions);
     c.normals = estimate_normals(c.positions, noisy, s.normal_k, counters);

@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <array>
 
+#include "core/offsets.hpp"
+#include "structures/build_buffer.hpp"
 #include "structures/structure.hpp"
 #include "structures/wide_node.hpp"
 
@@ -33,15 +35,16 @@ constexpr uint32_t kParallelBuildItems = 50000;
 constexpr int kMaxDepth = 64;
 
 // Nodes of a subtree, child indices relative to its own array; large subtrees are built in
-// parallel and spliced in order, so the layout and every count are the same for any thread count.
+// parallel and spliced in order (by moving their chunks: build_buffer.hpp), so the layout and
+// every count are the same for any thread count.
 struct Subtree {
-  std::vector<BvhNode> nodes;
-  void append(const Subtree& sub) {
+  ChunkedArray<BvhNode> nodes;
+  void append(Subtree&& sub) {
+    (void)node_index32(nodes.size() + sub.nodes.size(), "bvh");  // every shifted index fits
     const auto base = uint32_t(nodes.size());
-    for (BvhNode n : sub.nodes) {
+    nodes.splice(std::move(sub.nodes), [&](BvhNode& n) {
       if (n.count == 0) n.index += base;
-      nodes.push_back(n);
-    }
+    });
   }
 };
 
@@ -62,19 +65,12 @@ class Bvh final : public Structure {
 
   void build(const ItemSet& set, OpCounters& counters) override {
     const auto n = uint32_t(set.size());
-    boxes_.resize(n);
-    centres_.resize(n);
+    items_ = set;
     order_.resize(n);
-    for (uint32_t i = 0; i < n; ++i) {
-      boxes_[i] = set.box(i);
-      centres_[i] = boxes_[i].center();
-      order_[i] = i;
-    }
+    for (uint32_t i = 0; i < n; ++i) order_[i] = i;
     Subtree tree;
     if (n > 0) build_node(tree, 0, n, 0);
-    nodes_ = std::move(tree.nodes);
-    boxes_ = {};
-    centres_ = {};
+    nodes_ = tree.nodes.flatten();
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, n);
     align_leaves();
@@ -84,7 +80,8 @@ class Bvh final : public Structure {
     wide_.clear();
     if (!nodes_.empty()) WideCollapse<Bvh>(*this, wide_).collapse(0);
     wide_.shrink_to_fit();
-    nodes_ = {};
+    release(nodes_);
+    malloc_trim(0);  // the collapse's freed growth stays resident in the heap otherwise
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
@@ -177,15 +174,12 @@ class Bvh final : public Structure {
 
   // Recursion depth is bounded by kMaxDepth (then the node becomes a leaf).
   void build_node(Subtree& out, uint32_t begin, uint32_t end, int depth) {
-    const auto me = uint32_t(out.nodes.size());
-    out.nodes.emplace_back();
     Aabb box, cbox;
     for (uint32_t k = begin; k < end; ++k) {
-      box.extend(boxes_[order_[k]]);
-      cbox.extend(centres_[order_[k]]);
+      box.extend(items_.box(order_[k]));
+      cbox.extend(centre(order_[k]));
     }
-    out.nodes[me].lo = box.lo;
-    out.nodes[me].hi = box.hi;
+    const auto me = out.nodes.push_back(BvhNode{box.lo, 0, box.hi, 0});
     const uint32_t n = end - begin;
     if (n <= leaf_size_ || depth >= kMaxDepth) {
       out.nodes[me].index = begin;
@@ -195,17 +189,21 @@ class Bvh final : public Structure {
     const uint32_t mid = split(begin, end, cbox);
     if (n < kParallelBuildItems) {
       build_node(out, begin, mid, depth + 1);
-      out.nodes[me].index = uint32_t(out.nodes.size());
+      out.nodes[me].index = node_index32(out.nodes.size(), "bvh");
       build_node(out, mid, end, depth + 1);
       return;
     }
     Subtree lsub, rsub;
     tbb::parallel_invoke([&] { build_node(lsub, begin, mid, depth + 1); },
                          [&] { build_node(rsub, mid, end, depth + 1); });
-    out.append(lsub);
-    out.nodes[me].index = uint32_t(out.nodes.size());
-    out.append(rsub);
+    out.append(std::move(lsub));
+    out.nodes[me].index = node_index32(out.nodes.size(), "bvh");
+    out.append(std::move(rsub));
   }
+
+  // The centre of item i's box, computed where it is needed rather than stored (12 bytes per item
+  // at the build's peak).
+  [[nodiscard]] Vec3 centre(uint32_t i) const { return items_.box(i).center(); }
 
   // Partitions order_[begin, end) at the binned split of least SAH cost (by box centres) and
   // returns the first index of the right part. Where the centres coincide or every bin split
@@ -221,8 +219,9 @@ class Bvh final : public Structure {
       std::array<uint32_t, kBins> counts{};
       for (uint32_t k = begin; k < end; ++k) {
         const uint32_t i = order_[k];
-        const int b = bin_of(centres_[i][ax], cbox.lo[ax], scale);
-        bins[size_t(b)].extend(boxes_[i]);
+        const Aabb box = items_.box(i);
+        const int b = bin_of(box.center()[ax], cbox.lo[ax], scale);
+        bins[size_t(b)].extend(box);
         ++counts[size_t(b)];
       }
       // Sweep from the right for the right-side areas, then from the left for the costs.
@@ -252,7 +251,7 @@ class Bvh final : public Structure {
       const int ax = best_axis;
       const float scale = float(kBins) / ext[ax];
       const auto mid = std::stable_partition(first, last, [&](uint32_t i) {
-        return bin_of(centres_[i][ax], cbox.lo[ax], scale) < best_bin;
+        return bin_of(centre(i)[ax], cbox.lo[ax], scale) < best_bin;
       });
       return uint32_t(mid - order_.begin());
     }
@@ -261,7 +260,7 @@ class Bvh final : public Structure {
     if (ext.y() > ext[ax]) ax = 1;
     if (ext.z() > ext[ax]) ax = 2;
     std::nth_element(first, order_.begin() + mid, last, [&](uint32_t a, uint32_t b) {
-      const float pa = centres_[a][ax], pb = centres_[b][ax];
+      const float pa = centre(a)[ax], pb = centre(b)[ax];
       return pa < pb || (pa == pb && a < b);
     });
     return mid;
@@ -278,8 +277,7 @@ class Bvh final : public Structure {
 
   uint32_t leaf_size_;
   bool avx2_ = wide_nodes_use_avx2();
-  std::vector<Aabb> boxes_;     // build only
-  std::vector<Vec3> centres_;   // build only
+  ItemSet items_;               // the caller's, read by the build only
   std::vector<BvhNode> nodes_;  // the binary tree, build only
   std::vector<WideNode> wide_;
   std::vector<uint32_t> order_;  // items in leaf order, each leaf contiguous (align_leaves)

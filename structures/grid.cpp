@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/offsets.hpp"
+#include "structures/build_buffer.hpp"
 #include "structures/structure.hpp"
 
 namespace pcrt {
@@ -51,15 +53,23 @@ class Grid final : public Structure {
            res_[0] * res_[1] * res_[2] > 1)
       coarsen();
     const size_t cells = size_t(res_[0]) * res_[1] * res_[2];
-    start_.assign(cells + 1, 0);
-    // Pass 1: count references per cell; pass 2: fill.
+    // Pass 1: count references per cell (a cell holds at most N < 2^32) into start32_[c + 1];
+    // their total decides the offsets' width; pass 2 fills.
+    start32_.assign(cells + 1, 0);
+    release(start64_);
     for (uint32_t i = 0; i < items_.size(); ++i)
-      for_cells_of(i, [&](size_t c) { ++start_[c + 1]; });
-    for (size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-    refs_.assign(start_[cells], 0);
-    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (uint32_t i = 0; i < items_.size(); ++i)
-      for_cells_of(i, [&](size_t c) { refs_[fill[c]++] = i; });
+      for_cells_of(i, [&](size_t c) { ++start32_[c + 1]; });
+    uint64_t total = 0;
+    for (uint32_t k : start32_) total += k;
+    if (fits_narrow_offset(total)) {
+      for (size_t c = 0; c < cells; ++c) start32_[c + 1] += start32_[c];
+      fill(start32_);
+    } else {
+      start64_.assign(cells + 1, 0);
+      for (size_t c = 0; c < cells; ++c) start64_[c + 1] = start64_[c] + start32_[c + 1];
+      release(start32_);
+      fill(start64_);
+    }
     counters.add(kBuildNodes, cells);
     counters.add(kBuildItemRefs, refs_.size());
     counters.add(kBuildItemVisits, set.size() + refs_.size());
@@ -67,18 +77,22 @@ class Grid final : public Structure {
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
-    return walk<false>(ray, leaf, hit, counters);
+    return start64_.empty() ? walk<false>(start32_, ray, leaf, hit, counters)
+                            : walk<false>(start64_, ray, leaf, hit, counters);
   }
 
   bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
     Hit hit;
     hit.t = ray.tmax;
-    return walk<true>(ray, leaf, hit, counters);
+    return start64_.empty() ? walk<true>(start32_, ray, leaf, hit, counters)
+                            : walk<true>(start64_, ray, leaf, hit, counters);
   }
 
-  // kAny: an occlusion query, ended by the first leaf that reports a hit.
-  template <bool kAny>
-  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
+  // kAny: an occlusion query, ended by the first leaf that reports a hit. Offset: the width of
+  // the CSR offsets (start32_ or start64_).
+  template <bool kAny, class Offset>
+  bool walk(const std::vector<Offset>& start, const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+            OpCounters& counters) const {
     if ((items_.size() == 0)) return false;
     const Vec3 inv = ray.d.cwiseInverse();
     float t0 = 0, t1 = 0;
@@ -111,11 +125,11 @@ class Grid final : public Structure {
       const float t_exit = std::min(t_next[ax], t1);
       counters.add(kNodesVisited);
       const size_t c = (size_t(cell[2]) * res_[1] + size_t(cell[1])) * res_[0] + size_t(cell[0]);
-      const uint32_t count = start_[c + 1] - start_[c];
+      const auto count = uint32_t(start[c + 1] - start[c]);
       if (count > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, count);
-        const LeafVisit visit{{refs_.data() + start_[c], count}, t_enter, t_exit};
+        const LeafVisit visit{{refs_.data() + start[c], count}, t_enter, t_exit};
         if constexpr (kAny) {
           if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
         } else {
@@ -133,10 +147,20 @@ class Grid final : public Structure {
 
   [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return refs_; }
   [[nodiscard]] size_t memory_bytes() const override {
-    return start_.capacity() * sizeof(uint32_t) + refs_.capacity() * sizeof(uint32_t);
+    return start32_.capacity() * sizeof(uint32_t) + start64_.capacity() * sizeof(uint64_t) +
+           refs_.capacity() * sizeof(uint32_t);
   }
 
  private:
+  // The references in cell order, from the CSR offsets.
+  template <class Offset>
+  void fill(const std::vector<Offset>& start) {
+    refs_.assign(size_t(start.back()), 0);
+    std::vector<Offset> cursor(start.begin(), start.end() - 1);
+    for (uint32_t i = 0; i < items_.size(); ++i)
+      for_cells_of(i, [&](size_t c) { refs_[size_t(cursor[c]++)] = i; });
+  }
+
   // Cubic cells, about N / c of them; axes thinner than one cell get a single cell and the cell
   // size is solved again over the others (a plane gets a 2D grid, a line a 1D one).
   void choose_resolution(double n) {
@@ -208,7 +232,8 @@ class Grid final : public Structure {
   Aabb bounds_;
   int res_[3] = {1, 1, 1};
   float size_[3] = {1, 1, 1};
-  std::vector<uint32_t> start_;  // CSR offsets, one per cell + 1
+  std::vector<uint32_t> start32_;  // CSR offsets, one per cell + 1, while the references fit
+  std::vector<uint64_t> start64_;  // otherwise
   std::vector<uint32_t> refs_;
 };
 

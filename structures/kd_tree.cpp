@@ -9,36 +9,33 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 
 #include "core/offsets.hpp"
+#include "structures/build_buffer.hpp"
 #include "structures/structure.hpp"
+#include "structures/tree_nodes.hpp"
 
 namespace pcrt {
 namespace {
 
-struct KdNode {
-  float split = 0;
-  uint32_t axis = 3;  // 0..2 inner, 3 leaf
-  uint32_t a =
-      0;  // inner: index of the right child (the left one follows the node); leaf: first ref
-  uint32_t b = 0;  // leaf: number of refs
-};
-
-// Nodes and references of a subtree, indices relative to its own arrays. Large subtrees are built
-// in parallel into their own Subtree and spliced in order, so the layout (and every count) is the
-// same for any number of threads.
+// A subtree's nodes and references, indices relative to its own arrays, and the references of
+// the node being built: the top segment of `stack`, from a given start to the end. Building a
+// node pops its segment; splitting one replaces it by its children's, the right below the left,
+// so the left one is built first. Large subtrees are built in parallel, each into its own Subtree
+// from a copy of its segment, and spliced in order, so the layout (and every count) is the same
+// for any number of threads.
 struct Subtree {
-  std::vector<KdNode> nodes;
-  std::vector<uint32_t> refs;
+  ChunkedArray<KdNode> nodes;
+  ChunkedArray<uint32_t> refs;
+  std::vector<uint32_t> stack;
 
-  void append(const Subtree& sub) {
-    (void)offset32(refs.size() + sub.refs.size(), "kd_tree");  // every shifted offset fits
-    const auto node_base = uint32_t(nodes.size()), ref_base = uint32_t(refs.size());
-    for (KdNode n : sub.nodes) {
-      n.a += n.axis == 3 ? ref_base : node_base;
-      nodes.push_back(n);
-    }
-    refs.insert(refs.end(), sub.refs.begin(), sub.refs.end());
+  void append(Subtree&& sub) {
+    (void)node_index32(nodes.size() + sub.nodes.size(), "kd_tree");  // every shifted index fits
+    const auto node_base = uint32_t(nodes.size());
+    const uint64_t ref_base = refs.size();
+    nodes.splice(std::move(sub.nodes), [&](KdNode& n) { n = n.shifted(node_base, ref_base); });
+    refs.splice(std::move(sub.refs), [](uint32_t&) {});
   }
 };
 
@@ -71,21 +68,20 @@ class KdTree final : public Structure {
   [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
     if (nodes_.empty()) return 0;
     const KdNode& n = nodes_[node];
-    if (n.axis == 3) return uint64_t(n.b) * level;
+    if (n.is_leaf()) return uint64_t(n.count()) * level;
     return item_visits(node + 1, level + 1) + item_visits(n.a, level + 1);
   }
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
     bounds_ = items_.bounds();
-    std::vector<uint32_t> all(items_.size());
-    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
     Subtree tree;
-    if (!all.empty()) build_node(tree, std::move(all), bounds_, 0);
-    nodes_ = std::move(tree.nodes);
-    refs_ = std::move(tree.refs);
-    nodes_.shrink_to_fit();
-    refs_.shrink_to_fit();
+    tree.stack.resize(items_.size());
+    for (uint32_t i = 0; i < tree.stack.size(); ++i) tree.stack[i] = i;
+    if (!tree.stack.empty()) build_node(tree, 0, bounds_, 0);
+    release(tree.stack);
+    nodes_ = tree.nodes.flatten();
+    refs_ = tree.refs.flatten();
     counters.add(kBuildNodes, nodes_.size());
     counters.add(kBuildItemRefs, refs_.size());
     counters.add(kBuildItemVisits, item_visits(0, 1));
@@ -151,7 +147,7 @@ class KdTree final : public Structure {
       if (n.b > 0) {
         counters.add(kLeavesVisited);
         counters.add(kItemsVisited, n.b);
-        const LeafVisit visit{{refs_.data() + n.a, n.b}, tmin, tmax};
+        const LeafVisit visit{{refs_.data() + n.first(), n.b}, tmin, tmax};
         if constexpr (kAny) {
           if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
         } else {
@@ -167,76 +163,111 @@ class KdTree final : public Structure {
     return found;
   }
 
-  static void make_leaf(Subtree& out, const std::vector<uint32_t>& items) {
-    out.nodes.push_back(KdNode{0, 3, offset32(out.refs.size(), "kd_tree"), uint32_t(items.size())});
-    out.refs.insert(out.refs.end(), items.begin(), items.end());
+  // The node's references as a leaf, popped from the stack.
+  static void make_leaf(Subtree& out, size_t begin) {
+    const size_t n = out.stack.size() - begin;
+    out.nodes.push_back(KdNode::leaf(out.refs.size(), uint32_t(n)));
+    out.refs.append({out.stack.data() + begin, n});
+    out.stack.resize(begin);
+  }
+  static void make_empty_leaf(Subtree& out) {
+    out.nodes.push_back(KdNode::leaf(out.refs.size(), 0));
   }
 
-  // Recursion depth is bounded by max_depth (at most 100, see the parameter range).
-  void build_node(Subtree& out, std::vector<uint32_t> items, const Aabb& cell, int depth) const {
-    if (depth >= max_depth_) return make_leaf(out, items);
-    if (cut_empty_space(out, items, cell, depth)) return;
-    if (items.size() <= leaf_size_) return make_leaf(out, items);
-    // The axis along which the item centres (clamped to the cell) spread most: on a surface
-    // patch that is a tangent direction. Splitting the cell's longest axis instead would cut
-    // along the normal, through the surface, where every footprint straddles the plane.
-    Aabb spread;
-    for (uint32_t i : items) spread.extend(items_.positions[i].cwiseMax(cell.lo).cwiseMin(cell.hi));
-    const Vec3 ext = spread.extent();
-    int ax = 0;
-    if (ext.y() > ext[ax]) ax = 1;
-    if (ext.z() > ext[ax]) ax = 2;
-    if (!(ext[ax] > 0)) return make_leaf(out, items);
+  [[nodiscard]] float lo(uint32_t i, int ax) const { return items_.box(i).lo[ax]; }
+  [[nodiscard]] float hi(uint32_t i, int ax) const { return items_.box(i).hi[ax]; }
+
+  // Builds the subtree of the references stack[begin, end) and pops them. Recursion depth is
+  // bounded by max_depth (at most 100, see the parameter range).
+  void build_node(Subtree& out, size_t begin, const Aabb& cell, int depth) const {
+    std::vector<uint32_t>& st = out.stack;
+    const size_t n = st.size() - begin;
+    if (depth >= max_depth_) return make_leaf(out, begin);
+    if (cut_empty_space(out, begin, cell, depth)) return;
+    if (n <= leaf_size_) return make_leaf(out, begin);
+    const int ax = spread_axis(st, begin, cell);
+    if (ax < 0) return make_leaf(out, begin);
     auto key = [&](uint32_t i) {
       return std::clamp(items_.positions[i][ax], cell.lo[ax], cell.hi[ax]);
     };
-    auto mid = items.begin() + long(items.size() / 2);
-    std::nth_element(items.begin(), mid, items.end(),
-                     [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+    const auto first = st.begin() + long(begin), mid = first + long(n / 2);
+    std::nth_element(first, mid, st.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
     float split = key(*mid);
     // A median on the cell's wall would give an empty side; take the cell's middle instead.
     if (split <= cell.lo[ax] || split >= cell.hi[ax]) split = cell.center()[ax];
-    std::vector<uint32_t> left, right;
-    left.reserve(items.size() * 3 / 4);
-    right.reserve(items.size() * 3 / 4);
-    for (uint32_t i : items) {
-      const Aabb b = items_.box(i);
-      if (b.lo[ax] <= split) left.push_back(i);
-      if (b.hi[ax] >= split) right.push_back(i);
+    size_t nl = 0, nr = 0;
+    for (size_t k = begin; k < st.size(); ++k) {
+      nl += lo(st[k], ax) <= split;
+      nr += hi(st[k], ax) >= split;
     }
     // A split must pay: if over max_straddle of the items straddle the plane (footprints wider
     // than the cell, or identical points) the children would only duplicate references; stop
     // here (such leaves exceed leaf_size) rather than recurse to max_depth.
-    if (left.size() + right.size() > items.size() + size_t(double(items.size()) * max_straddle_))
-      return make_leaf(out, items);
-    items.clear();
-    items.shrink_to_fit();
+    if (nl + nr > n + size_t(double(n) * max_straddle_)) return make_leaf(out, begin);
     Aabb lcell = cell, rcell = cell;
     lcell.hi[ax] = split;
     rcell.lo[ax] = split;
-    const size_t me = out.nodes.size();
-    out.nodes.push_back(KdNode{split, uint32_t(ax), 0, 0});
-    if (left.size() + right.size() < kParallelBuildItems) {
-      build_node(out, std::move(left), lcell, depth + 1);
-      out.nodes[me].a = uint32_t(out.nodes.size());
-      build_node(out, std::move(right), rcell, depth + 1);
+    const auto me = out.nodes.push_back(KdNode::inner(split, ax));
+    if (nl + nr < kParallelBuildItems) {
+      split_in_place(st, begin, ax, split, nl);
+      build_node(out, begin + nr, lcell, depth + 1);
+      out.nodes[me].a = node_index32(out.nodes.size(), "kd_tree");
+      build_node(out, begin, rcell, depth + 1);
       return;
     }
     Subtree lsub, rsub;
-    tbb::parallel_invoke([&] { build_node(lsub, std::move(left), lcell, depth + 1); },
-                         [&] { build_node(rsub, std::move(right), rcell, depth + 1); });
-    out.append(lsub);
-    out.nodes[me].a = uint32_t(out.nodes.size());
-    out.append(rsub);
+    lsub.stack.reserve(nl);
+    rsub.stack.reserve(nr);
+    for (size_t k = begin; k < st.size(); ++k) {
+      if (lo(st[k], ax) <= split) lsub.stack.push_back(st[k]);
+      if (hi(st[k], ax) >= split) rsub.stack.push_back(st[k]);
+    }
+    st.resize(begin);
+    if (begin == 0) release(st);  // nothing below: free it while children build
+    tbb::parallel_invoke([&] { build_node(lsub, 0, lcell, depth + 1); },
+                         [&] { build_node(rsub, 0, rcell, depth + 1); });
+    out.append(std::move(lsub));
+    out.nodes[me].a = node_index32(out.nodes.size(), "kd_tree");
+    out.append(std::move(rsub));
+  }
+
+  // The axis along which the item centres (clamped to the cell) spread most, or -1 if they do
+  // not spread: on a surface patch that is a tangent direction. Splitting the cell's longest axis
+  // instead would cut along the normal, through the surface, where every footprint straddles.
+  int spread_axis(const std::vector<uint32_t>& st, size_t begin, const Aabb& cell) const {
+    Aabb spread;
+    for (size_t k = begin; k < st.size(); ++k)
+      spread.extend(items_.positions[st[k]].cwiseMax(cell.lo).cwiseMin(cell.hi));
+    const Vec3 ext = spread.extent();
+    int ax = 0;
+    if (ext.y() > ext[ax]) ax = 1;
+    if (ext.z() > ext[ax]) ax = 2;
+    return ext[ax] > 0 ? ax : -1;
+  }
+
+  // Replaces stack[begin, end) by the references of the right child (boxes reaching the plane
+  // from above) and above them those of the left child (from below), each in its order there: the
+  // left list is written past the end, the right one compacted in place, the left moved down.
+  void split_in_place(std::vector<uint32_t>& st, size_t begin, int ax, float split,
+                      size_t nl) const {
+    const size_t end = st.size();
+    st.resize(end + nl);
+    size_t w = end;
+    for (size_t k = begin; k < end; ++k)
+      if (lo(st[k], ax) <= split) st[w++] = st[k];
+    size_t r = begin;
+    for (size_t k = begin; k < end; ++k)
+      if (hi(st[k], ax) >= split) st[r++] = st[k];
+    std::memmove(st.data() + r, st.data() + end, nl * sizeof(uint32_t));
+    st.resize(r + nl);
   }
 
   // Where the items' footprints leave over 30% of the cell empty along an axis, split there first
   // (the empty side becomes an empty leaf). Without this, cells on a surface become needles along
   // the normal, and an oblique ray crosses ever more of them as N grows.
-  bool cut_empty_space(Subtree& out, std::vector<uint32_t>& items, const Aabb& cell,
-                       int depth) const {
+  bool cut_empty_space(Subtree& out, size_t begin, const Aabb& cell, int depth) const {
     Aabb reach;
-    for (uint32_t i : items) reach.extend(items_.box(i));
+    for (size_t k = begin; k < out.stack.size(); ++k) reach.extend(items_.box(out.stack[k]));
     reach.lo = reach.lo.cwiseMax(cell.lo);
     reach.hi = reach.hi.cwiseMin(cell.hi);
     const Vec3 ext = cell.extent();
@@ -256,16 +287,15 @@ class KdTree final : public Structure {
     Aabb lcell = cell, rcell = cell;
     lcell.hi[ax] = split;
     rcell.lo[ax] = split;
-    const size_t me = out.nodes.size();
-    out.nodes.push_back(KdNode{split, uint32_t(ax), 0, 0});
+    const auto me = out.nodes.push_back(KdNode::inner(split, ax));
     if (low_side) {
-      make_leaf(out, {});
-      out.nodes[me].a = uint32_t(out.nodes.size());
-      build_node(out, std::move(items), rcell, depth + 1);
+      make_empty_leaf(out);
+      out.nodes[me].a = node_index32(out.nodes.size(), "kd_tree");
+      build_node(out, begin, rcell, depth + 1);
     } else {
-      build_node(out, std::move(items), lcell, depth + 1);
-      out.nodes[me].a = uint32_t(out.nodes.size());
-      make_leaf(out, {});
+      build_node(out, begin, lcell, depth + 1);
+      out.nodes[me].a = node_index32(out.nodes.size(), "kd_tree");
+      make_empty_leaf(out);
     }
     return true;
   }

@@ -7,19 +7,30 @@
 // disjoint).
 #include <algorithm>
 #include <array>
+#include <cstring>
 
 #include "core/offsets.hpp"
+#include "structures/build_buffer.hpp"
 #include "structures/structure.hpp"
+#include "structures/tree_nodes.hpp"
 
 namespace pcrt {
 namespace {
 
-struct OctNode {
-  uint32_t first = 0;  // inner: index of 8 consecutive children; leaf: first ref
-  uint32_t count = 0;  // leaf: number of refs; kInner for inner nodes
-  static constexpr uint32_t kInner = ~uint32_t{0};
-  [[nodiscard]] bool leaf() const { return count != kInner; }
+// The growing arrays of a build with nodes N (OctNode32 or OctNode64, tree_nodes.hpp), and the
+// references of the node being built: the top segment of `stack`, from a given start to the end.
+// Building a node pops its segment; splitting one replaces it by its eight children's, child 0 on
+// top, so that it is built first.
+template <class N>
+struct OctBuild {
+  ChunkedArray<N> nodes;
+  ChunkedArray<uint32_t> refs;
+  std::vector<uint32_t> stack;
 };
+
+// Thrown when a leaf's first reference does not fit 32 bits: the build starts again with
+// OctNode64.
+struct NeedsWideOffsets {};
 
 struct OctreeParams {
   size_t leaf_size = 8;
@@ -41,8 +52,6 @@ class Octree final : public Structure {
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
-    nodes_.assign(1, OctNode{});
-    refs_.clear();
     const Aabb b = items_.bounds();
     // A cube around the bounds, a little larger and not centred on them, so that the mid-planes
     // of the first levels do not fall exactly on the symmetry planes of symmetric data (a line or
@@ -51,44 +60,63 @@ class Octree final : public Structure {
     const float side = b.empty() ? 0.0f : 1.0137f * b.extent().maxCoeff();
     root_lo_ = b.empty() ? Vec3::Zero() : Vec3(b.lo - Vec3::Constant(0.0049f * side));
     root_side_ = side;
-    std::vector<uint32_t> all(items_.size());
-    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-    build_node(0, std::move(all), root_lo_, root_side_, 0);
-    counters.add(kBuildNodes, nodes_.size());
+    try {
+      build_all(nodes32_);
+      release(nodes64_);
+    } catch (const NeedsWideOffsets&) {
+      release(nodes32_);
+      build_all(nodes64_);
+    }
+    counters.add(kBuildNodes, nodes32_.size() + nodes64_.size());
     counters.add(kBuildItemRefs, refs_.size());
-    counters.add(kBuildItemVisits, item_visits(0, 1));
-  }
-
-  // Sum over leaves of references x levels from the root (the build's partitioning work).
-  [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
-    const OctNode& n = nodes_[node];
-    if (n.leaf()) return uint64_t(n.count) * level;
-    uint64_t sum = 0;
-    for (uint32_t c = 0; c < 8; ++c) sum += item_visits(n.first + c, level + 1);
-    return sum;
+    counters.add(kBuildItemVisits,
+                 wide() ? item_visits(nodes64_, 0, 1) : item_visits(nodes32_, 0, 1));
   }
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
-    return walk<false>(ray, leaf, hit, counters);
+    return wide() ? walk<false>(nodes64_, ray, leaf, hit, counters)
+                  : walk<false>(nodes32_, ray, leaf, hit, counters);
   }
 
   bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
     Hit hit;
     hit.t = ray.tmax;
-    return walk<true>(ray, leaf, hit, counters);
+    return wide() ? walk<true>(nodes64_, ray, leaf, hit, counters)
+                  : walk<true>(nodes32_, ray, leaf, hit, counters);
+  }
+
+  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return refs_; }
+  [[nodiscard]] size_t memory_bytes() const override {
+    return nodes32_.capacity() * sizeof(OctNode32) + nodes64_.capacity() * sizeof(OctNode64) +
+           refs_.capacity() * sizeof(uint32_t);
+  }
+
+ private:
+  struct Todo {
+    uint32_t node;
+    Vec3 lo;
+    float side, t0, t1;
+  };
+
+  [[nodiscard]] bool wide() const { return !nodes64_.empty(); }
+
+  // Sum over leaves of references x levels from the root (the build's partitioning work).
+  template <class N>
+  static uint64_t item_visits(const std::vector<N>& nodes, uint32_t node, uint64_t level) {
+    const N& n = nodes[node];
+    if (n.leaf()) return uint64_t(n.count) * level;
+    uint64_t sum = 0;
+    for (uint32_t c = 0; c < 8; ++c) sum += item_visits(nodes, uint32_t(n.first()) + c, level + 1);
+    return sum;
   }
 
   // kAny: an occlusion query, ended by the first leaf that reports a hit.
-  template <bool kAny>
-  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
+  template <bool kAny, class N>
+  bool walk(const std::vector<N>& nodes, const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+            OpCounters& counters) const {
     if ((items_.size() == 0)) return false;
     const Vec3 inv = ray.d.cwiseInverse();
-    struct Todo {
-      uint32_t node;
-      Vec3 lo;
-      float side, t0, t1;
-    };
     std::array<Todo, 8 * 32> stack;  // at most 7 siblings waiting per level, max_depth <= 30
     int top = 0;
     float t0 = 0, t1 = 0;
@@ -101,92 +129,137 @@ class Octree final : public Structure {
       if (!may_improve(cur.t0, hit.t))
         break;  // disjoint cells in depth-first order: the rest is further
       counters.add(kNodesVisited);
-      const OctNode& n = nodes_[cur.node];
-      if (n.leaf()) {
-        if (n.count > 0) {
-          counters.add(kLeavesVisited);
-          counters.add(kItemsVisited, n.count);
-          const LeafVisit visit{{refs_.data() + n.first, n.count}, cur.t0, cur.t1};
-          if constexpr (kAny) {
-            if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
-          } else {
-            found |= leaf.intersect_leaf(ray, visit, hit, counters);
-          }
-        }
+      const N& n = nodes[cur.node];
+      if (!n.leaf()) {
+        top = push_children(nodes, n, cur, ray, inv, stack.data(), top);
         continue;
       }
-      // Children the ray crosses, pushed far to near so the nearest is popped first.
-      std::array<Todo, 8> kids;
-      int nk = 0;
-      const float half = 0.5f * cur.side;
-      for (uint32_t c = 0; c < 8; ++c) {
-        const OctNode& child = nodes_[n.first + c];
-        if (child.count == 0) continue;
-        const Vec3 lo =
-            cur.lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-        float a = 0, b = 0;
-        if (Aabb{lo, lo + Vec3::Constant(half)}.intersect(ray, inv, a, b))
-          kids[size_t(nk++)] = Todo{n.first + c, lo, half, a, b};
+      if (n.count == 0) continue;
+      counters.add(kLeavesVisited);
+      counters.add(kItemsVisited, n.count);
+      const LeafVisit visit{{refs_.data() + n.first(), n.count}, cur.t0, cur.t1};
+      if constexpr (kAny) {
+        if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+      } else {
+        found |= leaf.intersect_leaf(ray, visit, hit, counters);
       }
-      // Insertion sort, far first: at most 8 entries (a ray crosses at most 4 children).
-      for (int k = 1; k < nk; ++k) {
-        const Todo x = kids[size_t(k)];
-        int j = k - 1;
-        for (; j >= 0 && (kids[size_t(j)].t0 < x.t0 ||
-                          (kids[size_t(j)].t0 == x.t0 && kids[size_t(j)].node < x.node));
-             --j)
-          kids[size_t(j + 1)] = kids[size_t(j)];
-        kids[size_t(j + 1)] = x;
-      }
-      for (int k = 0; k < nk; ++k) stack[size_t(top++)] = kids[size_t(k)];
     }
     return found;
   }
 
-  [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return refs_; }
-  [[nodiscard]] size_t memory_bytes() const override {
-    return nodes_.capacity() * sizeof(OctNode) + refs_.capacity() * sizeof(uint32_t);
+  // Pushes the non-empty children of `n` that the ray crosses, far to near so that the nearest
+  // is popped first; returns the new top.
+  template <class N>
+  static int push_children(const std::vector<N>& nodes, const N& n, const Todo& cur, const Ray& ray,
+                           const Vec3& inv, Todo* stack, int top) {
+    std::array<Todo, 8> kids;
+    int nk = 0;
+    const float half = 0.5f * cur.side;
+    const auto first = uint32_t(n.first());
+    for (uint32_t c = 0; c < 8; ++c) {
+      if (nodes[first + c].count == 0) continue;
+      const Vec3 lo = cur.lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+      float a = 0, b = 0;
+      if (Aabb{lo, lo + Vec3::Constant(half)}.intersect(ray, inv, a, b))
+        kids[size_t(nk++)] = Todo{first + c, lo, half, a, b};
+    }
+    // Insertion sort, far first: at most 8 entries (a ray crosses at most 4 children).
+    for (int k = 1; k < nk; ++k) {
+      const Todo x = kids[size_t(k)];
+      int j = k - 1;
+      for (; j >= 0 && (kids[size_t(j)].t0 < x.t0 ||
+                        (kids[size_t(j)].t0 == x.t0 && kids[size_t(j)].node < x.node));
+           --j)
+        kids[size_t(j + 1)] = kids[size_t(j)];
+      kids[size_t(j + 1)] = x;
+    }
+    for (int k = 0; k < nk; ++k) stack[top++] = kids[size_t(k)];
+    return top;
   }
 
- private:
-  void build_node(uint32_t node, std::vector<uint32_t> items, const Vec3& lo, float side,
-                  int depth) {
-    if (items.size() <= leaf_size_ || depth >= max_depth_ || !(side > 0))
-      return make_leaf(node, items);
-    const float half = 0.5f * side;
-    std::array<std::vector<uint32_t>, 8> kids;
-    for (uint32_t i : items) {
-      const Aabb b = items_.box(i);
-      const Vec3 mid = lo + Vec3::Constant(half);
-      for (uint32_t c = 0; c < 8; ++c) {
-        bool in = true;
-        for (int a = 0; a < 3 && in; ++a)
-          in = ((c >> a) & 1) ? b.hi[a] >= mid[a] : b.lo[a] <= mid[a];
-        if (in) kids[c].push_back(i);
-      }
+  // The whole tree with nodes N, flattened into `nodes` and refs_.
+  template <class N>
+  void build_all(std::vector<N>& nodes) {
+    OctBuild<N> b;
+    b.stack.resize(items_.size());
+    for (uint32_t i = 0; i < b.stack.size(); ++i) b.stack[i] = i;
+    const auto root = b.nodes.push_back(N{});
+    build_node(b, root, 0, root_lo_, root_side_, 0);
+    release(b.stack);
+    nodes = b.nodes.flatten();
+    refs_ = b.refs.flatten();
+  }
+
+  // Which children the box of item i overlaps (bit c for child c): a footprint on a mid-plane
+  // belongs to both sides.
+  [[nodiscard]] uint32_t children_of(uint32_t i, const Vec3& mid) const {
+    const Aabb b = items_.box(i);
+    uint32_t mask = 0;
+    for (uint32_t c = 0; c < 8; ++c) {
+      bool in = true;
+      for (int a = 0; a < 3 && in; ++a) in = ((c >> a) & 1) ? b.hi[a] >= mid[a] : b.lo[a] <= mid[a];
+      mask |= uint32_t(in) << c;
     }
+    return mask;
+  }
+
+  // Builds the subtree of the references stack[begin, end) into `node` and pops them.
+  template <class N>
+  void build_node(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
+                  const Vec3& lo, float side, int depth) {
+    std::vector<uint32_t>& st = b.stack;
+    const size_t n = st.size() - begin;
+    if (n <= leaf_size_ || depth >= max_depth_ || !(side > 0)) return make_leaf(b, node, begin);
+    const float half = 0.5f * side;
+    const Vec3 mid = lo + Vec3::Constant(half);
+    std::array<size_t, 8> count{};
+    for (size_t k = begin; k < st.size(); ++k)
+      for (uint32_t mask = children_of(st[k], mid); mask; mask &= mask - 1)
+        ++count[size_t(__builtin_ctz(mask))];
     // A split must pay: once footprints are wider than the cells, each item lands in several
     // children and the fullest child keeps most of them, so every further level only multiplies
     // references (identical points, or a dense plane of wide splats, would recurse to max_depth).
     // Stop when both hold: 3 references per item and over half of the items in one child. (All
     // items in one child alone is progress: the rest of the cell was empty.)
     size_t refs = 0, fullest = 0;
-    for (const auto& k : kids) refs += k.size(), fullest = std::max(fullest, k.size());
-    if (refs >= 3 * items.size() && 2 * fullest > items.size()) return make_leaf(node, items);
-    items.clear();
-    items.shrink_to_fit();
-    const auto first = uint32_t(nodes_.size());
-    nodes_[node] = OctNode{first, OctNode::kInner};
-    nodes_.resize(nodes_.size() + 8);
+    for (size_t k : count) refs += k, fullest = std::max(fullest, k);
+    if (refs >= 3 * n && 2 * fullest > n) return make_leaf(b, node, begin);
+    const std::array<size_t, 8> at = split_in_place(st, begin, mid, count);
+    b.nodes[node] = N::make(node_index32(b.nodes.size(), "octree"), kOctInner);
+    const auto kids = b.nodes.push_n(8, N{});
     for (uint32_t c = 0; c < 8; ++c) {
       const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-      build_node(first + c, std::move(kids[c]), clo, half, depth + 1);
+      build_node(b, {kids.chunk, kids.pos + c}, at[c], clo, half, depth + 1);
     }
   }
 
-  void make_leaf(uint32_t node, const std::vector<uint32_t>& items) {
-    nodes_[node] = OctNode{offset32(refs_.size(), "octree"), uint32_t(items.size())};
-    refs_.insert(refs_.end(), items.begin(), items.end());
+  // Replaces stack[begin, end) by the children's references, child 7's lowest and child 0's on
+  // top, each in its order there (written past the end, then moved down); returns where each
+  // child's start.
+  [[nodiscard]] std::array<size_t, 8> split_in_place(std::vector<uint32_t>& st, size_t begin,
+                                                     const Vec3& mid,
+                                                     const std::array<size_t, 8>& count) const {
+    const size_t end = st.size();
+    std::array<size_t, 8> at{}, w{};
+    size_t refs = 0;
+    for (int c = 7; c >= 0; --c) at[size_t(c)] = begin + refs, refs += count[size_t(c)];
+    st.resize(end + refs);
+    for (size_t c = 0; c < 8; ++c) w[c] = at[c] - begin + end;
+    for (size_t k = begin; k < end; ++k)
+      for (uint32_t mask = children_of(st[k], mid); mask; mask &= mask - 1)
+        st[w[size_t(__builtin_ctz(mask))]++] = st[k];
+    std::memmove(st.data() + begin, st.data() + end, refs * sizeof(uint32_t));
+    st.resize(begin + refs);
+    return at;
+  }
+
+  template <class N>
+  void make_leaf(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin) {
+    const size_t first = b.refs.size(), n = b.stack.size() - begin;
+    if (!N::kWide && !fits_narrow_offset(first)) throw NeedsWideOffsets{};
+    b.nodes[node] = N::make(first, uint32_t(n));
+    b.refs.append({b.stack.data() + begin, n});
+    b.stack.resize(begin);
   }
 
   size_t leaf_size_;
@@ -194,7 +267,8 @@ class Octree final : public Structure {
   ItemSet items_;
   Vec3 root_lo_ = Vec3::Zero();
   float root_side_ = 0;
-  std::vector<OctNode> nodes_;
+  std::vector<OctNode32> nodes32_;  // while every leaf's first reference fits 32 bits
+  std::vector<OctNode64> nodes64_;  // otherwise
   std::vector<uint32_t> refs_;
 };
 
