@@ -10,10 +10,15 @@
 #include "harness/cli.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <charconv>
+#include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/params.hpp"
@@ -449,7 +454,7 @@ void CommandLine::Impl::add(CLI::App& parent, const char* name, const char* summ
                             int (*run)(const Options&)) {
   CLI::App* c = parent.add_subcommand(name, summary);
   c->group("commands");
-  c->get_help_ptr()->group("options");  // made from the parent's before its option defaults
+  c->get_help_ptr()->group("options")->disable_flag_override();  // made before option defaults
   formatter->usage[c] = Options::usage;
   bind(*c, o);
   runs[c] = [run, &o] { return run(o); };
@@ -461,7 +466,7 @@ CommandLine::Impl::Impl() {
   app.formatter(formatter);
   formatter->usage[&app] = "pcrt <command> [options]   (pcrt <command> --help for each)";
   app.option_defaults()->group("options");
-  app.set_help_flag("-h,--help", "show this help");
+  app.set_help_flag("-h,--help", "show this help")->disable_flag_override();
   app.require_subcommand(0, 1);
   app.allow_extras();  // left over: reported by check_leftovers, in our words
   app.footer(
@@ -487,8 +492,9 @@ CommandLine::Impl::Impl() {
   CLI::App* cluster = app.add_subcommand(
       "cluster", "the sweep as a Slurm job array, then merge, fit, report; its state");
   cluster->group("commands")->require_subcommand(0, 1);
-  cluster->get_help_ptr()->group("options");
-  formatter->usage[cluster] = "pcrt cluster submit ... | pcrt cluster status DIR";
+  cluster->get_help_ptr()->group("options")->disable_flag_override();
+  formatter->usage[cluster] =
+      std::string(ClusterSubmitOptions::usage) + " | " + ClusterStatusOptions::usage;
   add(*cluster, "submit", "submit a sweep, or --resume what is unfinished", o.cluster_submit,
       command_cluster_submit);
   add(*cluster, "status", "Slurm state and runs done per shard; exit 0 when finished",
@@ -530,15 +536,18 @@ void CommandLine::Impl::check_leftovers(const CLI::App& c) const {
 // A required option or argument not given.
 void CommandLine::Impl::missing(const CLI::App& c) const {
   int given = 0, needed = 0;
+  bool open_ended = false;  // DIR...
   for (const CLI::Option* o : c.get_options())
     if (o->get_positional()) {
       given += int(o->count());
       needed += o->get_required() ? o->get_items_expected_min() : 0;
+      open_ended = open_ended || o->get_items_expected_max() > o->get_items_expected_min();
     }
   for (const CLI::Option* o : c.get_options())
     if (o->get_required() && o->count() == 0) {
       if (o->get_positional())
-        input_error("expected {} argument(s), got {}: usage: {}", needed, given, usage(c));
+        input_error("expected {}{} argument(s), got {}: usage: {}", open_ended ? "at least " : "",
+                    needed, given, usage(c));
       input_error("{} is required: usage: {}", o->get_name(), usage(c));
     }
   input_error("a required option is missing: usage: {}", usage(c));

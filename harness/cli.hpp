@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/command_options.hpp"
-
 namespace pcrt {
+
+struct AllOptions;  // harness/command_options.hpp (not included: main.cpp need not compile it)
 
 class CommandLine {
  public:

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
+#include "harness/command_options.hpp"
 
 using namespace pcrt;
 using Catch::Matchers::Contains;
