@@ -120,7 +120,9 @@ TEST_CASE("parse errors are our one-line messages", "[cli]") {
              Contains("--no-light given twice"));
   CHECK_THAT(error_of(render_with({"--width"})), Contains("--width needs a value (W)"));
   CHECK_THAT(error_of({"info", "x", "--json=1"}), Contains("--json takes no value"));
+  CHECK_THAT(error_of({"info", "x", "--help=1"}), Contains("--help takes no value"));
   CHECK_THAT(error_of({"info"}), Contains("expected 1 argument(s), got 0"));
+  CHECK_THAT(error_of({"merge", "--out", "m"}), Contains("expected at least 1 argument(s), got 0"));
   CHECK_THAT(error_of({"info", "a", "b"}), Contains("unexpected argument 'b' (takes at most 1)"));
   CHECK_THAT(error_of({"list", "--json", "1"}),
              Contains("unexpected argument '1' (takes no arguments)"));
