@@ -10,7 +10,7 @@ install(TARGETS pcrt RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(FILES ${CMAKE_SOURCE_DIR}/scripts/report.py DESTINATION ${CMAKE_INSTALL_DATADIR}/pcrt)
 foreach(layer core structures preprocess methods render reconstruction harness)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/${layer} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pcrt
-          FILES_MATCHING PATTERN "*.hpp")
+          FILES_MATCHING PATTERN "*.hpp" PATTERN "cli.hpp" EXCLUDE)  # pcrt_cli is not installed
 endforeach()
 set(PCRT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/pcrt)
 install(EXPORT pcrtTargets NAMESPACE pcrt:: DESTINATION ${PCRT_CMAKE_DIR})

@@ -15,7 +15,6 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/rng.hpp"
-#include "harness/cli_args.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "methods/kernels/disc_lanes.hpp"
@@ -158,27 +157,11 @@ json mesh_anchor(const std::string& path, int w, int h, int reps) {
   return j;
 }
 
-std::vector<OptionSpec> anchor_options() {
-  return {{"data", "DATA", "point cloud file or generator spec"},
-          {"mesh", "MESH.ply",
-           "instead of --data: our triangle BVH against Embree's triangles on this mesh"},
-          {"method", "M", "only this splat-family method (default: all of them)"},
-          {"structure", "S", "only this structure (default: all but brute_force)"},
-          {"set", "NAME=VALUE", "a parameter of the candidates' method or structure (repeatable)"},
-          integer_option("width", "W", "image width", 512, 1, 16384),
-          integer_option("height", "H", "image height", 512, 1, 16384),
-          integer_option("reps", "R",
-                         "timed passes of each scene after one warm-up; medians are reported", 7, 1,
-                         1000),
-          threads_option(),
-          {"json", "", "print JSON"}};
-}
-
 // --mesh: our triangle BVH against Embree's triangles.
-int anchor_mesh(const CliArgs& a, int w, int hgt, int reps) {
-  if (a.has("data")) input_error("pcrt anchor: --mesh and --data exclude each other");
-  const json j = mesh_anchor(a.get("mesh"), w, hgt, reps);
-  if (a.has("json")) {
+int anchor_mesh(const AnchorOptions& o) {
+  if (o.data) input_error("pcrt anchor: --mesh and --data exclude each other");
+  const json j = mesh_anchor(*o.mesh, o.width, o.height, o.reps);
+  if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -190,20 +173,11 @@ int anchor_mesh(const CliArgs& a, int w, int hgt, int reps) {
   return 0;
 }
 
-// The --set values, and --method/--structure checked to name a splat method and a structure.
-ParamValues anchor_overrides(const CliArgs& a) {
-  ParamValues overrides;
-  for (const std::string& s : a.all("set")) {
-    auto [name, value] = parse_assignment(s);
-    if (overrides.count(name)) input_error("--set {} given twice", name);
-    overrides[name] = value;
-  }
-  if (a.has("method") &&
-      !splat_family(MethodRegistry::instance().get(a.get("method"), "method").family))
-    input_error("pcrt anchor: --method {} is not of the splat family", a.get("method"));
-  if (a.has("structure"))
-    (void)StructureRegistry::instance().get(a.get("structure"), "structure");  // known id?
-  return overrides;
+// --method and --structure checked to name a splat method and a structure.
+void check_anchor_candidates(const AnchorOptions& o) {
+  if (o.method && !splat_family(MethodRegistry::instance().get(*o.method, "method").family))
+    input_error("pcrt anchor: --method {} is not of the splat family", *o.method);
+  if (o.structure) (void)StructureRegistry::instance().get(*o.structure, "structure");  // known?
 }
 
 // What every candidate is timed against, on the same rays.
@@ -243,15 +217,15 @@ json time_candidate(const AnchorBench& b, const MethodInfo& m, const StructureIn
   return e;
 }
 
-json time_candidates(const CliArgs& a, const AnchorBench& b) {
+json time_candidates(const AnchorOptions& o, const AnchorBench& b) {
   json candidates = json::array();
   for (const MethodInfo& m : MethodRegistry::instance().all()) {
     if (!splat_family(m.family) || !m.own_structure.empty()) continue;
-    if (a.has("method") && a.get("method") != m.id) continue;
+    if (o.method && *o.method != m.id) continue;
     for (const StructureInfo& s : StructureRegistry::instance().all()) {
-      if (s.id == "brute_force" || (a.has("structure") && a.get("structure") != s.id)) continue;
+      if (s.id == "brute_force" || (o.structure && *o.structure != s.id)) continue;
       candidates.push_back(time_candidate(b, m, s));
-      if (!a.has("json")) print_candidate(candidates.back(), b.sets);
+      if (!o.json) print_candidate(candidates.back(), b.sets);
     }
   }
   return candidates;
@@ -287,20 +261,14 @@ void print_best(const json& best, const json& best_same) {
 
 }  // namespace
 
-int command_anchor(const Args& args) {
-  CliArgs a("anchor",
-            "pcrt anchor --data DATA [--method M] [--structure S] [--set NAME=VALUE] [--width W "
-            "--height H --threads T --reps R] [--json]",
-            anchor_options(), 0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const int w = int(a.integer("width")), hgt = int(a.integer("height"));
-  const int reps = int(a.integer("reps"));
-  if (a.has("mesh")) return anchor_mesh(a, w, hgt, reps);
-  const std::string data = a.require("data");
+int command_anchor(const AnchorOptions& o) {
+  auto limit = limit_threads(o.threads);
+  if (o.mesh) return anchor_mesh(o);
+  const std::string& data = required(o.data, "--data", AnchorOptions::usage);
   const Dataset d = load_dataset(data);
   const Aabb bounds = d.cloud.bounds();
-  const ParamValues overrides = anchor_overrides(a);
+  check_anchor_candidates(o);
+  const int w = o.width, hgt = o.height;
   const Camera cam = Camera::framing(bounds, w, hgt);
   RaySet primary{"primary", Query::kClosest, {}}, bounce{"bounce", Query::kClosest, {}},
       shadow{"shadow", Query::kAny, {}};
@@ -315,15 +283,15 @@ int command_anchor(const Args& args) {
       d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 0}}}, prep, t);
   secondary_rays(embree_morton, primary.rays, bounds, bounce, shadow);
   const AnchorBench bench{
-      d, overrides, {&embree_morton, &embree_cloud}, {&primary, &bounce, &shadow}, reps};
-  const json candidates = time_candidates(a, bench);
+      d, o.set, {&embree_morton, &embree_cloud}, {&primary, &bounce, &shadow}, o.reps};
+  const json candidates = time_candidates(o, bench);
   const json best = best_candidate(candidates, false), best_same = best_candidate(candidates, true);
   const json j = {{"dataset", data},
                   {"N", d.cloud.size()},
                   {"width", w},
                   {"height", hgt},
-                  {"reps", reps},
-                  {"set", overrides},
+                  {"reps", o.reps},
+                  {"set", o.set},
                   {"leaf_simd", disc_lanes_name()},
                   {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
                   {"references",
@@ -331,7 +299,7 @@ int command_anchor(const Args& args) {
                   {"best", best},
                   {"best_same_discs", best_same},
                   {"candidates", candidates}};
-  if (a.has("json"))
+  if (o.json)
     std::printf("%s\n", j.dump(2).c_str());
   else
     print_best(best, best_same);

@@ -98,11 +98,13 @@ std::string index_list(const std::vector<size_t>& shards) {
 }
 
 // --partition, --time, --cpus-per-task, --mem and every --sbatch-arg, as sbatch options.
-std::vector<std::string> resource_options(const CliArgs& a) {
+std::vector<std::string> resource_options(const ClusterSubmitOptions& o) {
   std::vector<std::string> opts;
-  for (const char* name : {"partition", "time", "cpus-per-task", "mem"})
-    if (a.has(name)) opts.push_back(fmt::format("--{}={}", name, a.get(name)));
-  for (const std::string& extra : a.all("sbatch-arg")) opts.push_back(extra);
+  for (const auto& [name, value] :
+       {std::pair{"partition", &o.partition}, std::pair{"time", &o.time},
+        std::pair{"cpus-per-task", &o.cpus_per_task}, std::pair{"mem", &o.mem}})
+    if (*value) opts.push_back(fmt::format("--{}={}", name, **value));
+  opts.insert(opts.end(), o.sbatch_args.begin(), o.sbatch_args.end());
   return opts;
 }
 
@@ -287,46 +289,45 @@ void submit(const ClusterDir& d, const Submission& s, bool dry_run) {
 
 // DIR/slurm: the config, the plan and both job scripts.
 void write_cluster_files(const ClusterDir& d, const SweepConfig& config, size_t n,
-                         const CliArgs& a) {
+                         const ClusterSubmitOptions& o) {
   fs::create_directories(d.slurm() + "/logs");
   const std::vector<RunResult> earlier =
-      a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<RunResult>{};
+      o.costs ? read_runs_jsonl(*o.costs + "/runs.jsonl") : std::vector<RunResult>{};
   const ShardPlan plan = plan_shards(run_costs(config.runs, earlier), n);
   write_json(d.config(), config.raw);
-  write_json(d.plan(), plan_json(plan, config.runs, a.has("costs") ? a.get("costs") : "model"));
-  std::vector<std::string> options = resource_options(a);
-  if (!a.has("cpus-per-task"))  // a run uses the config's threads
+  write_json(d.plan(), plan_json(plan, config.runs, o.costs.value_or("model")));
+  std::vector<std::string> options = resource_options(o);
+  if (!o.cpus_per_task)  // a run uses the config's threads
     options.insert(options.begin(),
                    fmt::format("--cpus-per-task={}", config.raw.value("threads", 2)));
   write_script(d.shard_script(), shard_script(d, config.name, n, options));
-  write_script(d.merge_script(), merge_script(d, config.name, n, resource_options(a)));
+  write_script(d.merge_script(), merge_script(d, config.name, n, resource_options(o)));
   const auto [lo, hi] = std::minmax_element(plan.cost.begin(), plan.cost.end());
   std::printf("%s: %zu runs in %zu shards, estimated %.1f to %.1f s each\n", d.slurm().c_str(),
               config.runs.size(), n, *lo, *hi);
 }
 
-int submit_fresh(const CliArgs& a, bool dry_run) {
-  const SweepConfig config = load_sweep_config(a.positional()[0]);
-  const ClusterDir d = cluster_dir(a.require("out"));
-  if (!a.has("shards")) input_error("--shards N is required");
-  const size_t n = size_t(a.integer("shards"));
+int submit_fresh(const ClusterSubmitOptions& o) {
+  const SweepConfig config = load_sweep_config(o.target);
+  const ClusterDir d = cluster_dir(required(o.out, "--out", ClusterSubmitOptions::usage));
+  if (!o.shards) input_error("--shards N is required");
+  const size_t n = *o.shards;
   if (n > config.runs.size())
-    input_error("--shards {} is more than the {} runs of {}", n, config.runs.size(),
-                a.positional()[0]);
+    input_error("--shards {} is more than the {} runs of {}", n, config.runs.size(), o.target);
   if (fs::exists(d.jobs()))
     input_error(
         "{}: already submitted; pcrt cluster submit --resume {} resubmits what is "
         "unfinished",
         d.root, d.root);
-  write_cluster_files(d, config, n, a);
+  write_cluster_files(d, config, n, o);
   std::vector<size_t> all(n);
   std::iota(all.begin(), all.end(), size_t(0));
-  submit(d, {all, {}}, dry_run);
+  submit(d, {all, {}}, o.dry_run);
   return 0;
 }
 
-int submit_resume(const CliArgs& a, bool dry_run) {
-  const ClusterDir d = cluster_dir(a.positional()[0]);
+int submit_resume(const ClusterSubmitOptions& o) {
+  const ClusterDir d = cluster_dir(o.target);
   require_slurm_command("squeue");  // even for --dry-run: what is unfinished comes from squeue
   if (!fs::exists(d.jobs())) input_error("{}: nothing was submitted yet", d.jobs());
   const std::vector<Part> parts = survey(d);
@@ -334,50 +335,34 @@ int submit_resume(const CliArgs& a, bool dry_run) {
     if (p.progress == Progress::Active)
       input_error("{} is still {} (job {}): wait for it, or scancel it, before --resume", p.name,
                   job_state_name(p.slurm.state), p.job);
-  Submission s{{}, resource_options(a)};
+  Submission s{{}, resource_options(o)};
   for (size_t i = 0; i + 1 < parts.size(); ++i)
     if (parts[i].progress != Progress::Finished) s.shards.push_back(i);
   if (s.shards.empty() && parts.back().progress == Progress::Finished) {
     std::printf("%s: every shard and the merge finished; nothing to resubmit\n", d.root.c_str());
     return 0;
   }
-  submit(d, s, dry_run);
+  submit(d, s, o.dry_run);
   return 0;
 }
 
-int cluster_submit(const Args& args) {
-  CliArgs a("cluster submit",
-            "pcrt cluster submit CONFIG.json --out DIR --shards N [options] | pcrt cluster "
-            "submit --resume DIR",
-            {{"out", "DIR", "output directory: scripts in DIR/slurm, shards in DIR/shards"},
-             {"shards", "N", "array tasks, balanced on estimated run time", false, "", 1, 100000},
-             {"partition", "P", "sbatch --partition"},
-             {"time", "HH:MM:SS", "sbatch --time, per shard and for the merge"},
-             {"cpus-per-task", "C", "sbatch --cpus-per-task (default: the config's threads)"},
-             {"mem", "M", "sbatch --mem"},
-             {"sbatch-arg", "ARG", "any further sbatch option, e.g. --sbatch-arg=--qos=long", true},
-             {"costs", "DIR", "balance on an earlier sweep's run times (DIR/runs.jsonl)"},
-             {"resume", "", "resubmit the unfinished shards (and the merge) of DIR"},
-             {"dry-run", "", "write the scripts and print the sbatch commands only"}},
-            1, 1);
-  if (!a.parse(args)) return 0;
-  const bool dry_run = a.has("dry-run");
-  if (!dry_run) require_slurm_command("sbatch");
-  if (a.has("resume")) {
-    if (a.has("out") || a.has("shards") || a.has("costs"))
+}  // namespace
+
+int command_cluster_submit(const ClusterSubmitOptions& o) {
+  if (!o.dry_run) require_slurm_command("sbatch");
+  if (o.resume) {
+    if (o.out || o.shards || o.costs)
       input_error(
           "--resume DIR takes the shards and plan of DIR; --out, --shards and --costs "
           "belong to a first submission");
-    return submit_resume(a, dry_run);
+    return submit_resume(o);
   }
-  return submit_fresh(a, dry_run);
+  return submit_fresh(o);
 }
 
-int cluster_status(const Args& args) {
-  CliArgs a("cluster status", "pcrt cluster status DIR", {}, 1, 1);
-  if (!a.parse(args)) return 0;
+int command_cluster_status(const ClusterStatusOptions& o) {
   require_slurm_command("squeue");
-  const ClusterDir d = cluster_dir(a.positional()[0]);
+  const ClusterDir d = cluster_dir(o.dir);
   if (fs::exists(d.plan()) && !fs::exists(d.jobs()))
     input_error("{}: not submitted (only scripts written, by --dry-run?)", d.root);
   const std::vector<Part> parts = survey(d);
@@ -399,23 +384,6 @@ int cluster_status(const Args& args) {
   }
   std::printf("%s: finished\n", d.root.c_str());
   return 0;
-}
-
-}  // namespace
-
-int command_cluster(const Args& args) {
-  const std::string usage =
-      "usage: pcrt cluster submit CONFIG.json --out DIR --shards N [...] | pcrt cluster submit "
-      "--resume DIR | pcrt cluster status DIR";
-  if (args.empty()) input_error("{}", usage);
-  const Args rest(args.begin() + 1, args.end());
-  if (args[0] == "submit") return cluster_submit(rest);
-  if (args[0] == "status") return cluster_status(rest);
-  if (args[0] == "--help" || args[0] == "-h") {
-    std::printf("%s\n", usage.c_str());
-    return 0;
-  }
-  input_error("unknown subcommand '{}': {}", args[0], usage);
 }
 
 }  // namespace pcrt

@@ -1,18 +1,19 @@
 // Small pieces every command shares: JSON of parameters and counters, atomic JSON output, the
-// --threads limit.
+// --threads limit, options a command needs in one use.
 #pragma once
 
 #include <tbb/global_control.h>
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/counters.hpp"
+#include "core/error.hpp"
 #include "core/file_output.hpp"
 #include "core/params.hpp"
-#include "harness/cli_args.hpp"
 
 namespace pcrt {
 
@@ -45,17 +46,18 @@ inline void write_json(const std::string& path, const json& j) {
   write_file_atomically(path, json_writer(j));
 }
 
-// --threads, declared once for every command that has it.
-inline OptionSpec threads_option() {
-  return integer_option("threads", "N", "worker threads (0: all cores)", 0, 0, 1024);
+// --threads for every parallel phase (TBB's global limit); 0: all cores.
+inline std::unique_ptr<tbb::global_control> limit_threads(int threads) {
+  if (threads == 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(threads));
 }
 
-// --threads for every parallel phase (TBB's global limit).
-inline std::unique_ptr<tbb::global_control> limit_threads(const CliArgs& a) {
-  const long long t = a.integer("threads");
-  if (t == 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               size_t(t));
+// The value of an option this use of a command needs (--data without --mesh, say).
+inline const std::string& required(const std::optional<std::string>& value, const char* option,
+                                   const char* usage) {
+  if (!value) input_error("{} is required: usage: {}", option, usage);
+  return *value;
 }
 
 }  // namespace pcrt

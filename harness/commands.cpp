@@ -20,7 +20,6 @@
 #include "core/process_usage.hpp"
 #include "core/ray_io.hpp"
 #include "harness/claims.hpp"
-#include "harness/cli_args.hpp"
 #include "harness/command_helpers.hpp"
 #include "preprocess/point_attributes.hpp"
 #include "reconstruction/mesh_engine.hpp"
@@ -36,43 +35,9 @@
 namespace pcrt {
 namespace {
 
-std::vector<OptionSpec> scene_options() {
-  return {{"method", "ID", "method id (pcrt list)"},
-          {"data", "DATA", "point cloud file or generator spec"},
-          {"mesh", "FILE", "trace this triangle mesh (.ply/.off) instead of a point method"},
-          {"engine", "ID", "triangle engine for --mesh: bvh, cgal_aabb or embree", false, "bvh"},
-          {"structure", "ID", "acceleration structure (default: the method's paper's)"},
-          {"set", "NAME=VALUE", "method or structure parameter (repeatable)", true},
-          threads_option(),
-          {"stats", "FILE.json", "write parameters, counters and timings as JSON"}};
-}
-
-SceneOptions scene_options_from(const CliArgs& a) {
-  SceneOptions o;
-  o.method = a.require("method");
-  o.structure = a.get("structure");
-  for (const std::string& s : a.all("set")) {
-    auto [name, value] = parse_assignment(s);
-    if (o.set.count(name)) input_error("--set {} given twice", name);
-    o.set[name] = value;
-  }
-  return o;
-}
-
-// "x,y,z" -> a non-zero vector.
-Vec3 parse_vector(const std::string& text, const std::string& what) {
-  std::vector<float> v;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    size_t comma = text.find(',', pos);
-    if (comma == std::string::npos) comma = text.size();
-    v.push_back(float(parse_number(text.substr(pos, comma - pos), what)));
-    pos = comma + 1;
-  }
-  if (v.size() != 3) input_error("{}: '{}' is not x,y,z", what, text);
-  const Vec3 r(v[0], v[1], v[2]);
-  if (!(r.norm() > 0)) input_error("{}: '{}' is the zero vector", what, text);
-  return r;
+// The point method a command traces: --method (required here), --structure and --set.
+SceneOptions point_scene_options(const SceneArgs& a, const char* usage) {
+  return {required(a.method, "--method", usage), a.structure, a.set};
 }
 
 json scene_json(const PointScene& scene, const PointCloud& cloud, const std::string& data) {
@@ -110,44 +75,53 @@ struct LoadedScene {
   }
 };
 
-std::unique_ptr<LoadedScene> load_scene(const CliArgs& a, const char* command) {
+// --mesh takes none of the point method's options, and --engine only goes with --mesh.
+void check_scene_kind(const SceneArgs& a, const char* command) {
+  if (a.mesh) {
+    for (const auto& [given, option] :
+         {std::pair{a.method.has_value(), "method"}, std::pair{a.data.has_value(), "data"},
+          std::pair{!a.structure.empty(), "structure"}, std::pair{!a.set.empty(), "set"}})
+      if (given) input_error("pcrt {}: --{} does not apply to --mesh", command, option);
+  } else if (a.engine) {
+    input_error("pcrt {}: --engine applies only to --mesh", command);
+  }
+}
+
+std::unique_ptr<LoadedScene> load_scene(const SceneArgs& a, const char* command,
+                                        const char* usage) {
+  check_scene_kind(a, command);
   auto s = std::make_unique<LoadedScene>();
-  if (a.has("mesh")) {
-    for (const char* o : {"method", "data", "structure", "set"})
-      if (a.has(o)) input_error("pcrt {}: --{} does not apply to --mesh", command, o);
-    const std::string engine = a.get("engine");
+  if (a.mesh) {
+    const std::string engine = a.engine.value_or(kDefaultMeshEngine);
     (void)MeshEngineRegistry::instance().get(engine, "mesh engine");  // names before work
     {
       ScopedTimer t(s->timings, "load");
-      s->mesh = read_mesh(a.get("mesh"));
+      s->mesh = read_mesh(*a.mesh);
     }
     s->mesh_vertices.positions = s->mesh.vertices;
     s->triangles = std::make_unique<MeshScene>(s->mesh, engine, s->prepare, s->timings);
-    s->params = {{"mesh", a.get("mesh")},
+    s->params = {{"mesh", *a.mesh},
                  {"engine", engine},
                  {"triangles", s->mesh.triangles.size()},
                  {"N", s->mesh.vertices.size()}};
     return s;
   }
-  if (a.has("engine")) input_error("pcrt {}: --engine applies only to --mesh", command);
-  const SceneOptions so = scene_options_from(a);
+  const SceneOptions so = point_scene_options(a, usage);
+  const std::string& data = required(a.data, "--data", usage);
   {
     ScopedTimer t(s->timings, "load");
-    s->data = load_dataset(a.require("data"));
+    s->data = load_dataset(data);
   }
   s->points = std::make_unique<PointScene>(s->data.cloud, so, s->prepare, s->timings);
-  s->params = scene_json(*s->points, s->data.cloud, a.get("data"));
+  s->params = scene_json(*s->points, s->data.cloud, data);
   return s;
 }
 
 }  // namespace
 
-int command_info(const Args& args) {
-  CliArgs a("info", "pcrt info DATA [--json]", {{"json", "", "print JSON"}, threads_option()}, 1,
-            1);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const Dataset d = load_dataset(a.positional()[0]);
+int command_info(const InfoOptions& o) {
+  auto limit = limit_threads(o.threads);
+  const Dataset d = load_dataset(o.data);
   const PointCloud& c = d.cloud;
   OpCounters counters;
   const double h = mean_spacing(c.positions, counters);
@@ -159,7 +133,7 @@ int command_info(const Args& args) {
             {"attributes", c.attributes()},
             {"mean_spacing", h},
             {"ground_truth", d.truth ? json(d.truth->describe()) : json(nullptr)}};
-  if (a.has("json")) {
+  if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf(
@@ -198,54 +172,10 @@ void stage_render_images(OutputFiles& outputs, const RenderResult& r, const std:
   }
 }
 
-// The camera's direction options, their defaults those of RenderSettings (written there only).
-std::string vector_text(const Vec3& v) { return fmt::format("{},{},{}", v.x(), v.y(), v.z()); }
-OptionSpec view_option() {
-  return {"view", "X,Y,Z", "direction from the cloud's centre to the camera", false,
-          vector_text(RenderSettings{}.view)};
-}
-OptionSpec up_option() {
-  return {"up", "X,Y,Z", "camera up vector", false, vector_text(RenderSettings{}.up)};
-}
-
-std::vector<OptionSpec> render_options() {
-  auto opts = scene_options();
-  opts.insert(
-      opts.end(),
-      {{"out", "FILE.png", "image to write"},
-       integer_option("width", "W", "image width in pixels", 512, 1, 16384),
-       integer_option("height", "H", "image height in pixels", 512, 1, 16384),
-       integer_option("spp", "S", "samples per pixel", 1, 1, 1 << 16),
-       integer_option("bounces", "B", "BRDF bounces after the primary hit", 1, 0, 64),
-       integer_option("seed", "N", "random seed", 1, 0, 1ll << 62),
-       {"no-light", "", "no point light: sky illumination only"},
-       view_option(),
-       up_option(),
-       {"ray-epsilon", "E", "offset of secondary ray origins (0: 1e-3 x scene diagonal)", false,
-        "0"},
-       {"depth", "FILE.png|.exr",
-        "also write the primary-hit depth image (EXR: distance in scene units, inf: no hit)"},
-       {"normals", "FILE.png|.exr",
-        "also write the primary-hit normal image (EXR: the signed normal)"}});
-  return opts;
-}
-
-RenderSettings render_settings_from(const CliArgs& a) {
-  RenderSettings rs;
-  rs.width = int(a.integer("width"));
-  rs.height = int(a.integer("height"));
-  rs.spp = int(a.integer("spp"));
-  rs.bounces = int(a.integer("bounces"));
-  rs.seed = uint64_t(a.integer("seed"));
-  rs.threads = int(a.integer("threads"));
-  rs.point_light = !a.has("no-light");
-  rs.ray_epsilon = float(a.number("ray-epsilon"));
-  if (a.has("view")) rs.view = parse_vector(a.get("view"), "pcrt render: --view");
-  if (a.has("up")) rs.up = parse_vector(a.get("up"), "pcrt render: --up");
-  if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
-    input_error("pcrt render: --view and --up must not be parallel");
-  if (rs.ray_epsilon < 0) input_error("pcrt render: --ray-epsilon must be >= 0");
-  return rs;
+// The camera's axes must span a plane.
+void check_camera_axes(const Vec3& view, const Vec3& up, const char* command) {
+  if (view.cross(up).norm() < 1e-6f * view.norm() * up.norm())
+    input_error("pcrt {}: --view and --up must not be parallel", command);
 }
 
 // --stats: the settings, counters, timings and the process's cost.
@@ -274,29 +204,26 @@ json render_stats(const LoadedScene& loaded, const RenderSettings& rs, const Ren
 
 }  // namespace
 
-int command_render(const Args& args) {
-  CliArgs a("render",
-            "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID]) --out FILE.png|.exr "
-            "[options]",
-            render_options(), 0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const std::string out = a.require("out");
-  const RenderSettings rs = render_settings_from(a);
-  for (const char* option : {"out", "depth", "normals", "stats"})
-    if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
-  const auto loaded = load_scene(a, "render");
+int command_render(const RenderOptions& o) {
+  auto limit = limit_threads(o.scene.threads);
+  RenderSettings rs = o.settings;
+  rs.threads = o.scene.threads;
+  check_camera_axes(rs.view, rs.up, "render");
+  check_output_path(o.out, "--out");
+  for (const auto& [path, option] :
+       {std::pair{&o.depth, "--depth"}, std::pair{&o.normals, "--normals"},
+        std::pair{&o.stats, "--stats"}})
+    if (*path) check_output_path(**path, option);
+  const auto loaded = load_scene(o.scene, "render", RenderOptions::usage);
   const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
   Timings& timings = loaded->timings;
   RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
   timings["render"] = r.seconds;
   OutputFiles outputs;  // all or none
-  stage_render_images(outputs, r, out, a.has("depth") ? a.get("depth") : "",
-                      a.has("normals") ? a.get("normals") : "");
-  if (a.has("stats"))
-    outputs.stage(a.get("stats"), json_writer(render_stats(*loaded, rs, r, setup_cpu)));
+  stage_render_images(outputs, r, o.out, o.depth.value_or(""), o.normals.value_or(""));
+  if (o.stats) outputs.stage(*o.stats, json_writer(render_stats(*loaded, rs, r, setup_cpu)));
   outputs.commit();
-  std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", out.c_str(), loaded->label().c_str(),
+  std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", o.out.c_str(), loaded->label().c_str(),
               loaded->cloud().size(), rs.width, rs.height, rs.spp, rs.bounces);
   std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"],
               timings["build"], r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
@@ -305,22 +232,12 @@ int command_render(const Args& args) {
   return 0;
 }
 
-int command_trace(const Args& args) {
-  auto opts = scene_options();
-  opts.insert(opts.end(), {{"rays", "RAYS.csv", "rays, header ox,oy,oz,dx,dy,dz"},
-                           {"out", "HITS.csv",
-                            "hits: ray,hit,t,px,py,pz,nx,ny,nz (t along the unit direction)"}});
-  CliArgs a("trace",
-            "pcrt trace (--method ID --data DATA | --mesh FILE [--engine ID]) --rays RAYS.csv "
-            "--out HITS.csv [options]",
-            opts, 0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const std::string out = a.require("out");
-  for (const char* option : {"out", "stats"})
-    if (a.has(option)) check_output_path(a.get(option), fmt::format("--{}", option));
-  const std::vector<Ray> rays = read_rays_csv(a.require("rays"));
-  const auto loaded = load_scene(a, "trace");
+int command_trace(const TraceOptions& o) {
+  auto limit = limit_threads(o.scene.threads);
+  check_output_path(o.out, "--out");
+  if (o.stats) check_output_path(*o.stats, "--stats");
+  const std::vector<Ray> rays = read_rays_csv(o.rays);
+  const auto loaded = load_scene(o.scene, "trace", TraceOptions::usage);
   Timings& timings = loaded->timings;
   const SceneIntersector& scene = loaded->scene();
   std::vector<Hit> hits(rays.size());
@@ -331,30 +248,30 @@ int command_trace(const Args& args) {
     counters = trace_rays(scene, rays, hits, found);
   }
   OutputFiles outputs;  // all or none
-  outputs.stage(out, [&](std::ostream& o) {
-    o << "ray,hit,t,px,py,pz,nx,ny,nz\n";
+  outputs.stage(o.out, [&](std::ostream& csv) {
+    csv << "ray,hit,t,px,py,pz,nx,ny,nz\n";
     for (size_t i = 0; i < rays.size(); ++i) {
       const Hit& h = hits[i];
       if (found[i])
-        o << fmt::format("{},1,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", i, h.t, h.p.x(),
-                         h.p.y(), h.p.z(), h.n.x(), h.n.y(), h.n.z());
+        csv << fmt::format("{},1,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", i, h.t,
+                           h.p.x(), h.p.y(), h.p.z(), h.n.x(), h.n.y(), h.n.z());
       else
-        o << i << ",0,,,,,,,\n";
+        csv << i << ",0,,,,,,,\n";
     }
   });
-  if (a.has("stats")) {
+  if (o.stats) {
     json params = loaded->params;
     params["rays"] = rays.size();
-    outputs.stage(a.get("stats"), json_writer({{"params", params},
-                                               {"counters", counters_json(counters)},
-                                               {"prepare_counters", counters_json(loaded->prepare)},
-                                               {"timings", timings},
-                                               {"structure_bytes", loaded->structure_bytes()}}));
+    outputs.stage(*o.stats, json_writer({{"params", params},
+                                         {"counters", counters_json(counters)},
+                                         {"prepare_counters", counters_json(loaded->prepare)},
+                                         {"timings", timings},
+                                         {"structure_bytes", loaded->structure_bytes()}}));
   }
   outputs.commit();
   size_t n_hit = 0;
   for (char f : found) n_hit += size_t(f);
-  std::printf("%s: %zu rays, %zu hits (%s, %zu points)\n", out.c_str(), rays.size(), n_hit,
+  std::printf("%s: %zu rays, %zu hits (%s, %zu points)\n", o.out.c_str(), rays.size(), n_hit,
               loaded->label().c_str(), loaded->cloud().size());
   return 0;
 }
@@ -370,27 +287,26 @@ struct AccuracyInput {
   json describe;
 };
 
-AccuracyInput accuracy_input(const CliArgs& a, OpCounters& prep) {
+AccuracyInput accuracy_input(const std::optional<std::string>& data, const TruthArgs& t,
+                             const char* usage, OpCounters& prep) {
   AccuracyInput in;
-  if (!a.has("truth")) {
-    if (a.has("sample") || a.has("truth-engine"))
-      input_error("pcrt accuracy: --sample and --truth-engine apply only to --truth");
-    const std::string data = a.require("data");
-    in.data = load_dataset(data);
+  if (!t.mesh) {
+    if (t.sample || t.engine) input_error("--sample and --truth-engine apply only to --truth");
+    const std::string& spec = required(data, "--data", usage);
+    in.data = load_dataset(spec);
     if (!in.data.truth)
       input_error(
-          "pcrt accuracy: --data {} is a file; accuracy needs a generator with an exact surface "
-          "or --truth MESH",
-          data);
+          "--data {} is a file; accuracy needs a generator with an exact surface or --truth MESH",
+          spec);
     in.truth = in.data.truth;
     in.h = mean_spacing(in.data.cloud.positions, prep);
-    in.describe = {{"dataset", data}};
+    in.describe = {{"dataset", spec}};
     return in;
   }
-  if (a.has("data")) input_error("pcrt accuracy: give --data or --truth, not both");
-  const std::string path = a.get("truth");
-  const MeshSampling sampling = parse_mesh_sampling(a.get("sample"));
-  const std::string engine = a.get("truth-engine");
+  if (data) input_error("give --data or --truth, not both");
+  const std::string& path = *t.mesh;
+  const MeshSampling sampling = parse_mesh_sampling(t.sample.value_or(""));
+  const std::string engine = t.engine.value_or(kDefaultMeshEngine);
   (void)MeshEngineRegistry::instance().get(engine, "mesh engine");  // names before work
   auto truth = std::make_shared<MeshSurface>(read_mesh(path), path, engine);
   SampledCloud sampled = sample_cloud(*truth, sampling, path, prep);
@@ -484,33 +400,12 @@ void print_accuracy(const std::string& label, const std::string& data, double h,
       r.faceting_floor_deg, AccuracyBounds{}.met_by(r) ? "meets the bounds" : "MISSES the bounds");
 }
 
-std::vector<OptionSpec> accuracy_options() {
-  auto opts = scene_options();
-  opts.insert(opts.end(),
-              {integer_option("rays", "N", "number of rays", 20000, 1, 100000000),
-               integer_option("seed", "N", "ray seed", 1, 0, 1ll << 62),
-               {"reconstruction", "ID",
-                "reconstruct a mesh (delaunay's surface is not a mesh: afsr) and judge it on "
-                "--engine instead of a point method"},
-               {"truth", "MESH", "judge against this triangle mesh (.off/.ply), sampled by area"},
-               {"sample", "SPEC",
-                "sampling of --truth: n=..,seed=..,noise=.. (in h),density=..,"
-                "normals=exact|estimated|none (default n=100000,seed=1,normals=exact)"},
-               {"truth-engine", "ID", "triangle engine tracing --truth", false, "bvh"},
-               integer_option("secondary", "N",
-                              "also N secondary rays from true surface points, half outward, "
-                              "half inward",
-                              0, 0, 100000000),
-               {"json", "", "print JSON"}});
-  return opts;
-}
-
-void check_accuracy_options(const CliArgs& a) {
-  if (a.has("mesh"))
+void check_accuracy_options(const AccuracyOptions& o) {
+  if (o.scene.mesh)
     input_error("pcrt accuracy: --mesh has no exact surface; use --truth or --reconstruction");
-  if (a.has("reconstruction") && a.has("method"))
+  if (o.reconstruction && o.scene.method)
     input_error("pcrt accuracy: give --method or --reconstruction, not both");
-  if (!a.has("reconstruction") && a.has("engine"))
+  if (!o.reconstruction && o.scene.engine)
     input_error("pcrt accuracy: --engine applies only to --reconstruction");
 }
 
@@ -521,24 +416,24 @@ struct JudgedScene {
   std::string method, structure;
 };
 
-std::unique_ptr<JudgedScene> judged_scene(const CliArgs& a, const PointCloud& cloud,
+std::unique_ptr<JudgedScene> judged_scene(const AccuracyOptions& o, const PointCloud& cloud,
                                           OpCounters& prep, Timings& timings) {
   auto j = std::make_unique<JudgedScene>();
-  if (!a.has("reconstruction")) {
-    auto ps = std::make_unique<PointScene>(cloud, scene_options_from(a), prep, timings);
+  if (!o.reconstruction) {
+    auto ps = std::make_unique<PointScene>(
+        cloud, point_scene_options(o.scene, AccuracyOptions::usage), prep, timings);
     j->method = ps->method_info().id;
     j->structure = ps->structure_id();
     j->scene = std::move(ps);
     return j;
   }
-  const auto& info =
-      ReconstructionRegistry::instance().get(a.get("reconstruction"), "reconstruction");
+  const auto& info = ReconstructionRegistry::instance().get(*o.reconstruction, "reconstruction");
   ReconstructionReport rec = info.run(cloud);
   if (rec.mesh.triangles.empty())
     input_error("pcrt accuracy: reconstruction '{}' makes no triangle mesh", info.id);
   timings["reconstruct"] = rec.seconds;
   j->mesh = std::move(rec.mesh);
-  j->structure = a.get("engine");
+  j->structure = o.scene.engine.value_or(kDefaultMeshEngine);
   j->method = "reconstruction:" + info.id;
   j->scene = std::make_unique<MeshScene>(j->mesh, j->structure, prep, timings);
   return j;
@@ -546,35 +441,27 @@ std::unique_ptr<JudgedScene> judged_scene(const CliArgs& a, const PointCloud& cl
 
 }  // namespace
 
-int command_accuracy(const Args& args) {
-  CliArgs a("accuracy",
-            "pcrt accuracy (--method ID [--structure ID] | --reconstruction ID [--engine ID]) "
-            "(--data GENERATOR_SPEC | --truth MESH [--sample SPEC]) [--rays N] [--json]",
-            accuracy_options(), 0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  check_accuracy_options(a);
-  const auto n_rays = size_t(a.integer("rays"));
-  const auto seed = uint64_t(a.integer("seed"));
+int command_accuracy(const AccuracyOptions& o) {
+  auto limit = limit_threads(o.scene.threads);
+  check_accuracy_options(o);
   Timings timings;
   OpCounters prep, counters;
-  const AccuracyInput in = accuracy_input(a, prep);
+  const AccuracyInput in = accuracy_input(o.scene.data, o.truth, AccuracyOptions::usage, prep);
   const PointCloud& cloud = in.data.cloud;
-  const auto judged = judged_scene(a, cloud, prep, timings);
+  const auto judged = judged_scene(o, cloud, prep, timings);
   const SceneIntersector& scene = *judged->scene;
   const std::string& method = judged->method;
   const std::string& structure = judged->structure;
-  const auto rays = accuracy_rays(*in.truth, in.h, n_rays, seed);
+  const auto rays = accuracy_rays(*in.truth, in.h, o.rays, o.seed);
   AccuracyReport r;
   {
     ScopedTimer t(timings, "trace");
     r = evaluate_accuracy(scene, *in.truth, in.h, rays, counters);
   }
-  const auto n_secondary = size_t(a.integer("secondary"));
   SecondaryReport sec;
-  if (n_secondary > 0) {
+  if (o.secondary > 0) {
     ScopedTimer t(timings, "secondary");
-    sec = evaluate_secondary(scene, *in.truth, in.h, n_secondary, seed, counters);
+    sec = evaluate_secondary(scene, *in.truth, in.h, o.secondary, o.seed, counters);
   }
   json j = {{"method", method},
             {"structure", structure},
@@ -584,13 +471,13 @@ int command_accuracy(const Args& args) {
             {"timings", timings}};
   j.update(in.describe);
   j.update(accuracy_json(r));
-  if (n_secondary > 0) j["secondary"] = secondary_json(sec);
-  if (a.has("json")) {
+  if (o.secondary > 0) j["secondary"] = secondary_json(sec);
+  if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
   print_accuracy(method + " on " + structure, j["dataset"].get<std::string>(), in.h, r);
-  if (n_secondary > 0) print_secondary(sec);
+  if (o.secondary > 0) print_secondary(sec);
   return 0;
 }
 
@@ -612,50 +499,32 @@ json comparison_json(const FrameComparison& c) {
           {"rmse", c.rmse}};
 }
 
-std::vector<OptionSpec> compare_options() {
-  auto opts = scene_options();
-  opts.insert(opts.end(),
-              {{"truth", "MESH", "the mesh the cloud is sampled on and rendered as the truth"},
-               {"sample", "SPEC", "sampling of --truth, as for pcrt accuracy"},
-               {"truth-engine", "ID", "triangle engine rendering --truth", false, "bvh"},
-               {"out", "DIFF.png", "difference picture (red missing, blue extra, yellow normal)"},
-               {"images", "PREFIX", "also write PREFIX.method.png and PREFIX.truth.png"},
-               integer_option("width", "W", "image width", 256, 1, 16384),
-               integer_option("height", "H", "image height", 256, 1, 16384),
-               integer_option("seed", "N", "random seed", 1, 0, 1ll << 62),
-               view_option(),
-               up_option(),
-               {"json", "", "print JSON"}});
-  return opts;
-}
-
-// The options compare refuses, and its outputs checked before any work; returns --out.
-std::string compare_output(const CliArgs& a) {
-  if (!a.has("truth")) input_error("pcrt compare: --truth MESH is required");
-  for (const char* o : {"data", "mesh", "engine"})
-    if (a.has(o))
-      input_error("pcrt compare: --{} does not apply (the cloud comes from --truth)", o);
-  const std::string out = a.require("out");
-  check_output_path(out, "--out");
-  if (a.has("images")) {
-    check_output_path(a.get("images") + ".method.png", "--images");
-    check_output_path(a.get("images") + ".truth.png", "--images");
+// The options compare refuses, and its outputs checked before any work.
+void check_compare_options(const CompareOptions& o) {
+  if (!o.truth.mesh) input_error("pcrt compare: --truth MESH is required");
+  for (const auto& [given, option] :
+       {std::pair{o.scene.data.has_value(), "data"}, std::pair{o.scene.mesh.has_value(), "mesh"},
+        std::pair{o.scene.engine.has_value(), "engine"}})
+    if (given)
+      input_error("pcrt compare: --{} does not apply (the cloud comes from --truth)", option);
+  check_output_path(o.out, "--out");
+  if (o.images) {
+    check_output_path(*o.images + ".method.png", "--images");
+    check_output_path(*o.images + ".truth.png", "--images");
   }
-  return out;
 }
 
-RenderSettings compare_settings(const CliArgs& a) {
+RenderSettings compare_settings(const CompareOptions& o) {
   RenderSettings rs;
-  rs.width = int(a.integer("width"));
-  rs.height = int(a.integer("height"));
-  rs.seed = uint64_t(a.integer("seed"));
-  rs.threads = int(a.integer("threads"));
+  rs.width = o.width;
+  rs.height = o.height;
+  rs.seed = o.seed;
+  rs.threads = o.scene.threads;
   rs.spp = 1;
   rs.bounces = 0;  // direct light only: no sampling noise between the two frames
-  if (a.has("view")) rs.view = parse_vector(a.get("view"), "pcrt compare: --view");
-  if (a.has("up")) rs.up = parse_vector(a.get("up"), "pcrt compare: --up");
-  if (rs.view.cross(rs.up).norm() < 1e-6f * rs.view.norm() * rs.up.norm())
-    input_error("pcrt compare: --view and --up must not be parallel");
+  rs.view = o.view;
+  rs.up = o.up;
+  check_camera_axes(rs.view, rs.up, "compare");
   return rs;
 }
 
@@ -674,21 +543,17 @@ void print_comparison(const std::string& out, const json& j, const RenderSetting
 
 }  // namespace
 
-int command_compare(const Args& args) {
-  CliArgs a("compare",
-            "pcrt compare --method ID --truth MESH [--sample SPEC] --out DIFF.png [options]",
-            compare_options(), 0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  const std::string out = compare_output(a);
-  RenderSettings rs = compare_settings(a);
+int command_compare(const CompareOptions& o) {
+  auto limit = limit_threads(o.scene.threads);
+  check_compare_options(o);
+  RenderSettings rs = compare_settings(o);
   OpCounters prep;
   Timings timings;
-  const AccuracyInput in = accuracy_input(a, prep);
+  const AccuracyInput in = accuracy_input(std::nullopt, o.truth, CompareOptions::usage, prep);
   const auto& truth = static_cast<const MeshSurface&>(*in.truth);
-  PointScene method(in.data.cloud, scene_options_from(a), prep, timings);
-  const MeshScene mesh(truth.mesh(), a.has("truth-engine") ? a.get("truth-engine") : "bvh", prep,
-                       timings);
+  PointScene method(in.data.cloud, point_scene_options(o.scene, CompareOptions::usage), prep,
+                    timings);
+  const MeshScene mesh(truth.mesh(), o.truth.engine.value_or(kDefaultMeshEngine), prep, timings);
   // One camera and one light for both frames: both framed on the mesh's vertices.
   PointCloud frame;
   frame.positions = truth.mesh().vertices;
@@ -698,10 +563,10 @@ int command_compare(const Args& args) {
   const FrameComparison c = compare_frames(t, m);
   const Image difference = difference_image(t, m);
   OutputFiles outputs;  // all or none
-  outputs.stage(out, png_writer(difference), true);
-  if (a.has("images")) {
-    outputs.stage(a.get("images") + ".method.png", png_writer(m.image), true);
-    outputs.stage(a.get("images") + ".truth.png", png_writer(t.image), true);
+  outputs.stage(o.out, png_writer(difference), true);
+  if (o.images) {
+    outputs.stage(*o.images + ".method.png", png_writer(m.image), true);
+    outputs.stage(*o.images + ".truth.png", png_writer(t.image), true);
   }
   outputs.commit();
   json j = {{"method", method.method_info().id},
@@ -712,10 +577,10 @@ int command_compare(const Args& args) {
             {"counters", counters_json(m.counters)}};
   j.update(in.describe);
   j.update(comparison_json(c));
-  if (a.has("json"))
+  if (o.json)
     std::printf("%s\n", j.dump(2).c_str());
   else
-    print_comparison(out, j, rs, c);
+    print_comparison(o.out, j, rs, c);
   return 0;
 }
 
@@ -802,28 +667,20 @@ void print_catalogue(const json& j) {
 
 }  // namespace
 
-int command_list(const Args& args) {
-  CliArgs a("list", "pcrt list [--json]", {{"json", "", "print JSON"}}, 0, 0);
-  if (!a.parse(args)) return 0;
+int command_list(const ListOptions& o) {
   const json j = catalogue_json();
-  if (a.has("json"))
+  if (o.json)
     std::printf("%s\n", j.dump(2).c_str());
   else
     print_catalogue(j);
   return 0;
 }
 
-int command_convert(const Args& args) {
-  CliArgs a("convert", "pcrt convert DATA --out FILE.ply [--ascii]",
-            {{"out", "FILE.ply", "PLY file to write"},
-             {"ascii", "", "ASCII PLY (default binary little endian)"}},
-            1, 1);
-  if (!a.parse(args)) return 0;
-  const std::string out = a.require("out");
-  check_output_path(out, "--out");
-  const Dataset d = load_dataset_in_input_order(a.positional()[0]);  // a file keeps its order
-  write_ply(out, d.cloud, a.has("ascii") ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
-  std::printf("%s: %zu points (%s)\n", out.c_str(), d.cloud.size(),
+int command_convert(const ConvertOptions& o) {
+  check_output_path(o.out, "--out");
+  const Dataset d = load_dataset_in_input_order(o.data);  // a file keeps its order
+  write_ply(o.out, d.cloud, o.ascii ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
+  std::printf("%s: %zu points (%s)\n", o.out.c_str(), d.cloud.size(),
               fmt::format("{}", fmt::join(d.cloud.attributes(), ", ")).c_str());
   return 0;
 }

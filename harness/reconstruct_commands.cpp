@@ -17,31 +17,21 @@
 
 namespace pcrt {
 
-int command_reconstruct(const Args& args) {
-  CliArgs a("reconstruct",
-            "pcrt reconstruct --method delaunay|afsr --data DATA [--out MESH.ply] [--json]",
-            {{"method", "ID", "reconstruction id (pcrt list)"},
-             {"data", "DATA", "point cloud file or generator spec"},
-             {"out", "MESH.ply", "write the mesh (reconstructions that make one)"},
-             threads_option(),
-             {"json", "", "print JSON"}},
-            0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
+int command_reconstruct(const ReconstructOptions& o) {
+  auto limit = limit_threads(o.threads);
   const ReconstructionInfo& info =
-      ReconstructionRegistry::instance().get(a.require("method"), "reconstruction");
-  const std::string data = a.require("data");
-  if (a.has("out")) check_output_path(a.get("out"), "--out");
-  const Dataset d = load_dataset(data);
+      ReconstructionRegistry::instance().get(o.method, "reconstruction");
+  if (o.out) check_output_path(*o.out, "--out");
+  const Dataset d = load_dataset(o.data);
   const ReconstructionReport r = info.run(d.cloud);
-  if (a.has("out")) {
+  if (o.out) {
     if (r.mesh.triangles.empty())
       input_error("pcrt reconstruct: --out: '{}' makes no triangle mesh", info.id);
-    write_mesh_ply(a.get("out"), r.mesh);
+    write_mesh_ply(*o.out, r.mesh);
   }
   auto opt = [](const std::optional<uint64_t>& v) { return v ? json(*v) : json(nullptr); };
   const json j = {{"method", r.method},
-                  {"dataset", data},
+                  {"dataset", o.data},
                   {"points", r.points},
                   {"vertices", r.vertices},
                   {"seconds", r.seconds},
@@ -50,11 +40,11 @@ int command_reconstruct(const Args& args) {
                   {"facets", opt(r.facets)},
                   {"triangles", opt(r.triangles)},
                   {"boundary_edges", opt(r.boundary_edges)}};
-  if (a.has("json")) {
+  if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  std::printf("%s of %s: %zu points in %.3f s\n", r.method.c_str(), data.c_str(), r.points,
+  std::printf("%s of %s: %zu points in %.3f s\n", r.method.c_str(), o.data.c_str(), r.points,
               r.seconds);
   for (const char* k : {"cells", "facets", "triangles", "boundary_edges", "memory_bytes"})
     if (!j[k].is_null()) std::printf("  %-16s %llu\n", k, (unsigned long long)j[k].get<uint64_t>());
@@ -160,47 +150,17 @@ void print_crossover(const CrossoverResult& r, const std::string& data, size_t n
 
 }  // namespace
 
-int command_crossover(const Args& args) {
-  CliArgs a(
-      "crossover",
-      "pcrt crossover --data DATA --method ID [--structure ID] [--reconstruction afsr] "
-      "[--engine bvh] [--width W --height H --spp S --bounces B --reps R --frames F] [--json]",
-      {{"data", "DATA", "point cloud file or generator spec"},
-       {"method", "ID", "direct method"},
-       {"structure", "ID", "its structure (default: the paper's)"},
-       {"reconstruction", "ID", "reconstruction", false, "afsr"},
-       {"engine", "ID", "triangle engine", false, "bvh"},
-       integer_option("width", "W", "image width", 512, 1, 16384),
-       integer_option("height", "H", "image height", 512, 1, 16384),
-       integer_option("spp", "S", "samples per pixel", 1, 1, 1 << 16),
-       integer_option("bounces", "B", "BRDF bounces after the primary hit", 1, 0, 64),
-       integer_option("reps", "R", "frames measured per side, median taken", 3, 1, 1000),
-       integer_option("frames", "F", "report the time to F frames too", 100, 1, 1ll << 40),
-       threads_option(),
-       {"json", "", "print JSON"}},
-      0, 0);
-  if (!a.parse(args)) return 0;
-  auto limit = limit_threads(a);
-  RenderSettings rs;
-  rs.width = int(a.integer("width"));
-  rs.height = int(a.integer("height"));
-  rs.spp = int(a.integer("spp"));
-  rs.bounces = int(a.integer("bounces"));
-  rs.threads = int(a.integer("threads"));
-  const int reps = int(a.integer("reps"));
-  const long long frames = a.integer("frames");
-  const std::string data = a.require("data");
-  const Dataset d = load_dataset(data);
-
-  SceneOptions so;
-  so.method = a.require("method");
-  so.structure = a.get("structure");
-  const CrossoverResult r =
-      measure_crossover(d.cloud, so, a.get("reconstruction"), a.get("engine"), rs, reps);
-  if (a.has("json"))
-    std::printf("%s\n", crossover_json(r, data, d.cloud.size(), rs, frames).dump(2).c_str());
+int command_crossover(const CrossoverOptions& o) {
+  auto limit = limit_threads(o.threads);
+  RenderSettings rs = o.settings;
+  rs.threads = o.threads;
+  const Dataset d = load_dataset(o.data);
+  const CrossoverResult r = measure_crossover(d.cloud, SceneOptions{o.method, o.structure, {}},
+                                              o.reconstruction, o.engine, rs, o.reps);
+  if (o.json)
+    std::printf("%s\n", crossover_json(r, o.data, d.cloud.size(), rs, o.frames).dump(2).c_str());
   else
-    print_crossover(r, data, d.cloud.size(), rs);
+    print_crossover(r, o.data, d.cloud.size(), rs);
   return 0;
 }
 

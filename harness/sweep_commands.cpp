@@ -36,17 +36,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// "i/n" -> (i, n), 0 <= i < n.
-std::pair<size_t, size_t> parse_shard(const std::string& text) {
-  const size_t slash = text.find('/');
-  if (slash == std::string::npos) input_error("--shard {}: expected i/n", text);
-  const double i = parse_number(text.substr(0, slash), "--shard");
-  const double n = parse_number(text.substr(slash + 1), "--shard");
-  if (!(n >= 1 && i >= 0 && i < n && i == std::floor(i) && n == std::floor(n)))
-    input_error("--shard {}: needs whole numbers 0 <= i < n", text);
-  return {size_t(i), size_t(n)};
-}
-
 std::string fmt_duration(double s) {
   if (s < 90) return fmt::format("{:.0f} s", s);
   return fmt::format("{:.0f} min {:.0f} s", std::floor(s / 60), std::fmod(s, 60));
@@ -166,18 +155,16 @@ std::vector<size_t> all_runs(const SweepConfig& config) {
 
 // The runs of shard i/n: from a plan file when given (a cluster sweep fixes its split once),
 // else balanced on estimated costs (the model's, or an earlier sweep's times).
-std::vector<size_t> shard_runs(const SweepConfig& config, const CliArgs& a) {
-  if (!a.has("shard")) {
-    if (a.has("plan") || a.has("costs")) input_error("--plan and --costs need --shard");
+std::vector<size_t> shard_runs(const SweepConfig& config, const SweepOptions& o) {
+  if (!o.shard) {
+    if (o.plan || o.costs) input_error("--plan and --costs need --shard");
     return all_runs(config);
   }
-  const auto [i, n] = parse_shard(a.get("shard"));
-  if (a.has("plan") && a.has("costs"))
-    input_error("--plan fixes the shards; --costs cannot move them");
-  if (a.has("plan"))
-    return plan_shard(read_json_file(a.get("plan")), config.runs, i, n, a.get("plan"));
+  const auto [i, n] = *o.shard;
+  if (o.plan && o.costs) input_error("--plan fixes the shards; --costs cannot move them");
+  if (o.plan) return plan_shard(read_json_file(*o.plan), config.runs, i, n, *o.plan);
   const std::vector<RunResult> earlier =
-      a.has("costs") ? read_runs_jsonl(a.get("costs") + "/runs.jsonl") : std::vector<RunResult>{};
+      o.costs ? read_runs_jsonl(*o.costs + "/runs.jsonl") : std::vector<RunResult>{};
   return plan_shards(run_costs(config.runs, earlier), n).shards[i];
 }
 
@@ -210,13 +197,11 @@ void die_with_parent(const std::string& parent_pid) {
 
 }  // namespace
 
-int command_run_one(const Args& args) {
-  if (args.empty() || args.size() > 2)
-    input_error("_run takes one JSON run spec and the sweep's process id");
-  if (args.size() == 2) die_with_parent(args[1]);
+int command_run_one(const RunOneOptions& o) {
+  if (o.parent_pid) die_with_parent(*o.parent_pid);
   RunSpec spec;
   try {
-    spec = json::parse(args[0]).get<RunSpec>();
+    spec = json::parse(o.spec).get<RunSpec>();
   } catch (const json::exception&) {
     input_error("_run: the run spec is not valid JSON");
   } catch (const InputError& e) {
@@ -228,76 +213,55 @@ int command_run_one(const Args& args) {
   return 0;
 }
 
-int command_sweep(const Args& args) {
-  CliArgs a(
-      "sweep",
-      "pcrt sweep CONFIG.json [--out DIR] [--resume] [--shard i/n [--costs DIR | --plan FILE]]",
-      {{"out", "DIR", "output directory (default results/<config name>)"},
-       {"resume", "", "skip the runs already in DIR/runs.jsonl"},
-       {"shard", "i/n", "run only shard i (0-based) of n, shards balanced on estimated run time"},
-       {"costs", "DIR", "estimate run times from an earlier sweep's DIR/runs.jsonl"},
-       {"plan", "FILE", "take the shard's runs from a plan file (pcrt cluster submit)"},
-       {"fit", "", "also write DIR/fits.json and fits.csv"}},
-      1, 1);
-  if (!a.parse(args)) return 0;
-  const SweepConfig config = load_sweep_config(a.positional()[0]);
-  const std::string dir = a.has("out") ? a.get("out") : "results/" + config.name;
+int command_sweep(const SweepOptions& o) {
+  const SweepConfig config = load_sweep_config(o.config);
+  const std::string dir = o.out.value_or("results/" + config.name);
   const std::vector<RunResult> results =
-      run_sweep(config, dir, a.has("resume"), shard_runs(config, a), false);
-  if (a.has("fit")) write_fits(dir, fit_runs(config, results));
+      run_sweep(config, dir, o.resume, shard_runs(config, o), false);
+  if (o.fit) write_fits(dir, fit_runs(config, results));
   return 0;
 }
 
-int command_merge(const Args& args) {
-  CliArgs a("merge", "pcrt merge DIR... --out DIR", {{"out", "DIR", "merged directory"}}, 1, 1000);
-  if (!a.parse(args)) return 0;
-  const std::string out = a.require("out");
+int command_merge(const MergeOptions& o) {
   std::map<std::string, RunResult> runs;
   json contexts = json::array();
-  for (size_t i = 0; i < a.positional().size(); ++i) {
-    const std::string dir = a.positional()[i];
+  for (size_t i = 0; i < o.dirs.size(); ++i) {
+    const std::string& dir = o.dirs[i];
     const json ctx = read_json_file(dir + "/context.json");
     if (!ctx.is_object()) input_error("{}/context.json: not an object", dir);
-    if (i > 0) check_same_sweep(ctx, contexts[0], dir, a.positional()[0]);
+    if (i > 0) check_same_sweep(ctx, contexts[0], dir, o.dirs[0]);
     contexts.push_back(ctx);
     for (const RunResult& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
   }
-  make_output_directory(out, "--out");
+  make_output_directory(o.out, "--out");
   std::vector<RunResult> all;
   for (auto& [k, r] : runs) all.push_back(r);
-  write_runs_jsonl(out + "/runs.jsonl", all);
-  write_runs_csv(out + "/runs.csv", all);
+  write_runs_jsonl(o.out + "/runs.jsonl", all);
+  write_runs_csv(o.out + "/runs.csv", all);
   json merged = contexts[0];
   merged["shards"] = contexts;
-  write_json(out + "/context.json", merged);
-  std::printf("%s: %zu runs from %zu directories\n", out.c_str(), all.size(),
-              a.positional().size());
+  write_json(o.out + "/context.json", merged);
+  std::printf("%s: %zu runs from %zu directories\n", o.out.c_str(), all.size(), o.dirs.size());
   return 0;
 }
 
-int command_fit(const Args& args) {
-  CliArgs a("fit", "pcrt fit DIR", {}, 1, 1);
-  if (!a.parse(args)) return 0;
-  const std::string dir = a.positional()[0];
-  const SweepConfig config = config_of(dir);
-  const std::vector<json> fits = fit_runs(config, read_runs_jsonl(dir + "/runs.jsonl"));
-  write_fits(dir, fits);
+int command_fit(const FitOptions& o) {
+  const SweepConfig config = config_of(o.dir);
+  const std::vector<json> fits = fit_runs(config, read_runs_jsonl(o.dir + "/runs.jsonl"));
+  write_fits(o.dir, fits);
   std::map<std::string, int> verdicts;
   for (const json& f : fits) ++verdicts[f.value("verdict", "")];
-  std::printf("%s/fits.json: %zu fits", dir.c_str(), fits.size());
+  std::printf("%s/fits.json: %zu fits", o.dir.c_str(), fits.size());
   for (const auto& [v, n] : verdicts) std::printf(", %d %s", n, v.c_str());
   std::printf("\n");
   return 0;
 }
 
-int command_report(const Args& args) {
-  CliArgs a("report", "pcrt report DIR", {}, 1, 1);
-  if (!a.parse(args)) return 0;
-  const std::string dir = a.positional()[0];
-  if (!fs::exists(dir + "/fits.json")) command_fit({dir});
+int command_report(const ReportOptions& o) {
+  if (!fs::exists(o.dir + "/fits.json")) command_fit({o.dir});
   // Run without a shell, so that no quote in a path can break the command.
   const std::string script = installed_script("report.py");
-  const CommandOutput out = run_command({python(), script, dir});
+  const CommandOutput out = run_command({python(), script, o.dir});
   std::fputs(out.out.c_str(), stdout);
   std::fputs(out.err.c_str(), stderr);
   if (out.exit_code != 0) input_error("report: {} failed (exit {})", script, out.exit_code);
@@ -353,25 +317,20 @@ void print_calibration(const json& rows) {
 }
 
 // DIR given, or a temporary directory named after the command and this process.
-std::string sweep_dir(const CliArgs& a, const std::string& command) {
-  if (a.has("out")) return a.get("out");
+std::string sweep_dir(const std::optional<std::string>& out, const std::string& command) {
+  if (out) return *out;
   return (fs::temp_directory_path() / ("pcrt_" + command + "_" + std::to_string(getpid())))
       .string();
 }
 
 }  // namespace
 
-int command_calibrate(const Args& args) {
-  CliArgs a("calibrate", "pcrt calibrate [--out DIR] [--json]",
-            {{"out", "DIR", "keep the sweep's runs and fits here (default: a temporary directory)"},
-             {"json", "", "print JSON"}},
-            0, 0);
-  if (!a.parse(args)) return 0;
+int command_calibrate(const CalibrateOptions& o) {
   const SweepConfig config = parse_sweep_config(calibration_config(), "calibrate");
-  const std::string dir = sweep_dir(a, "calibrate");
+  const std::string dir = sweep_dir(o.out, "calibrate");
   const std::vector<RunResult> results = run_sweep(config, dir, false, all_runs(config), true);
   const std::vector<json> fits = fit_runs(config, results);
-  if (a.has("out"))
+  if (o.out)
     write_fits(dir, fits);
   else
     fs::remove_all(dir);
@@ -381,7 +340,7 @@ int command_calibrate(const Args& args) {
     out.push_back(calibration_row(f));
     all_ok = all_ok && out.back()["correct"].get<bool>();
   }
-  if (a.has("json"))
+  if (o.json)
     std::printf("%s\n", out.dump(2).c_str());
   else
     print_calibration(out);
@@ -473,35 +432,22 @@ size_t gate_differences(const json& base, const json& now, double tolerance) {
 
 }  // namespace
 
-int command_check(const Args& args) {
-  CliArgs a("check",
-            "pcrt check --config CONFIG.json --baseline BASELINE.json [--tolerance P] [--update] "
-            "[--out DIR]",
-            {{"config", "CONFIG.json", "the sweep to run (deterministic op counts)"},
-             {"baseline", "BASELINE.json", "committed counters and verdicts"},
-             {"tolerance", "P", "relative change allowed per counter, in percent", false, "0"},
-             {"update", "", "rewrite the baseline from this run"},
-             {"out", "DIR", "keep the sweep here (default: a temporary directory)"}},
-            0, 0);
-  if (!a.parse(args)) return 0;
-  const SweepConfig config = load_sweep_config(a.require("config"));
-  const std::string baseline_path = a.require("baseline");
-  if (a.has("update")) check_output_path(baseline_path, "--baseline");
-  const double tolerance = a.number("tolerance");
-  if (!(tolerance >= 0)) input_error("--tolerance must be >= 0");
-  const json base = a.has("update") ? json() : read_baseline(baseline_path);
-  const std::string dir = sweep_dir(a, "check");
+int command_check(const CheckOptions& o) {
+  const SweepConfig config = load_sweep_config(o.config);
+  if (o.update) check_output_path(o.baseline, "--baseline");
+  const json base = o.update ? json() : read_baseline(o.baseline);
+  const std::string dir = sweep_dir(o.out, "check");
   const std::vector<RunResult> results = run_sweep(config, dir, false, all_runs(config), true);
   const json now = gate_record(results, fit_runs(config, results));
-  if (!a.has("out")) fs::remove_all(dir);
-  if (a.has("update")) {
-    write_json(baseline_path, now);
-    std::printf("%s: baseline written (%zu runs, %zu verdicts)\n", baseline_path.c_str(),
+  if (!o.out) fs::remove_all(dir);
+  if (o.update) {
+    write_json(o.baseline, now);
+    std::printf("%s: baseline written (%zu runs, %zu verdicts)\n", o.baseline.c_str(),
                 now["runs"].size(), now["verdicts"].size());
     return 0;
   }
-  const size_t problems = gate_differences(base, now, tolerance);
-  std::printf("%s: %zu runs, %zu verdicts compared: %zu differences\n", baseline_path.c_str(),
+  const size_t problems = gate_differences(base, now, o.tolerance);
+  std::printf("%s: %zu runs, %zu verdicts compared: %zu differences\n", o.baseline.c_str(),
               now["runs"].size(), now["verdicts"].size(), problems);
   return problems == 0 ? 0 : 1;
 }

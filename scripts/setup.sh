@@ -8,6 +8,7 @@ build=${1:-build}
 packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libnanoflann-dev libfmt-dev nlohmann-json3-dev catch2 libbenchmark-dev libtbb-dev libpng-dev libtinyexr-dev libembree-dev
+  libcli11-dev
   libcgal-dev libgmp-dev libmpfr-dev
   clang libclang-rt-14-dev
   python3 python3-numpy python3-matplotlib
