@@ -23,11 +23,12 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
     // B/point measured at 10^7 with the cloud and a sphere tree).
     return kKnnIndexBytes + 4 * sizeof(float);
   }
-  // The oriented splats: packed records, loose centres, normals, half extents, radii and the
-  // point index, with the radii estimate beside them. The k-NN index and the layout's Morton keys
-  // are freed before the layout's arrays are made, and are smaller.
-  size_t bytes =
-      sizeof(PackedSplat) + 3 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t) + sizeof(float);
+  // The oriented splats at their peak, when the structure is built and the splats are copied into
+  // its leaf blocks (or packed records): one 28-32-byte record per point besides the radii they
+  // are made from (freed after). Centres and normals are the cloud's until then; the box extents
+  // (12 bytes) are freed before the copy is made, and with the k-NN index and the layout's Morton
+  // check they are smaller.
+  size_t bytes = sizeof(PackedSplat) + sizeof(float);
   const auto it = params.find("estimate_normals");
   if (!cloud.has_normals() || (it != params.end() && it->second != 0)) {
     // The k-NN graph of the orientation tree, its degrees and the normals themselves.

@@ -11,15 +11,15 @@
 
 namespace pcrt {
 
-// Eight consecutive leaf references' discs in structure-of-arrays layout, one 256-byte block
-// (four cache lines): a leaf's discs are a run of such blocks, read front to back, not seven
-// arrays far apart. Unused lanes hold zero discs (never candidates: den = 0).
+// Eight consecutive leaf references' discs in structure-of-arrays layout, one 224-byte block
+// (28 bytes a disc): a leaf's discs are a run of such blocks, read front to back, not seven
+// arrays far apart. Unused lanes hold zero discs (never candidates: den = 0). The point index is
+// not stored: it is the leaf reference itself (or the method's prim array of it).
 constexpr uint32_t kDiscGroup = 8;
-struct alignas(64) DiscBlock {
+struct alignas(32) DiscBlock {
   float cx[kDiscGroup], cy[kDiscGroup], cz[kDiscGroup];
   float nx[kDiscGroup], ny[kDiscGroup], nz[kDiscGroup];
-  float r[kDiscGroup];         // radius (squared by the kernel as r * r, like the scalar test)
-  uint32_t index[kDiscGroup];  // the splat's point index (PackedSplat::index)
+  float r[kDiscGroup];  // radius (squared by the kernel as r * r, like the scalar test)
 };
 
 struct DiscQuery {

@@ -12,7 +12,9 @@
 
 #include "core/params.hpp"
 #include "methods/kernels/ray_projection.hpp"
+#include "methods/kernels/splat_blocks.hpp"
 #include "methods/kernels/splat_kernel.hpp"
+#include "methods/kernels/splat_set.hpp"
 
 namespace pcrt {
 
@@ -42,23 +44,37 @@ inline ParamSpec front_depth_spec() {
 // rim, so that overlapping splats hand over smoothly.
 inline float splat_hit_weight(float q) { return q < 1.0f ? 1.0f - q : 0.0f; }
 
+// The blend over the leaf's splats: read from the bound leaf blocks (the splats' only copy once
+// bound), else from the item-order set. NormalAt(k, splat, x) as in blend_projected.
 template <typename NormalAt>
-bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, std::span<const PackedSplat> splats,
-                      const SplatBlendSettings& s, NormalAt&& normal_at, Hit& hit,
-                      OpCounters& counters) {
+bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, const SplatLeafBlocks& blocks,
+                      const SplatSet& splats, const SplatBlendSettings& s, NormalAt&& normal_at,
+                      Hit& hit, OpCounters& counters) {
   auto weight = [](const Ray& r, const PackedSplat& p, float t, const Vec3& /*lateral*/) {
     return splat_hit_weight((r.at(t) - p.c).squaredNorm() / (p.r * p.r));
   };
   counters.add(kSplatTests, leaf.items.size());
   const ProjectionSettings projection{s.depth, 0.0f, s.early_margin, s.footprint};
-  return blend_projected_points(ray, leaf, splats, projection, weight, normal_at, hit, counters);
+  const std::span<const uint32_t> items = leaf.items;
+  const int64_t off = blocks.offset_of(items);
+  if (off < 0) {
+    auto each = [&](auto&& f) {
+      for (uint32_t k : items) f(k, unbound_splat(splats, k));
+    };
+    return blend_projected(ray, leaf, each, projection, weight, normal_at, hit, counters);
+  }
+  auto each = [&](auto&& f) {
+    for (uint32_t i = 0; i < items.size(); ++i)
+      f(items[i], blocks.splat(blocks.position(items, off, i), splats.prim_of(items[i])));
+  };
+  return blend_projected(ray, leaf, each, projection, weight, normal_at, hit, counters);
 }
 
-inline bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf,
-                             std::span<const PackedSplat> splats, const SplatBlendSettings& s,
-                             Hit& hit, OpCounters& counters) {
-  auto own_normal = [&](uint32_t k, const Vec3&) { return splats[k].n; };
-  return blend_splat_hits(ray, leaf, splats, s, own_normal, hit, counters);
+inline bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, const SplatLeafBlocks& blocks,
+                             const SplatSet& splats, const SplatBlendSettings& s, Hit& hit,
+                             OpCounters& counters) {
+  auto own_normal = [](uint32_t, const PackedSplat& p, const Vec3&) { return p.n; };
+  return blend_splat_hits(ray, leaf, blocks, splats, s, own_normal, hit, counters);
 }
 
 }  // namespace pcrt
