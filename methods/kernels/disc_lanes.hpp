@@ -24,7 +24,8 @@ struct alignas(32) DiscBlock {
 
 struct DiscQuery {
   float o[3], d[3];
-  float t_lo, t_hi;  // the candidate window, already widened by the caller
+  float t_lo, t_hi;       // the candidate window, already widened by the caller
+  float r2_scale = 1.0f;  // on r^2: above 1, a prefilter for a test of its own (exact at 1)
 };
 
 // One group of L::kWidth discs: a bit per lane that is a candidate.
@@ -38,7 +39,7 @@ inline uint32_t disc_group(const DiscQuery& q, L cx, L cy, L cz, L nx, L ny, L n
   const L q2 = (qx * qx + qy * qy) + qz * qz;
   const L num_abs = flip_sign(num, den), den_abs = abs(den);
   // den = 0 gives t_hi * 0 = NaN (t_hi = inf) or num_abs = 0 > 0 fails: a parallel ray misses.
-  return mask(le(q2, (r * r) * (den * den)) & le(L(q.t_lo) * den_abs, num_abs) &
+  return mask(le(q2, ((r * r) * (den * den)) * L(q.r2_scale)) & le(L(q.t_lo) * den_abs, num_abs) &
               le(num_abs, L(q.t_hi) * den_abs) & gt(den_abs, L(0.0f)));
 }
 

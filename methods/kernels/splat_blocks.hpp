@@ -115,6 +115,7 @@ struct DiscCandidate {
   uint32_t prim;
   Vec3 n;
   float r;
+  Vec3 c;
 };
 
 // The item-order splat of a leaf not laid out in blocks; the set must still hold its item data.
@@ -133,7 +134,8 @@ void for_each_disc_candidate(const SplatLeafBlocks& blocks, const SplatSet& spla
   if (off < 0) {
     for (uint32_t i = 0; i < items.size(); ++i) {
       const PackedSplat s = unbound_splat(splats, items[i]);
-      if (disc_candidate(q, s) && !f(DiscCandidate{i, disc_t(q, s), s.index, s.n, s.r})) return;
+      if (disc_candidate(q, s) && !f(DiscCandidate{i, disc_t(q, s), s.index, s.n, s.r, s.c}))
+        return;
     }
     return;
   }
@@ -154,7 +156,8 @@ void for_each_disc_candidate(const SplatLeafBlocks& blocks, const SplatSet& spla
       const DiscBlock& blk = b[p / kDiscGroup];
       const uint32_t j = p % kDiscGroup;
       if (!f(DiscCandidate{i, disc_t(q, blk, j), splats.prim_of(items[i]),
-                           Vec3(blk.nx[j], blk.ny[j], blk.nz[j]), blk.r[j]}))
+                           Vec3(blk.nx[j], blk.ny[j], blk.nz[j]), blk.r[j],
+                           Vec3(blk.cx[j], blk.cy[j], blk.cz[j])}))
         return;
     }
   }
