@@ -25,6 +25,22 @@ struct ProjectionSettings {
   float footprint = 0;     // reported as Hit::footprint
 };
 
+// Records the blended hit at t_hit (normal: the weighted normal sum, else the best splat's) if it
+// is this leaf's and nearer than hit. The cell rule: a hit belongs to the leaf whose span holds
+// it; later leaves blend their own.
+inline bool record_blend(const Ray& ray, const LeafVisit& leaf, const ProjectionSettings& s,
+                         float t_hit, const Vec3& nsum, const PackedSplat& best, Hit& hit) {
+  if (t_hit > leaf.t_exit || t_hit < leaf.t_enter - s.early_margin || t_hit < ray.tmin ||
+      !closer(t_hit, best.index, hit))
+    return false;
+  hit.t = t_hit;
+  hit.prim = best.index;
+  hit.p = ray.at(t_hit);
+  hit.n = nsum.norm() > 0 ? Vec3(nsum.normalized()) : best.n;
+  hit.footprint = s.footprint;
+  return true;
+}
+
 // Weight(ray, splat, t, lateral) returns the weight of a point whose tangent plane the ray crosses
 // at t, with `lateral` its offset from the ray axis, and 0 if it is no candidate. ForEachSplat(f)
 // calls f(k, splat) for the leaf's items in leaf order (k the item index; it may skip items whose
@@ -81,17 +97,7 @@ bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_e
   }
   counters.add(kProjectionCandidates, candidates);
   if (!has_best || !(wsum > 0) || wsum < s.min_weight) return false;
-  const float t_hit = tsum / wsum;
-  // The cell rule: a hit belongs to the leaf whose span holds it; later leaves blend their own.
-  if (t_hit > leaf.t_exit || t_hit < leaf.t_enter - s.early_margin || t_hit < ray.tmin ||
-      !closer(t_hit, best.index, hit))
-    return false;
-  hit.t = t_hit;
-  hit.prim = best.index;
-  hit.p = ray.at(t_hit);
-  hit.n = nsum.norm() > 0 ? Vec3(nsum.normalized()) : best.n;
-  hit.footprint = s.footprint;
-  return true;
+  return record_blend(ray, leaf, s, tsum / wsum, nsum, best, hit);
 }
 
 // The same over item-order records, each point with its own normal.
