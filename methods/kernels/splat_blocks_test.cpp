@@ -35,13 +35,17 @@ TEST_CASE("disc lanes: the widest kernel accepts exactly the scalar kernel's dis
     centres.push_back(s.c), normals.push_back(s.n), radii.push_back(s.r);
   }
   const SplatSet set = make_splat_set(centres, normals, radii, ids);
-  // References once per item (blocks in leaf order) or each twice (item order, leaves gather).
-  const bool twice = GENERATE(false, true);
+  // References once per item (blocks in leaf order) or each three times (above
+  // kLeafOrderMaxRefsPerItem: item order, leaves gather).
+  const bool thrice = GENERATE(false, true);
   std::vector<uint32_t> refs = ids;
-  if (twice) refs.insert(refs.end(), ids.rbegin(), ids.rend());
+  if (thrice) {
+    refs.insert(refs.end(), ids.rbegin(), ids.rend());
+    refs.insert(refs.end(), ids.begin(), ids.end());
+  }
   SplatLeafBlocks blocks, unbound;
   blocks.bind(refs, set);
-  REQUIRE(blocks.leaf_order() == !twice);
+  REQUIRE(blocks.leaf_order() == !thrice);
   size_t candidates = 0;
   for (int r = 0; r < 2000; ++r) {
     const Vec3 o(rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2);
