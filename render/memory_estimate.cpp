@@ -23,11 +23,12 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
     // B/point measured at 10^7 with the cloud and a sphere tree).
     return kKnnIndexBytes + 4 * sizeof(float);
   }
-  // The oriented splats: packed records, loose centres, normals, half extents, radii and the
-  // point index, with the radii estimate beside them. The k-NN index and the layout's Morton keys
-  // are freed before the layout's arrays are made, and are smaller.
-  size_t bytes =
-      sizeof(PackedSplat) + 3 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t) + sizeof(float);
+  // The oriented splats at their peak, when the structure is built and the splats are copied into
+  // its leaf blocks (or packed records): one 28-32-byte record per point besides the radii they
+  // are made from (freed after). Centres and normals are the cloud's until then; the box extents
+  // (12 bytes) are freed before the copy is made, and with the k-NN index and the layout's Morton
+  // check they are smaller.
+  size_t bytes = sizeof(PackedSplat) + sizeof(float);
   const auto it = params.find("estimate_normals");
   if (!cloud.has_normals() || (it != params.end() && it->second != 0)) {
     // The k-NN graph of the orientation tree, its degrees and the normals themselves.
@@ -38,16 +39,16 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
 }
 
 size_t structure_bytes_per_item(const std::string& structure) {
-  // The build's peak above what was resident before it, per item, measured by
-  // scripts/structure_memory.sh at 2x10^6 and 10^7 points (results/scale/structmem/builds.jsonl:
-  // a sphere with reference_splat's footprints), the larger of the two rounded up. The kd-tree and
-  // octree build in place and keep their nodes and references in chunks until one final copy, so
-  // their peaks are their results plus a few bytes; the bvh's also holds its binary tree while
-  // collapsing it.
+  // Peak growth over the cloud and the prepared splats (36 bytes a point), per item: the larger
+  // of two measurements at 10^7 points, the structure build's own peak above what was resident
+  // before it (scripts/structure_memory.sh, results/scale/structmem/builds.jsonl) and the whole
+  // process's peak with reference_splat and goradia_2010 on a sphere (scripts/scale.sh,
+  // results/scale/splatmem/ and results/scale/merged/), where the leaf blocks made on top of the
+  // structure can be the peak.
   if (structure == "brute_force") return sizeof(uint32_t);
   if (structure == "grid") return 12;
   if (structure == "sphere_tree") return 17;
-  if (structure == "kd_tree") return 36;
+  if (structure == "kd_tree") return 44;
   if (structure == "octree") return 67;
   if (structure == "bvh") return 71;
   return 80;  // structures of a method's own

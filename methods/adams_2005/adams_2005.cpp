@@ -41,6 +41,7 @@ class Adams2005 final : public Method {
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     splats_ = prepare_splats(cloud, params_.splat, ctx);
+    splats_.pack();
     {
       ScopedTimer t(ctx.timings, "prepare/knn_build");
       knn_.emplace(splats_.centres);  // surfel order: k-NN results index splats_.packed
@@ -51,6 +52,7 @@ class Adams2005 final : public Method {
         newton_settings(params_.iteration, 1.0f);  // tolerance scaled per surfel in intersect_leaf
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+  void bind_leaf_references(std::span<const uint32_t>) override { splats_.release_build_data(); }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {

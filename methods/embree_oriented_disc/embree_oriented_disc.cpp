@@ -42,16 +42,17 @@ class EmbreeOrientedDisc final : public Method {
     // Embree gets the points in the cloud's own order unless morton_order=1 asks for ours.
     morton_ = params_.morton_order;
     for (size_t k = 0; k < splats_.size(); ++k) {
-      const size_t i = morton_ ? k : splats_.point[k];
+      const size_t i = morton_ ? k : splats_.point_of(uint32_t(k));
       for (int a = 0; a < 3; ++a) v[4 * i + size_t(a)] = splats_.centres[k][a];
       v[4 * i + 3] = splats_.radii[k];
       for (int a = 0; a < 3; ++a) n[3 * i + size_t(a)] = splats_.normals[k][a];
     }
     if (!morton_) {
       item_of_point_.resize(splats_.size());
-      for (uint32_t k = 0; k < splats_.size(); ++k) item_of_point_[splats_.point[k]] = k;
+      for (uint32_t k = 0; k < splats_.size(); ++k) item_of_point_[splats_.point_of(k)] = k;
     }
     embree_->build(geom);
+    splats_.release_build_data();  // no structure of ours is built
   }
 
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
@@ -66,7 +67,7 @@ class EmbreeOrientedDisc final : public Method {
     if (!embree_->closest_hit(ray, hit.t, rh)) return false;
     const uint32_t k = morton_ ? rh.hit.primID : item_of_point_[rh.hit.primID];
     hit.t = rh.ray.tfar;
-    hit.prim = splats_.point[k];
+    hit.prim = splats_.point_of(k);
     hit.p = ray.at(hit.t);
     hit.n = splats_.normals[k];
     hit.footprint = splats_.radii[k];

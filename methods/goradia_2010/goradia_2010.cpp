@@ -29,15 +29,19 @@ class Goradia2010 final : public Method {
     settings_ = splat_blend_settings(splats_.radii, params_.front_depth);
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+  void bind_leaf_references(std::span<const uint32_t> refs) override {
+    bind_splat_blocks(blocks_, splats_, refs);  // the blocks: the splats' one copy from here on
+  }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    return blend_splat_hits(ray, leaf, splats_.packed, settings_, hit, counters);
+    return blend_splat_hits(ray, leaf, blocks_, splats_, settings_, hit, counters);
   }
 
  private:
   Goradia2010Params params_;
   SplatSet splats_;
+  SplatLeafBlocks blocks_;
   SplatBlendSettings settings_;
 };
 

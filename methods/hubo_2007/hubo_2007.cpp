@@ -67,7 +67,9 @@ class Hubo2007 final : public Method {
     reach_ = sigma_ * params_.gaussian.cutoff;
     newton_ = newton_settings(params_.iteration, h);
     depth_ = params_.front_depth * h;
-    const SplatSet pts = prepare_splats(cloud, SplatParams{params_.normals}, ctx, reach_);
+    SplatSet pts = prepare_splats(cloud, SplatParams{params_.normals}, ctx, reach_);
+    pts.release_build_data();
+    pts.pack();
     ScopedTimer t(ctx.timings, "prepare/patches");
     std::vector<uint32_t> order(pts.size());
     for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;

@@ -11,20 +11,21 @@
 
 namespace pcrt {
 
-// Eight consecutive leaf references' discs in structure-of-arrays layout, one 256-byte block
-// (four cache lines): a leaf's discs are a run of such blocks, read front to back, not seven
-// arrays far apart. Unused lanes hold zero discs (never candidates: den = 0).
+// Eight consecutive leaf references' discs in structure-of-arrays layout, one 224-byte block
+// (28 bytes a disc): a leaf's discs are a run of such blocks, read front to back, not seven
+// arrays far apart. Unused lanes hold zero discs (never candidates: den = 0). The point index is
+// not stored: it is the leaf reference itself (or the method's prim array of it).
 constexpr uint32_t kDiscGroup = 8;
-struct alignas(64) DiscBlock {
+struct alignas(32) DiscBlock {
   float cx[kDiscGroup], cy[kDiscGroup], cz[kDiscGroup];
   float nx[kDiscGroup], ny[kDiscGroup], nz[kDiscGroup];
-  float r[kDiscGroup];         // radius (squared by the kernel as r * r, like the scalar test)
-  uint32_t index[kDiscGroup];  // the splat's point index (PackedSplat::index)
+  float r[kDiscGroup];  // radius (squared by the kernel as r * r, like the scalar test)
 };
 
 struct DiscQuery {
   float o[3], d[3];
-  float t_lo, t_hi;  // the candidate window, already widened by the caller
+  float t_lo, t_hi;       // the candidate window, already widened by the caller
+  float r2_scale = 1.0f;  // on r^2: above 1, a prefilter for a test of its own (exact at 1)
 };
 
 // One group of L::kWidth discs: a bit per lane that is a candidate.
@@ -38,7 +39,7 @@ inline uint32_t disc_group(const DiscQuery& q, L cx, L cy, L cz, L nx, L ny, L n
   const L q2 = (qx * qx + qy * qy) + qz * qz;
   const L num_abs = flip_sign(num, den), den_abs = abs(den);
   // den = 0 gives t_hi * 0 = NaN (t_hi = inf) or num_abs = 0 > 0 fails: a parallel ray misses.
-  return mask(le(q2, (r * r) * (den * den)) & le(L(q.t_lo) * den_abs, num_abs) &
+  return mask(le(q2, ((r * r) * (den * den)) * L(q.r2_scale)) & le(L(q.t_lo) * den_abs, num_abs) &
               le(num_abs, L(q.t_hi) * den_abs) & gt(den_abs, L(0.0f)));
 }
 

@@ -127,7 +127,7 @@ std::vector<uint32_t> ImplicitCells::evaluate_corners(const std::vector<uint64_t
       const Vec3d nn = n.norm() > 0 ? Vec3d(n.normalized()) : Vec3d::UnitZ();
       f_[i] = float(nn.dot(at.cast<double>() - p / wsum));
       n_[i] = nn.cast<float>();
-      corner_prim[i] = found > 0 ? pts.point[idx[0]] : 0;
+      corner_prim[i] = found > 0 ? pts.point_of(idx[0]) : 0;
     }
   });
   ctx.counters.add(kKnnQueries, corners.size());

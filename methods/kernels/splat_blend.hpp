@@ -12,7 +12,9 @@
 
 #include "core/params.hpp"
 #include "methods/kernels/ray_projection.hpp"
+#include "methods/kernels/splat_blocks.hpp"
 #include "methods/kernels/splat_kernel.hpp"
+#include "methods/kernels/splat_set.hpp"
 
 namespace pcrt {
 
@@ -42,23 +44,44 @@ inline ParamSpec front_depth_spec() {
 // rim, so that overlapping splats hand over smoothly.
 inline float splat_hit_weight(float q) { return q < 1.0f ? 1.0f - q : 0.0f; }
 
+// The disc lanes as the blend's prefilter: r^2 widened by 10% (5% on the radius), so that no
+// splat the exact weight accepts (1 - |x - c|^2 / r^2 > 0, rounded another way) is dropped; the
+// rounding of either radius test is a few ulps of the ray's distance, below 0.1% of a splat radius
+// on the clouds measured. The window is [tmin, inf): the groups' windows are the blend's own.
+inline DiscQuery blend_prefilter(const Ray& ray) {
+  DiscQuery q = disc_query(ray, kInfinity);
+  q.r2_scale = 1.1f;
+  return q;
+}
+
+// The blend over the leaf's splats, those the disc lanes let through (the exact weight decides),
+// read from the bound leaf blocks (the splats' only copy once bound), else from the item-order
+// set one at a time. NormalAt(k, splat, x) as in blend_projected. Work counts as one splat test
+// per leaf item, as the lanes test them all.
 template <typename NormalAt>
-bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, std::span<const PackedSplat> splats,
-                      const SplatBlendSettings& s, NormalAt&& normal_at, Hit& hit,
-                      OpCounters& counters) {
+bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, const SplatLeafBlocks& blocks,
+                      const SplatSet& splats, const SplatBlendSettings& s, NormalAt&& normal_at,
+                      Hit& hit, OpCounters& counters) {
   auto weight = [](const Ray& r, const PackedSplat& p, float t, const Vec3& /*lateral*/) {
     return splat_hit_weight((r.at(t) - p.c).squaredNorm() / (p.r * p.r));
   };
   counters.add(kSplatTests, leaf.items.size());
   const ProjectionSettings projection{s.depth, 0.0f, s.early_margin, s.footprint};
-  return blend_projected_points(ray, leaf, splats, projection, weight, normal_at, hit, counters);
+  const DiscQuery q = blend_prefilter(ray);
+  auto each = [&](auto&& f) {
+    for_each_disc_candidate(blocks, splats, leaf.items, q, [&](const DiscCandidate& c) {
+      f(leaf.items[c.i], PackedSplat{c.c, c.r, c.n, c.prim});
+      return true;
+    });
+  };
+  return blend_projected(ray, leaf, each, projection, weight, normal_at, hit, counters);
 }
 
-inline bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf,
-                             std::span<const PackedSplat> splats, const SplatBlendSettings& s,
-                             Hit& hit, OpCounters& counters) {
-  auto own_normal = [&](uint32_t k, const Vec3&) { return splats[k].n; };
-  return blend_splat_hits(ray, leaf, splats, s, own_normal, hit, counters);
+inline bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, const SplatLeafBlocks& blocks,
+                             const SplatSet& splats, const SplatBlendSettings& s, Hit& hit,
+                             OpCounters& counters) {
+  auto own_normal = [](uint32_t, const PackedSplat& p, const Vec3&) { return p.n; };
+  return blend_splat_hits(ray, leaf, blocks, splats, s, own_normal, hit, counters);
 }
 
 }  // namespace pcrt

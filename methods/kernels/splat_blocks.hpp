@@ -1,41 +1,80 @@
-// Splats laid out in a structure's leaf order (one entry per leaf reference, so the discs of a
-// leaf are contiguous) in blocks of eight in structure-of-arrays layout (DiscBlock): the leaf loop
-// streams a leaf's blocks eight lanes at a time instead of chasing an index per disc, and a
-// candidate's exact t and point index come from the same blocks. Made once the structure is built
-// (Method::bind_leaf_references); leaves that are not pieces of the bound references (a structure
-// built by a test, say) fall back to the same test one disc at a time.
+// The splats in blocks of eight in structure-of-arrays layout (DiscBlock), the one copy of them the
+// leaf code reads once a structure is built (Method::bind_leaf_references; the item-order arrays
+// are then released). For a structure that references each item about once (bvh, sphere_tree,
+// brute_force) they are laid out in its leaf order, one entry per leaf reference, so the discs of
+// a leaf are contiguous and the leaf loop streams its blocks eight lanes at a time. A structure
+// that references items many times (kd_tree 3.7, octree up to 11 references per point at 10^6 on
+// a sphere) would multiply that copy, so they stay in item order and a leaf gathers its discs into
+// blocks on the stack (one copy, at the price of the gather). Before binding, a leaf (of a
+// structure built by a test, say) is read one disc at a time from the item-order SplatSet.
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "core/geometry.hpp"
 #include "methods/kernels/disc_lanes.hpp"
 #include "methods/kernels/splat_kernel.hpp"
+#include "methods/kernels/splat_set.hpp"
 
 namespace pcrt {
 
 class SplatLeafBlocks {
  public:
-  // Copies splat refs[i] of `splats` (item order) to position i.
-  void bind(std::span<const uint32_t> refs, std::span<const PackedSplat> splats);
-  // Where the leaf's items start in the bound references, or -1 if they are not a piece of them.
+  // Leaf order when refs holds at most this many references per item, else item order. The bvh
+  // pads its leaves to block boundaries (a leaf is one block) and stays below; the grid (2.4 on
+  // the 10^6 sphere), kd-tree (3.7) and octree (up to 10.7) are above, where a leaf-order copy
+  // would take 67-300 B/point.
+  static constexpr double kLeafOrderMaxRefsPerItem = 2.0;
+
+  // Copies the splats of `splats` (item order): splat refs[i] to position i (leaf order), or
+  // item k to position k (item order).
+  void bind(std::span<const uint32_t> refs, const SplatSet& splats);
+  [[nodiscard]] bool leaf_order() const { return leaf_order_; }
+  // Leaf order: where the leaf's items start in the bound references; item order: 0 (positions
+  // are the items themselves); -1 if the leaf cannot be read here (unbound, or not a piece of
+  // the bound references).
   [[nodiscard]] int64_t offset_of(std::span<const uint32_t> items) const {
-    if (base_ == nullptr || items.data() < base_ || items.data() + items.size() > base_ + count_)
-      return -1;
+    if (blocks_.empty()) return -1;
+    if (!leaf_order_) return 0;
+    if (items.data() < base_ || items.data() + items.size() > base_ + count_) return -1;
     return items.data() - base_;
   }
+  // The position of leaf item i, given the leaf's offset_of.
+  [[nodiscard]] size_t position(std::span<const uint32_t> items, int64_t off, uint32_t i) const {
+    return leaf_order_ ? size_t(off) + i : items[i];
+  }
   [[nodiscard]] const DiscBlock* blocks() const { return blocks_.data(); }
+  // The splat at position p, reporting `prim`.
+  [[nodiscard]] PackedSplat splat(size_t p, uint32_t prim) const {
+    const DiscBlock& b = blocks_[p / kDiscGroup];
+    const size_t j = p % kDiscGroup;
+    return {Vec3(b.cx[j], b.cy[j], b.cz[j]), b.r[j], Vec3(b.nx[j], b.ny[j], b.nz[j]), prim};
+  }
+  // Copies the discs at positions items[0..n) (item order, n <= 64) to lanes 0..n of out[0..8);
+  // the rest of the last block is zero (no disc).
+  void gather(const uint32_t* items, uint32_t n, DiscBlock* out) const;
   [[nodiscard]] DiscKernel kernel() const { return kernel_; }
   [[nodiscard]] size_t memory_bytes() const { return blocks_.capacity() * sizeof(DiscBlock); }
 
  private:
   const uint32_t* base_ = nullptr;
   size_t count_ = 0;
+  bool leaf_order_ = true;
   std::vector<DiscBlock> blocks_;
   DiscKernel kernel_ = nullptr;  // chosen at bind: no guard or lookup per leaf
 };
+
+// Lays the splats out for the structure just built (leaf references refs) and releases the set's
+// item arrays: the box extents before the blocks are made (they never coexist), the rest after.
+inline void bind_splat_blocks(SplatLeafBlocks& blocks, SplatSet& splats,
+                              std::span<const uint32_t> refs) {
+  splats.release_build_data();
+  blocks.bind(refs, splats);
+  splats.release_item_data();
+}
 
 // The candidate window of a closest-hit query whose best hit so far is at `t_best`: [ray.tmin,
 // t_best], widened by 1e-5 relative, so that rounding between num / den and the comparisons never
@@ -78,35 +117,49 @@ struct DiscCandidate {
   uint32_t prim;
   Vec3 n;
   float r;
+  Vec3 c;
 };
+
+// The item-order splat of a leaf not laid out in blocks; the set must still hold its item data.
+inline PackedSplat unbound_splat(const SplatSet& splats, uint32_t item) {
+  if (splats.centres.empty())
+    throw std::logic_error("a leaf outside the bound structure after the splats were released");
+  return splats.splat(item);
+}
 
 // Calls f(candidate) for each candidate (in leaf order) of the leaf's discs: through the bound
 // leaf blocks with the widest lanes, else one disc at a time. Stops when f returns false.
 template <typename F>
-void for_each_disc_candidate(const SplatLeafBlocks& blocks, std::span<const PackedSplat> splats,
+void for_each_disc_candidate(const SplatLeafBlocks& blocks, const SplatSet& splats,
                              std::span<const uint32_t> items, const DiscQuery& q, F&& f) {
   const int64_t off = blocks.offset_of(items);
   if (off < 0) {
     for (uint32_t i = 0; i < items.size(); ++i) {
-      const PackedSplat& s = splats[items[i]];
-      if (disc_candidate(q, s) && !f(DiscCandidate{i, disc_t(q, s), s.index, s.n, s.r})) return;
+      const PackedSplat s = unbound_splat(splats, items[i]);
+      if (disc_candidate(q, s) && !f(DiscCandidate{i, disc_t(q, s), s.index, s.n, s.r, s.c}))
+        return;
     }
     return;
   }
-  // Candidates are collected 64 discs at a time, as the bits of one word.
-  const DiscBlock* b = blocks.blocks();
+  // Candidates are collected 64 discs at a time, as the bits of one word: from the leaf-order
+  // blocks in place, or from the item-order blocks gathered onto the stack.
+  const bool in_place = blocks.leaf_order();
   const DiscKernel kernel = blocks.kernel();
+  DiscBlock gathered[64 / kDiscGroup];
   for (uint32_t c = 0; c < items.size(); c += 64) {
     const uint32_t n = std::min<uint32_t>(64, uint32_t(items.size()) - c);
+    const DiscBlock* b = in_place ? blocks.blocks() : gathered;
+    const uint32_t first = in_place ? uint32_t(off) + c : 0;
+    if (!in_place) blocks.gather(items.data() + c, n, gathered);
     uint64_t bits = 0;
-    kernel(b, uint32_t(off) + c, n, q, &bits);
+    kernel(b, first, n, q, &bits);
     for (; bits; bits &= bits - 1) {
-      const uint32_t i = c + uint32_t(__builtin_ctzll(bits));
-      const uint32_t p = uint32_t(off) + i;
+      const uint32_t bit = uint32_t(__builtin_ctzll(bits)), i = c + bit, p = first + bit;
       const DiscBlock& blk = b[p / kDiscGroup];
       const uint32_t j = p % kDiscGroup;
-      if (!f(DiscCandidate{i, disc_t(q, blk, j), blk.index[j],
-                           Vec3(blk.nx[j], blk.ny[j], blk.nz[j]), blk.r[j]}))
+      if (!f(DiscCandidate{i, disc_t(q, blk, j), splats.prim_of(items[i]),
+                           Vec3(blk.nx[j], blk.ny[j], blk.nz[j]), blk.r[j],
+                           Vec3(blk.cx[j], blk.cy[j], blk.cz[j])}))
         return;
     }
   }

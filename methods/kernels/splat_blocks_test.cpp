@@ -27,10 +27,25 @@ std::vector<PackedSplat> random_discs(size_t n, Rng& rng) {
 TEST_CASE("disc lanes: the widest kernel accepts exactly the scalar kernel's discs", "[kernels]") {
   Rng rng(17);
   const auto discs = random_discs(1000, rng);
-  std::vector<uint32_t> refs(discs.size());
-  for (uint32_t i = 0; i < refs.size(); ++i) refs[i] = i;
-  SplatLeafBlocks blocks;
-  blocks.bind(refs, discs);
+  std::vector<uint32_t> ids(discs.size());
+  for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  std::vector<Vec3> centres, normals;
+  std::vector<float> radii;
+  for (const PackedSplat& s : discs) {
+    centres.push_back(s.c), normals.push_back(s.n), radii.push_back(s.r);
+  }
+  const SplatSet set = make_splat_set(centres, normals, radii, ids);
+  // References once per item (blocks in leaf order) or each three times (above
+  // kLeafOrderMaxRefsPerItem: item order, leaves gather).
+  const bool thrice = GENERATE(false, true);
+  std::vector<uint32_t> refs = ids;
+  if (thrice) {
+    refs.insert(refs.end(), ids.rbegin(), ids.rend());
+    refs.insert(refs.end(), ids.begin(), ids.end());
+  }
+  SplatLeafBlocks blocks, unbound;
+  blocks.bind(refs, set);
+  REQUIRE(blocks.leaf_order() == !thrice);
   size_t candidates = 0;
   for (int r = 0; r < 2000; ++r) {
     const Vec3 o(rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2);
@@ -38,16 +53,15 @@ TEST_CASE("disc lanes: the widest kernel accepts exactly the scalar kernel's dis
     const Ray ray{o, d};
     const DiscQuery q = disc_query(ray, r % 3 == 0 ? kInfinity : 1.5f);
     // Leaves of every length and misalignment, as pieces of the bound references.
-    const uint32_t first = rng.below(900), count = 1 + rng.below(99);
+    const uint32_t first = rng.below(uint32_t(refs.size()) - 100), count = 1 + rng.below(99);
     const std::span<const uint32_t> leaf(refs.data() + first, count);
     std::vector<std::array<uint32_t, 3>> wide, narrow;  // position, t's bits, point index
-    for_each_disc_candidate(blocks, discs, leaf, q, [&](const DiscCandidate& c) {
+    for_each_disc_candidate(blocks, set, leaf, q, [&](const DiscCandidate& c) {
       wide.push_back({c.i, std::bit_cast<uint32_t>(c.t), c.prim});
       return true;
     });
-    // The same leaf's items copied: not a piece of the bound references, so one disc at a time.
-    const std::vector<uint32_t> copy(leaf.begin(), leaf.end());
-    for_each_disc_candidate(blocks, discs, copy, q, [&](const DiscCandidate& c) {
+    // The same leaf read one disc at a time from the item-order set (no blocks bound).
+    for_each_disc_candidate(unbound, set, leaf, q, [&](const DiscCandidate& c) {
       narrow.push_back({c.i, std::bit_cast<uint32_t>(c.t), c.prim});
       return true;
     });

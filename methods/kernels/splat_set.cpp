@@ -1,6 +1,9 @@
 #include "methods/kernels/splat_set.hpp"
 
 #include <algorithm>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <optional>
 
 #include "core/morton.hpp"
@@ -34,6 +37,68 @@ const ParamList<SplatParams>& SplatParams::list() {
   return l;
 }
 
+namespace {
+
+// Hands freed heap memory back to the system. glibc keeps arrays below its (dynamic, up to 32 MiB)
+// mmap threshold in the heap, where a freed one still counts as resident until reused; measured
+// at 3x10^6 points, the freed box extents stayed resident without this.
+void return_freed_memory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
+
+// Whether morton_order(positions) is the identity (a cloud sorted at load): consecutive points in
+// its order (key, then x, y, z; the index breaks the remaining ties). O(N), no allocation.
+bool in_morton_order(std::span<const Vec3> positions) {
+  Aabb b;
+  for (const Vec3& p : positions) b.extend(p);
+  auto before = [&](const Vec3& p, uint64_t kp, const Vec3& q, uint64_t kq) {
+    if (kp != kq) return kp < kq;
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    return p.z() < q.z();
+  };
+  uint64_t prev = 0;
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const uint64_t key = morton_key(positions[i], b);
+    if (i > 0 && before(positions[i], key, positions[i - 1], prev)) return false;
+    prev = key;
+  }
+  return true;
+}
+
+template <class T>
+std::vector<T> gathered(std::span<const T> from, std::span<const uint32_t> order) {
+  std::vector<T> out(order.size());
+  for (size_t k = 0; k < order.size(); ++k) out[k] = from[order[k]];
+  return out;
+}
+
+// Item order = source order when the centres are already in Morton order (no copies: the spans
+// stay the caller's, or the set's own arrays moved in); otherwise the Morton-ordered copies.
+void lay_out(SplatSet& s, std::span<const Vec3> centres, std::span<const Vec3> normals,
+             std::span<const float> radii) {
+  if (!in_morton_order(centres)) {
+    s.point = morton_order(centres);
+    s.own_centres = gathered(centres, std::span<const uint32_t>(s.point));
+    s.own_normals = gathered(normals, std::span<const uint32_t>(s.point));
+    s.own_radii = gathered(radii, std::span<const uint32_t>(s.point));
+    centres = s.own_centres, normals = s.own_normals, radii = s.own_radii;
+  }
+  s.centres = centres, s.normals = normals, s.radii = radii;
+  s.half_extents.resize(s.size());
+  for (size_t k = 0; k < s.size(); ++k) {
+    const Vec3& nn = normals[k];
+    // Padded by 1e-4 r so rounding of the hit point never leaves the box.
+    s.half_extents[k] =
+        radii[k] *
+        ((Vec3::Ones() - nn.cwiseProduct(nn)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
+  }
+}
+
+}  // namespace
+
 SplatSet prepare_splats(const PointCloud& cloud, const SplatParams& params, PrepareContext& ctx,
                         float fixed_radius) {
   const bool need_normals = !cloud.has_normals() || params.normals.estimate_normals;
@@ -43,50 +108,39 @@ SplatSet prepare_splats(const PointCloud& cloud, const SplatParams& params, Prep
     ScopedTimer t(ctx.timings, "prepare/knn_build");
     knn.emplace(cloud.positions);
   }
-  std::vector<Vec3> normals;
-  std::vector<float> radii;
+  SplatSet s;
   if (need_normals) {
     ScopedTimer t(ctx.timings, "prepare/normals");
-    normals = estimate_normals(cloud.positions, *knn, params.normals.normal_k, ctx.counters);
+    s.own_normals = estimate_normals(cloud.positions, *knn, params.normals.normal_k, ctx.counters);
   }
   if (need_radii) {
     ScopedTimer t(ctx.timings, "prepare/radii");
-    radii =
+    s.own_radii =
         estimate_radii(cloud.positions, *knn, params.radius_k, params.radius_scale, ctx.counters);
   }
   knn.reset();  // build-only: freed before the layout's own peak
-  const std::vector<Vec3>& n_src = need_normals ? normals : cloud.normals;
-  if (fixed_radius > 0) radii.assign(cloud.size(), fixed_radius);
-  const std::vector<float>& r_src = need_radii || fixed_radius > 0 ? radii : cloud.radii;
+  if (fixed_radius > 0) s.own_radii.assign(cloud.size(), fixed_radius);
+  const std::span<const Vec3> n_src = need_normals ? s.own_normals : cloud.normals;
+  const std::span<const float> r_src = need_radii || fixed_radius > 0 ? s.own_radii : cloud.radii;
 
   ScopedTimer t(ctx.timings, "prepare/splat_layout");
-  std::vector<uint32_t> identity(cloud.size());
-  for (uint32_t i = 0; i < identity.size(); ++i) identity[i] = i;
-  return make_splat_set(cloud.positions, n_src, r_src, identity);
+  // (An unsorted cloud's estimated normals and radii are replaced by their ordered copies: each
+  // copy is made from the old array before that is freed.)
+  lay_out(s, cloud.positions, n_src, r_src);
+  s.prim = s.point;       // the cloud's own indices (empty: the identity)
+  return_freed_memory();  // the k-NN index's, before the structure build
+  return s;
 }
 
 SplatSet make_splat_set(std::span<const Vec3> centres, std::span<const Vec3> normals,
                         std::span<const float> radii, std::span<const uint32_t> prim) {
   SplatSet s;
-  s.point = morton_order(centres);
-  const size_t n = s.point.size();
-  s.centres.resize(n);
-  s.normals.resize(n);
-  s.radii.resize(n);
-  s.half_extents.resize(n);
-  s.packed.resize(n);
-  for (size_t k = 0; k < n; ++k) {
-    const uint32_t i = s.point[k];
-    const Vec3& nn = normals[i];
-    s.centres[k] = centres[i];
-    s.normals[k] = nn;
-    s.radii[k] = radii[i];
-    // Padded by 1e-4 r so rounding of the hit point never leaves the box.
-    s.half_extents[k] =
-        radii[i] *
-        ((Vec3::Ones() - nn.cwiseProduct(nn)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
-    s.packed[k] = PackedSplat{s.centres[k], s.radii[k], nn, prim[i]};
-  }
+  s.own_centres.assign(centres.begin(), centres.end());
+  s.own_normals.assign(normals.begin(), normals.end());
+  s.own_radii.assign(radii.begin(), radii.end());
+  lay_out(s, s.own_centres, s.own_normals, s.own_radii);
+  s.prim.resize(s.size());
+  for (uint32_t k = 0; k < s.size(); ++k) s.prim[k] = prim[s.point_of(k)];
   return s;
 }
 
@@ -94,10 +148,37 @@ void splat_attributes_by_point(const SplatSet& s, std::vector<Vec3>& normals,
                                std::vector<float>& radii) {
   normals.resize(s.size());
   radii.resize(s.size());
-  for (size_t k = 0; k < s.size(); ++k) {
-    normals[s.point[k]] = s.normals[k];
-    radii[s.point[k]] = s.radii[k];
+  for (uint32_t k = 0; k < s.size(); ++k) {
+    normals[s.point_of(k)] = s.normals[k];
+    radii[s.point_of(k)] = s.radii[k];
   }
+}
+
+void SplatSet::pack() {
+  packed.resize(size());
+  for (uint32_t k = 0; k < size(); ++k) packed[k] = splat(k);
+}
+
+void SplatSet::release_build_data() {
+  std::vector<Vec3>().swap(half_extents);
+  return_freed_memory();
+}
+
+void SplatSet::release_item_data() {
+  centres = {}, normals = {}, radii = {};
+  std::vector<Vec3>().swap(half_extents);
+  std::vector<uint32_t>().swap(point);
+  std::vector<Vec3>().swap(own_centres);
+  std::vector<Vec3>().swap(own_normals);
+  std::vector<float>().swap(own_radii);
+  return_freed_memory();
+}
+
+size_t SplatSet::memory_bytes() const {
+  return half_extents.capacity() * sizeof(Vec3) + point.capacity() * sizeof(uint32_t) +
+         prim.capacity() * sizeof(uint32_t) + packed.capacity() * sizeof(PackedSplat) +
+         (own_centres.capacity() + own_normals.capacity()) * sizeof(Vec3) +
+         own_radii.capacity() * sizeof(float);
 }
 
 float prepare_spacing(const PointCloud& cloud, PrepareContext& ctx) {

@@ -3,6 +3,7 @@
 // where the parameters ask to.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "core/params.hpp"
@@ -15,21 +16,50 @@ namespace pcrt {
 inline const Counter kSplatsGenerated{"splats_generated",
                                       "splats made by a method's own splat generation"};
 
-// Items are stored in Morton (Z-curve) order of their centres, so the items of one leaf lie close
-// together in memory: a leaf loop then reads a few cache lines instead of one per item (this alone
-// is worth about 1.5x in rays per second at 10^6 points). Item k is the cloud's point point[k];
-// a hit reports point[k] as its prim, and ties in t are broken on it, so results are those of the
-// cloud's own order.
+// Items are in Morton (Z-curve) order of their centres, so the items of one leaf lie close
+// together in memory. Item k is source splat point_of(k) and reports prim_of(k) (a cloud index)
+// as its hit primitive; ties in t are broken on it, so results are those of the cloud's own order.
+//
+// One copy of each per-point array, nanoflann's rule: a cloud loaded in Morton order (every cloud
+// is, at load) is its own item order, so centres and normals are the cloud's arrays, adapted, not
+// copied, and point and prim are the identity (stored empty). Only what the cloud lacks (estimated
+// normals, radii) or a reordered or generated set is held here. The box half extents are build-only
+// (release_build_data, once the structure is built); methods that keep their own leaf-order copy
+// of the splats (SplatLeafBlocks) release the item arrays too (release_item_data).
 struct SplatSet {
-  std::vector<uint32_t> point;  // index of each item in the arrays it was made from
-  std::vector<Vec3> centres;    // item order
-  std::vector<Vec3> normals;
-  std::vector<float> radii;
+  std::span<const Vec3> centres;    // item order: the cloud's, or own_centres
+  std::span<const Vec3> normals;    // item order: the cloud's, or own_normals
+  std::span<const float> radii;     // item order: the cloud's, or own_radii
   std::vector<Vec3> half_extents;   // of each disc's bounding box: r * sqrt(1 - n_a^2), padded
-  std::vector<PackedSplat> packed;  // centre, radius, normal, cloud index (prim) in one record
+  std::vector<uint32_t> point;      // item k's index in the arrays it was made from; empty: k
+  std::vector<uint32_t> prim;       // item k's hit primitive; empty: k
+  std::vector<PackedSplat> packed;  // item-order records, only for methods that ask (pack())
+  std::vector<Vec3> own_centres, own_normals;
+  std::vector<float> own_radii;
 
-  [[nodiscard]] size_t size() const { return point.size(); }
+  SplatSet() = default;
+  // Moves keep the own arrays' buffers, so the spans stay valid; a copy would not.
+  SplatSet(SplatSet&&) = default;
+  SplatSet& operator=(SplatSet&&) = default;
+  SplatSet(const SplatSet&) = delete;
+  SplatSet& operator=(const SplatSet&) = delete;
+
+  [[nodiscard]] size_t size() const { return centres.size(); }
   [[nodiscard]] ItemSet items() const { return {centres, radii, half_extents}; }
+  [[nodiscard]] uint32_t point_of(uint32_t k) const { return point.empty() ? k : point[k]; }
+  [[nodiscard]] uint32_t prim_of(uint32_t k) const { return prim.empty() ? k : prim[k]; }
+  [[nodiscard]] PackedSplat splat(uint32_t k) const {
+    return {centres[k], radii[k], normals[k], prim_of(k)};
+  }
+  // Fills `packed` (32 B per item) for methods whose leaf code reads records by item index.
+  void pack();
+  // Frees the box half extents: only structure builds read them.
+  void release_build_data();
+  // Frees everything but prim (and packed, if made): for methods that have copied the splats
+  // into leaf-order blocks, which no leaf outside the bound structure may then ask for.
+  void release_item_data();
+  // Heap bytes held (not counting the cloud's arrays it adapts).
+  [[nodiscard]] size_t memory_bytes() const;
 };
 
 // Normals from the cloud, or PCA over normal_k neighbours where it has none (or when asked).
@@ -50,6 +80,7 @@ struct SplatParams {
 
 // Normals and radii from the cloud or estimated; `fixed_radius` (> 0) gives every splat that
 // radius instead (methods whose paper uses one global radius; only params.normals is read).
+// The cloud must outlive the set (its arrays may be the set's).
 SplatSet prepare_splats(const PointCloud& cloud, const SplatParams& params, PrepareContext& ctx,
                         float fixed_radius = 0);
 
@@ -59,7 +90,7 @@ void splat_attributes_by_point(const SplatSet& s, std::vector<Vec3>& normals,
                                std::vector<float>& radii);
 
 // Lays out splats made by a method itself (fewer than the points, or fitted): item k is
-// input point[k] and reports prim[point[k]] (a cloud index) as its hit primitive.
+// input point[k] and reports prim[point[k]] (a cloud index) as its hit primitive. Copies.
 SplatSet make_splat_set(std::span<const Vec3> centres, std::span<const Vec3> normals,
                         std::span<const float> radii, std::span<const uint32_t> prim);
 

@@ -122,19 +122,22 @@ class Linsen2007 final : public Method {
       c[s] = cloud.positions[kept[s]], nn[s] = normals[kept[s]], r[s] = radii[kept[s]];
     splats_ = make_splat_set(c, nn, r, kept);
     fields_.resize(kept.size());
-    for (size_t k = 0; k < kept.size(); ++k) fields_[k] = fields[kept[splats_.point[k]]].m;
+    for (size_t k = 0; k < kept.size(); ++k)
+      fields_[k] = fields[kept[splats_.point_of(uint32_t(k))]].m;
     settings_ = splat_blend_settings(splats_.radii, params_.front_depth);
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+  void bind_leaf_references(std::span<const uint32_t> refs) override {
+    bind_splat_blocks(blocks_, splats_, refs);  // the blocks: the splats' one copy from here on
+  }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
-    auto field = [&](uint32_t k, const Vec3& x) {
-      const PackedSplat& s = splats_.packed[k];
+    auto field = [&](uint32_t k, const PackedSplat& s, const Vec3& x) {
       const Vec3 nx = s.n + fields_[k] * (x - s.c);
       return nx.squaredNorm() > 0 ? Vec3(nx.normalized()) : s.n;
     };
-    return blend_splat_hits(ray, leaf, splats_.packed, settings_, field, hit, counters);
+    return blend_splat_hits(ray, leaf, blocks_, splats_, settings_, field, hit, counters);
   }
 
  private:
@@ -169,6 +172,7 @@ class Linsen2007 final : public Method {
 
   Linsen2007Params params_;
   SplatSet splats_;
+  SplatLeafBlocks blocks_;
   std::vector<Eigen::Matrix3f> fields_;  // item order
   SplatBlendSettings settings_;
 };

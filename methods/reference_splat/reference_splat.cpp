@@ -19,14 +19,14 @@ class ReferenceSplat final : public Method {
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
   void bind_leaf_references(std::span<const uint32_t> refs) override {
-    blocks_.bind(refs, splats_.packed);
+    bind_splat_blocks(blocks_, splats_, refs);  // the blocks: the splats' one copy from here on
   }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
     counters.add(kSplatTests, leaf.items.size());
     bool found = false;
-    for_each_disc_candidate(blocks_, splats_.packed, leaf.items, disc_query(ray, hit.t),
+    for_each_disc_candidate(blocks_, splats_, leaf.items, disc_query(ray, hit.t),
                             [&](const DiscCandidate& c) {
                               if (c.t >= ray.tmin && closer(c.t, c.prim, hit)) {
                                 record_hit(ray, c.t, c.prim, c.n, c.r, hit);
@@ -42,7 +42,7 @@ class ReferenceSplat final : public Method {
                      OpCounters& counters) const override {
     counters.add(kSplatTests, leaf.items.size());
     bool blocked = false;
-    for_each_disc_candidate(blocks_, splats_.packed, leaf.items, disc_query(ray, t_max),
+    for_each_disc_candidate(blocks_, splats_, leaf.items, disc_query(ray, t_max),
                             [&](const DiscCandidate& c) {
                               blocked = c.t >= ray.tmin && c.t <= t_max;
                               return !blocked;

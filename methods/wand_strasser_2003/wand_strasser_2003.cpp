@@ -62,6 +62,8 @@ class WandStrasser final : public Method {
     // A point reaches rays whose cone (cut off at cutoff sigma) passes it: its bounding radius.
     reach_ = cutoff_ * sigma_max_ * std::max(1.0f, aspect_);
     splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, reach_);
+    splats_.pack();
+    splats_.release_build_data();  // items are balls: no disc boxes
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
