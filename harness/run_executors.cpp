@@ -89,8 +89,10 @@ RunResult execute_reconstruct(const RunSpec& spec) {
   return r;
 }
 
-// Scene builds only: preparation counters of the first pass, build times.
-RunResult execute_build(const RunSpec& spec) {
+// A scene built per pass (warm-up passes first): preparation counters of the first pass, the
+// scene's own measures of the last; `pass(scene, i)` returns the pass's time.
+template <typename Pass>
+RunResult execute_scene_passes(const RunSpec& spec, Pass&& pass) {
   RunResult r = started(spec);
   const PointCloud cloud = cloud_of(spec, r);
   const SceneOptions so = scene_options(spec);
@@ -100,35 +102,33 @@ RunResult execute_build(const RunSpec& spec) {
     OpCounters p;
     const PointScene scene(cloud, so, p, t);
     if (i == 0) r.prepare_counters = p.to_map();
-    if (i >= spec.warmup) r.times_s.push_back(t["build"]);
+    const double seconds = pass(scene, cloud, rs, t, i, r);
+    if (i >= spec.warmup) r.times_s.push_back(seconds);
     r.measures.prepare_s = t["prepare"];
     r.measures.structure_bytes = scene.structure_bytes();
   }
-  r.counters = OpCounters().to_map();
   r.pixels = rs.width * rs.height;
   return r;
 }
 
-// Frames: a scene built and a frame rendered per pass; counters of the first pass.
-RunResult execute_render(const RunSpec& spec) {
-  RunResult r = started(spec);
-  const PointCloud cloud = cloud_of(spec, r);
-  const SceneOptions so = scene_options(spec);
-  const RenderSettings rs = render_settings(spec, cloud);
-  for (int i = 0; i < spec.warmup + spec.reps; ++i) {
-    Timings t;
-    OpCounters p;
-    const PointScene scene(cloud, so, p, t);
-    if (i == 0) r.prepare_counters = p.to_map();
-    RenderResult res = render(scene, cloud, rs);
-    if (i >= spec.warmup) r.times_s.push_back(res.seconds);
-    if (i == 0) r.counters = res.counters.to_map();
-    r.measures.prepare_s = t["prepare"];
-    r.measures.build_s = t["build"];
-    r.measures.structure_bytes = scene.structure_bytes();
-  }
-  r.pixels = rs.width * rs.height;
+// Scene builds only: the build's time; no frame, so no render counters.
+RunResult execute_build(const RunSpec& spec) {
+  RunResult r =
+      execute_scene_passes(spec, [](const PointScene&, const PointCloud&, const RenderSettings&,
+                                    Timings& t, int, RunResult&) { return t["build"]; });
+  r.counters = OpCounters().to_map();
   return r;
+}
+
+// Frames: a frame rendered per pass; render counters of the first pass.
+RunResult execute_render(const RunSpec& spec) {
+  return execute_scene_passes(spec, [](const PointScene& scene, const PointCloud& cloud,
+                                       const RenderSettings& rs, Timings& t, int i, RunResult& r) {
+    const RenderResult res = render(scene, cloud, rs);
+    if (i == 0) r.counters = res.counters.to_map();
+    r.measures.build_s = t["build"];
+    return res.seconds;
+  });
 }
 
 // Direct tracing against reconstruct-then-trace; the time is the mesh path's setup and frame.

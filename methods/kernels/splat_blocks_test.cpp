@@ -2,8 +2,8 @@
 
 #include <array>
 #include <bit>
-#include <cmath>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <vector>
 
 #include "core/rng.hpp"
