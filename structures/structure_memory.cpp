@@ -7,9 +7,12 @@
 // Usage: pcrt_structure_memory STRUCTURE N
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "core/dataset.hpp"
@@ -60,13 +63,32 @@ int run(const std::string& id, size_t n) {
 }  // namespace
 }  // namespace pcrt
 
+namespace {
+
+// N as a whole number of points, all of the argument (std::stoull takes "-5", "1e99" and "12x").
+std::optional<size_t> point_count(const char* text) {
+  size_t n = 0;
+  const char* end = text + std::strlen(text);
+  const auto [p, ec] = std::from_chars(text, end, n);
+  if (ec != std::errc() || p != end || n == 0) return std::nullopt;
+  return n;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc != 3) {
     std::fprintf(stderr, "usage: pcrt_structure_memory STRUCTURE N\n");
     return 1;
   }
   try {
-    return pcrt::run(argv[1], std::stoull(argv[2]));
+    const std::optional<size_t> n = point_count(argv[2]);
+    if (!n) {
+      std::fprintf(stderr, "pcrt_structure_memory: N '%s' is not a whole number of points\n",
+                   argv[2]);
+      return 1;
+    }
+    return pcrt::run(argv[1], *n);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pcrt_structure_memory: %s\n", e.what());
     return 1;
