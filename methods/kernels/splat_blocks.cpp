@@ -2,12 +2,17 @@
 
 #include <tbb/parallel_for.h>
 
+#include <cstdint>
+
 namespace pcrt {
 
 void SplatLeafBlocks::bind(std::span<const uint32_t> refs, const SplatSet& splats) {
   base_ = refs.data();
   count_ = refs.size();
-  leaf_order_ = double(refs.size()) <= kLeafOrderMaxRefsPerItem * double(splats.size());
+  // Leaf-order positions are 32-bit (the lanes' `first`): past 2^32 references, item order,
+  // whose positions are point indices.
+  leaf_order_ = double(refs.size()) <= kLeafOrderMaxRefsPerItem * double(splats.size()) &&
+                refs.size() <= size_t(UINT32_MAX) - 64;
   const size_t count = leaf_order_ ? refs.size() : splats.size();
   // One block past the last position, so that the block of any position exists.
   std::vector<DiscBlock>().swap(blocks_);
