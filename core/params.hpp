@@ -51,13 +51,19 @@ double parse_number(const std::string& text, const std::string& what);
 template <class P>
 class ParamList {
  public:
-  // An integral or bool member makes the parameter an integer one (whatever spec.integer says).
+  // An integral, bool or enum member makes the parameter an integer one (whatever spec.integer
+  // says); an enum's values are its enumerators' numbers, which the spec's range must cover.
   template <class T>
   ParamList&& add(T P::*member, ParamSpec spec) && {
-    static_assert(std::is_arithmetic_v<T>, "parameters are numbers");
-    spec.integer = std::is_integral_v<T>;
+    static_assert(std::is_arithmetic_v<T> || std::is_enum_v<T>, "parameters are numbers");
+    spec.integer = !std::is_floating_point_v<T>;
     specs_.push_back(std::move(spec));
-    setters_.push_back([member](P& p, double v) { p.*member = static_cast<T>(v); });
+    setters_.push_back([member](P& p, double v) {
+      if constexpr (std::is_enum_v<T>)
+        p.*member = static_cast<T>(static_cast<std::underlying_type_t<T>>(v));
+      else
+        p.*member = static_cast<T>(v);
+    });
     return std::move(*this);
   }
   // The fields of a shared group (splat, MLS, iteration parameters) inside this struct.

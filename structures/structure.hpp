@@ -18,18 +18,31 @@
 namespace pcrt {
 
 // What a structure indexes: a position per item, a bounding radius (the footprint fits in the
-// sphere of that radius), and optionally tighter axis half-extents (a disc of radius r and normal
-// n fits in the box of half-extents r * sqrt(1 - n_a^2): much thinner than the cube of side 2r
-// along the normal, so far fewer cells reference it). The spans stay the method's.
+// sphere of that radius), and optionally tighter axis half-extents: stored, or derived from a disc
+// normal (a disc of radius r and normal n fits in the box of half-extents r * sqrt(1 - n_a^2):
+// much thinner than the cube of side 2r along the normal, so far fewer cells reference it; derived
+// per call rather than stored, 12 bytes an item less at the build's peak). The spans stay the
+// method's.
 struct ItemSet {
   std::span<const Vec3> positions;
-  std::span<const float> radii;        // empty: points
-  std::span<const Vec3> half_extents;  // empty: the cube of the radius
+  std::span<const float> radii;             // empty: points
+  std::span<const Vec3> half_extents;       // empty: from disc_normals, else the cube of the radius
+  std::span<const Vec3> disc_normals = {};  // non-empty: item i is a disc of its radius facing this
 
+  // Padded by 1e-4 r so rounding of a hit point on the disc never leaves the box.
+  static Vec3 disc_half_extents(const Vec3& n, float r) {
+    return r *
+           ((Vec3::Ones() - n.cwiseProduct(n)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
+  }
   [[nodiscard]] size_t size() const { return positions.size(); }
   [[nodiscard]] float radius(uint32_t i) const { return radii.empty() ? 0.0f : radii[i]; }
+  [[nodiscard]] Vec3 half_extent(uint32_t i) const {
+    if (!half_extents.empty()) return half_extents[i];
+    if (!disc_normals.empty()) return disc_half_extents(disc_normals[i], radius(i));
+    return Vec3::Constant(radius(i));
+  }
   [[nodiscard]] Aabb box(uint32_t i) const {
-    const Vec3 e = half_extents.empty() ? Vec3::Constant(radius(i)) : half_extents[i];
+    const Vec3 e = half_extent(i);
     return Aabb{positions[i] - e, positions[i] + e};
   }
   [[nodiscard]] Aabb bounds() const {

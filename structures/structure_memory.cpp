@@ -37,10 +37,7 @@ int run(const std::string& id, size_t n) {
   PointCloud cloud = load_dataset(fmt::format("sphere:n={},seed=1", n)).cloud;
   const float r = 1.2f * std::sqrt(4.0f * 3.14159265f / float(n));
   std::vector<float> radii(n, r);
-  std::vector<Vec3> half(n);
-  for (size_t i = 0; i < n; ++i)
-    half[i] = r * (Vec3::Ones() - cloud.normals[i].cwiseAbs2()).cwiseMax(0.0f).cwiseSqrt();
-  const ItemSet items{cloud.positions, radii, half};
+  const ItemSet items{cloud.positions, radii, {}, cloud.normals};
   const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
   auto structure = info.create(resolve_params(info.params, {}, id));
   OpCounters counters;

@@ -52,7 +52,6 @@ class Adams2005 final : public Method {
         newton_settings(params_.iteration, 1.0f);  // tolerance scaled per surfel in intersect_leaf
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
-  void bind_leaf_references(std::span<const uint32_t>) override { splats_.release_build_data(); }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {

@@ -45,7 +45,6 @@ class Cai2011 final : public Method {
     splats_.pack();
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
-  void bind_leaf_references(std::span<const uint32_t>) override { splats_.release_build_data(); }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {

@@ -52,7 +52,6 @@ class EmbreeOrientedDisc final : public Method {
       for (uint32_t k = 0; k < splats_.size(); ++k) item_of_point_[splats_.point_of(k)] = k;
     }
     embree_->build(geom);
-    splats_.release_build_data();  // no structure of ours is built
   }
 
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }

@@ -3,6 +3,7 @@
 // its leaves hold few splats; the splats a ray hits in a leaf are blended by their distance from
 // the splat centres (thesis 5.5.2, "Splat intersection"). See README.md.
 #include "methods/kernels/splat_blend.hpp"
+#include "methods/kernels/splat_blocks.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
 
@@ -12,11 +13,14 @@ namespace {
 struct Goradia2010Params {
   SplatParams splat;
   float front_depth = 0.5f;
+  DiscBlockParams blocks;
 };
 const ParamList<Goradia2010Params>& goradia_2010_params() {
   using P = Goradia2010Params;
-  static const auto l =
-      ParamList<P>().add(&P::splat, SplatParams::list()).add(&P::front_depth, front_depth_spec());
+  static const auto l = ParamList<P>()
+                            .add(&P::splat, SplatParams::list())
+                            .add(&P::front_depth, front_depth_spec())
+                            .add(&P::blocks, DiscBlockParams::list());
   return l;
 }
 
@@ -30,7 +34,7 @@ class Goradia2010 final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
   void bind_leaf_references(std::span<const uint32_t> refs) override {
-    bind_splat_blocks(blocks_, splats_, refs);  // the blocks: the splats' one copy from here on
+    bind_splat_blocks(blocks_, splats_, refs, params_.blocks);
   }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,

@@ -76,7 +76,6 @@ class Hubo2006 final : public Method {
     // Item radius: the weight's reach.
     splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, surface_.reach);
     splats_.pack();
-    splats_.release_build_data();  // items are balls: no disc boxes
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 

@@ -68,7 +68,6 @@ class Hubo2007 final : public Method {
     newton_ = newton_settings(params_.iteration, h);
     depth_ = params_.front_depth * h;
     SplatSet pts = prepare_splats(cloud, SplatParams{params_.normals}, ctx, reach_);
-    pts.release_build_data();
     pts.pack();
     ScopedTimer t(ctx.timings, "prepare/patches");
     std::vector<uint32_t> order(pts.size());

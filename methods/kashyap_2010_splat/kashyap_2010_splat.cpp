@@ -93,6 +93,7 @@ struct Kashyap2010SplatParams {
   size_t max_leaf_points = 64;
   double max_normal_angle = 25;  // degrees
   float front_depth = 0.5f;
+  DiscBlockParams blocks;
 };
 const ParamList<Kashyap2010SplatParams>& kashyap_2010_splat_params() {
   using P = Kashyap2010SplatParams;
@@ -107,7 +108,8 @@ const ParamList<Kashyap2010SplatParams>& kashyap_2010_splat_params() {
           .add(&P::max_normal_angle,
                {"max_normal_angle", 25, 1, 180,
                 "largest angle between a leaf's splat normal and its points' normals (deg)"})
-          .add(&P::front_depth, front_depth_spec());
+          .add(&P::front_depth, front_depth_spec())
+          .add(&P::blocks, DiscBlockParams::list());
   return l;
 }
 
@@ -132,7 +134,7 @@ class Kashyap2010Splat final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
   void bind_leaf_references(std::span<const uint32_t> refs) override {
-    bind_splat_blocks(blocks_, splats_, refs);  // the blocks: the splats' one copy from here on
+    bind_splat_blocks(blocks_, splats_, refs, params_.blocks);
   }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,

@@ -6,38 +6,69 @@
 
 namespace pcrt {
 
-void SplatLeafBlocks::bind(std::span<const uint32_t> refs, const SplatSet& splats) {
-  base_ = refs.data();
-  count_ = refs.size();
+const ParamList<DiscBlockParams>& DiscBlockParams::list() {
+  using P = DiscBlockParams;
+  static const auto l = ParamList<P>().add(
+      &P::layout, {"disc_blocks", 0, 0, 2,
+                   "disc layout for the leaves: 0 leaf order where the structure references "
+                   "each disc at most twice, else item order; 1 leaf order (a copy per "
+                   "reference, fastest); 2 item order (no copy, leaves gather)"});
+  return l;
+}
+
+namespace {
+
+bool use_leaf_order(DiscBlockLayout layout, size_t refs, size_t items) {
   // Leaf-order positions are 32-bit (the lanes' `first`): past 2^32 references, item order,
   // whose positions are point indices.
-  leaf_order_ = double(refs.size()) <= kLeafOrderMaxRefsPerItem * double(splats.size()) &&
-                refs.size() <= size_t(UINT32_MAX) - 64;
-  const size_t count = leaf_order_ ? refs.size() : splats.size();
-  // One block past the last position, so that the block of any position exists.
+  if (refs > size_t(UINT32_MAX) - 64) return false;
+  switch (layout) {
+    case DiscBlockLayout::kLeafOrder:
+      return true;
+    case DiscBlockLayout::kItemOrder:
+      return false;
+    case DiscBlockLayout::kAuto:
+      break;
+  }
+  return double(refs) <= SplatLeafBlocks::kLeafOrderMaxRefsPerItem * double(items);
+}
+
+}  // namespace
+
+void SplatLeafBlocks::bind(std::span<const uint32_t> refs, const SplatSet& splats,
+                           DiscBlockLayout layout) {
+  base_ = refs.data();
+  count_ = refs.size();
+  leaf_order_ = use_leaf_order(layout, refs.size(), splats.size());
+  kernel_ = best_disc_kernel();
   std::vector<DiscBlock>().swap(blocks_);
-  blocks_.assign(count / kDiscGroup + 1, DiscBlock{});
+  if (!leaf_order_) {
+    centres_ = splats.centres, normals_ = splats.normals, radii_ = splats.radii;
+    return;
+  }
+  // One block past the last position, so that the block of any position exists.
+  blocks_.assign(count_ / kDiscGroup + 1, DiscBlock{});
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t g) {
     DiscBlock& b = blocks_[g];
-    for (size_t j = 0, i = g * kDiscGroup; j < kDiscGroup && i < count; ++j, ++i) {
-      const PackedSplat s = splats.splat(leaf_order_ ? refs[i] : uint32_t(i));
+    for (size_t j = 0, i = g * kDiscGroup; j < kDiscGroup && i < count_; ++j, ++i) {
+      const PackedSplat s = splats.splat(refs[i]);
       b.cx[j] = s.c.x(), b.cy[j] = s.c.y(), b.cz[j] = s.c.z();
       b.nx[j] = s.n.x(), b.ny[j] = s.n.y(), b.nz[j] = s.n.z();
       b.r[j] = s.r;
     }
   });
-  kernel_ = best_disc_kernel();
 }
 
 void SplatLeafBlocks::gather(const uint32_t* items, uint32_t n, DiscBlock* out) const {
   for (uint32_t m = 0; m < n; ++m) {
-    const DiscBlock& b = blocks_[items[m] / kDiscGroup];
-    const uint32_t j = items[m] % kDiscGroup;
+    const uint32_t item = items[m];
+    const Vec3& c = centres_[item];
+    const Vec3& nn = normals_[item];
     DiscBlock& o = out[m / kDiscGroup];
     const uint32_t k = m % kDiscGroup;
-    o.cx[k] = b.cx[j], o.cy[k] = b.cy[j], o.cz[k] = b.cz[j];
-    o.nx[k] = b.nx[j], o.ny[k] = b.ny[j], o.nz[k] = b.nz[j];
-    o.r[k] = b.r[j];
+    o.cx[k] = c.x(), o.cy[k] = c.y(), o.cz[k] = c.z();
+    o.nx[k] = nn.x(), o.ny[k] = nn.y(), o.nz[k] = nn.z();
+    o.r[k] = radii_[item];
   }
   if (n % kDiscGroup == 0) return;
   DiscBlock& last = out[n / kDiscGroup];

@@ -1,12 +1,13 @@
-// The splats in blocks of eight in structure-of-arrays layout (DiscBlock), the one copy of them the
-// leaf code reads once a structure is built (Method::bind_leaf_references; the item-order arrays
-// are then released). For a structure that references each item about once (bvh, sphere_tree,
-// brute_force) they are laid out in its leaf order, one entry per leaf reference, so the discs of
-// a leaf are contiguous and the leaf loop streams its blocks eight lanes at a time. A structure
-// that references items many times (kd_tree 3.7, octree up to 11 references per point at 10^6 on
-// a sphere) would multiply that copy, so they stay in item order and a leaf gathers its discs into
-// blocks on the stack (one copy, at the price of the gather). Before binding, a leaf (of a
-// structure built by a test, say) is read one disc at a time from the item-order SplatSet.
+// The splats in blocks of eight in structure-of-arrays layout (DiscBlock), as the leaf code reads
+// them once a structure is built (Method::bind_leaf_references). Two layouts (DiscBlockLayout):
+// leaf order, a copy with one entry per leaf reference, so the discs of a leaf are contiguous and
+// the leaf loop streams its blocks eight lanes at a time (the item-order arrays are then
+// released); or item order, no copy at all: a leaf gathers its discs from the set's item arrays
+// (the cloud's own, adapted) into blocks on the stack. Leaf order costs 28 bytes per reference: a
+// structure that references each item about once (bvh, sphere_tree, brute_force) pays it once, the
+// kd-tree (3.7 references per point on a 10^6 sphere), grid (2.4) and octree (up to 10.7) 67-300
+// B/point. Before binding, a leaf (of a structure built by a test, say) is read one disc at a time
+// from the item-order SplatSet.
 #pragma once
 
 #include <cstdint>
@@ -15,65 +16,68 @@
 #include <vector>
 
 #include "core/geometry.hpp"
+#include "core/params.hpp"
 #include "methods/kernels/disc_lanes.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 #include "methods/kernels/splat_set.hpp"
 
 namespace pcrt {
 
+enum class DiscBlockLayout : uint8_t {
+  kAuto = 0,       // leaf order if the structure references each item at most twice, else item
+  kLeafOrder = 1,  // a copy per leaf reference: the fastest leaves, memory grows with references
+  kItemOrder = 2,  // no copy: leaves gather their discs from the item arrays
+};
+
+// The parameter `disc_blocks` of the methods that trace disc blocks.
+struct DiscBlockParams {
+  DiscBlockLayout layout = DiscBlockLayout::kAuto;
+  static const ParamList<DiscBlockParams>& list();
+};
+
 class SplatLeafBlocks {
  public:
-  // Leaf order when refs holds at most this many references per item, else item order. The bvh
-  // pads its leaves to block boundaries (a leaf is one block) and stays below; the grid (2.4 on
-  // the 10^6 sphere), kd-tree (3.7) and octree (up to 10.7) are above, where a leaf-order copy
-  // would take 67-300 B/point.
+  // kAuto's threshold: leaf order up to this many references per item.
   static constexpr double kLeafOrderMaxRefsPerItem = 2.0;
 
-  // Copies the splats of `splats` (item order): splat refs[i] to position i (leaf order), or
-  // item k to position k (item order).
-  void bind(std::span<const uint32_t> refs, const SplatSet& splats);
+  // Binds the splats of `splats` (item order) to the structure's leaf references: copies splat
+  // refs[i] to position i (leaf order), or adapts the set's item arrays (item order; the set must
+  // then keep them and outlive the blocks).
+  void bind(std::span<const uint32_t> refs, const SplatSet& splats, DiscBlockLayout layout);
   [[nodiscard]] bool leaf_order() const { return leaf_order_; }
   // Leaf order: where the leaf's items start in the bound references; item order: 0 (positions
   // are the items themselves); -1 if the leaf cannot be read here (unbound, or not a piece of
   // the bound references).
   [[nodiscard]] int64_t offset_of(std::span<const uint32_t> items) const {
-    if (blocks_.empty()) return -1;
+    if (kernel_ == nullptr) return -1;
     if (!leaf_order_) return 0;
     if (items.data() < base_ || items.data() + items.size() > base_ + count_) return -1;
     return items.data() - base_;
   }
-  // The position of leaf item i, given the leaf's offset_of.
-  [[nodiscard]] size_t position(std::span<const uint32_t> items, int64_t off, uint32_t i) const {
-    return leaf_order_ ? size_t(off) + i : items[i];
-  }
   [[nodiscard]] const DiscBlock* blocks() const { return blocks_.data(); }
-  // The splat at position p, reporting `prim`.
-  [[nodiscard]] PackedSplat splat(size_t p, uint32_t prim) const {
-    const DiscBlock& b = blocks_[p / kDiscGroup];
-    const size_t j = p % kDiscGroup;
-    return {Vec3(b.cx[j], b.cy[j], b.cz[j]), b.r[j], Vec3(b.nx[j], b.ny[j], b.nz[j]), prim};
-  }
-  // Copies the discs at positions items[0..n) (item order, n <= 64) to lanes 0..n of out[0..8);
-  // the rest of the last block is zero (no disc).
+  // Copies the discs of items[0..n) (item order, n <= 64) to lanes 0..n of out[0..8); the rest
+  // of the last block is zero (no disc).
   void gather(const uint32_t* items, uint32_t n, DiscBlock* out) const;
   [[nodiscard]] DiscKernel kernel() const { return kernel_; }
+  // The copy's bytes (item order adapts, so 0).
   [[nodiscard]] size_t memory_bytes() const { return blocks_.capacity() * sizeof(DiscBlock); }
 
  private:
   const uint32_t* base_ = nullptr;
   size_t count_ = 0;
   bool leaf_order_ = true;
-  std::vector<DiscBlock> blocks_;
+  std::vector<DiscBlock> blocks_;            // leaf order
+  std::span<const Vec3> centres_, normals_;  // item order: the set's
+  std::span<const float> radii_;
   DiscKernel kernel_ = nullptr;  // chosen at bind: no guard or lookup per leaf
 };
 
-// Lays the splats out for the structure just built (leaf references refs) and releases the set's
-// item arrays: the box extents before the blocks are made (they never coexist), the rest after.
+// Lays the splats out for the structure just built; in leaf order the blocks are then the splats'
+// one copy and the set's item arrays are released.
 inline void bind_splat_blocks(SplatLeafBlocks& blocks, SplatSet& splats,
-                              std::span<const uint32_t> refs) {
-  splats.release_build_data();
-  blocks.bind(refs, splats);
-  splats.release_item_data();
+                              std::span<const uint32_t> refs, const DiscBlockParams& params) {
+  blocks.bind(refs, splats, params.layout);
+  if (blocks.leaf_order()) splats.release_item_data();
 }
 
 // The candidate window of a closest-hit query whose best hit so far is at `t_best`: [ray.tmin,

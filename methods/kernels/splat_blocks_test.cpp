@@ -37,17 +37,22 @@ TEST_CASE("disc lanes: the widest kernel accepts exactly the scalar kernel's dis
     centres.push_back(s.c), normals.push_back(s.n), radii.push_back(s.r);
   }
   const SplatSet set = make_splat_set(centres, normals, radii, ids);
-  // References once per item (blocks in leaf order) or each three times (above
-  // kLeafOrderMaxRefsPerItem: item order, leaves gather).
+  // References once per item or each three times (above kLeafOrderMaxRefsPerItem: kAuto
+  // chooses item order, leaves gather), in each layout.
   const bool thrice = GENERATE(false, true);
+  const DiscBlockLayout layout =
+      GENERATE(DiscBlockLayout::kAuto, DiscBlockLayout::kLeafOrder, DiscBlockLayout::kItemOrder);
   std::vector<uint32_t> refs = ids;
   if (thrice) {
     refs.insert(refs.end(), ids.rbegin(), ids.rend());
     refs.insert(refs.end(), ids.begin(), ids.end());
   }
   SplatLeafBlocks blocks, unbound;
-  blocks.bind(refs, set);
-  REQUIRE(blocks.leaf_order() == !thrice);
+  blocks.bind(refs, set, layout);
+  REQUIRE(blocks.leaf_order() ==
+          (layout == DiscBlockLayout::kLeafOrder || (layout == DiscBlockLayout::kAuto && !thrice)));
+  REQUIRE(blocks.memory_bytes() ==
+          (blocks.leaf_order() ? (refs.size() / kDiscGroup + 1) * sizeof(DiscBlock) : 0));
   size_t candidates = 0;
   for (int r = 0; r < 2000; ++r) {
     const Vec3 o(rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2);

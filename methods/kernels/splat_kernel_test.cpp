@@ -31,12 +31,16 @@ TEST_CASE("weighted splat blend", "[kernels]") {
   const std::vector<uint32_t> prims{7, 3, 9};
   const SplatSet splats = make_splat_set(centres, normals, radii, prims);
   const std::vector<uint32_t> items{0, 1, 2};
-  // Read from the item-order set (a leaf of no bound structure), then from leaf blocks.
-  SplatLeafBlocks unbound, bound;
-  bound.bind(items, splats);
-  const bool use_blocks = GENERATE(false, true);
-  const SplatLeafBlocks& blocks = use_blocks ? bound : unbound;
-  INFO("leaf blocks: " << use_blocks);
+  // Read from the item-order set (a leaf of no bound structure), then from leaf-order blocks,
+  // then gathered from the item arrays.
+  SplatLeafBlocks unbound, leaf_order, item_order;
+  leaf_order.bind(items, splats, DiscBlockLayout::kLeafOrder);
+  item_order.bind(items, splats, DiscBlockLayout::kItemOrder);
+  const int use_blocks = GENERATE(0, 1, 2);
+  const SplatLeafBlocks& blocks = use_blocks == 0   ? unbound
+                                  : use_blocks == 1 ? leaf_order
+                                                    : item_order;
+  INFO("blocks (0 unbound, 1 leaf order, 2 item order): " << use_blocks);
   const LeafVisit leaf{items, 0, kInfinity};
   const Ray down{Vec3(0, 0, 5), Vec3(0, 0, -1)};
   const SplatBlendSettings settings{0.2f, 1.0f, 0.0f};

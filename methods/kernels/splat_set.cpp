@@ -87,14 +87,6 @@ void lay_out(SplatSet& s, std::span<const Vec3> centres, std::span<const Vec3> n
     centres = s.own_centres, normals = s.own_normals, radii = s.own_radii;
   }
   s.centres = centres, s.normals = normals, s.radii = radii;
-  s.half_extents.resize(s.size());
-  for (size_t k = 0; k < s.size(); ++k) {
-    const Vec3& nn = normals[k];
-    // Padded by 1e-4 r so rounding of the hit point never leaves the box.
-    s.half_extents[k] =
-        radii[k] *
-        ((Vec3::Ones() - nn.cwiseProduct(nn)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
-  }
 }
 
 }  // namespace
@@ -159,14 +151,8 @@ void SplatSet::pack() {
   for (uint32_t k = 0; k < size(); ++k) packed[k] = splat(k);
 }
 
-void SplatSet::release_build_data() {
-  std::vector<Vec3>().swap(half_extents);
-  return_freed_memory();
-}
-
 void SplatSet::release_item_data() {
   centres = {}, normals = {}, radii = {};
-  std::vector<Vec3>().swap(half_extents);
   std::vector<uint32_t>().swap(point);
   std::vector<Vec3>().swap(own_centres);
   std::vector<Vec3>().swap(own_normals);
@@ -175,8 +161,8 @@ void SplatSet::release_item_data() {
 }
 
 size_t SplatSet::memory_bytes() const {
-  return half_extents.capacity() * sizeof(Vec3) + point.capacity() * sizeof(uint32_t) +
-         prim.capacity() * sizeof(uint32_t) + packed.capacity() * sizeof(PackedSplat) +
+  return point.capacity() * sizeof(uint32_t) + prim.capacity() * sizeof(uint32_t) +
+         packed.capacity() * sizeof(PackedSplat) +
          (own_centres.capacity() + own_normals.capacity()) * sizeof(Vec3) +
          own_radii.capacity() * sizeof(float);
 }

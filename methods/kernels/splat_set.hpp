@@ -23,14 +23,14 @@ inline const Counter kSplatsGenerated{"splats_generated",
 // One copy of each per-point array, nanoflann's rule: a cloud loaded in Morton order (every cloud
 // is, at load) is its own item order, so centres and normals are the cloud's arrays, adapted, not
 // copied, and point and prim are the identity (stored empty). Only what the cloud lacks (estimated
-// normals, radii) or a reordered or generated set is held here. The box half extents are build-only
-// (release_build_data, once the structure is built); methods that keep their own leaf-order copy
-// of the splats (SplatLeafBlocks) release the item arrays too (release_item_data).
+// normals, radii) or a reordered or generated set is held here. The structures derive each disc's
+// box from its normal and radius (ItemSet::disc_normals), so no box extents are stored; methods
+// that keep their own leaf-order copy of the splats (SplatLeafBlocks) release the item arrays
+// (release_item_data).
 struct SplatSet {
   std::span<const Vec3> centres;    // item order: the cloud's, or own_centres
   std::span<const Vec3> normals;    // item order: the cloud's, or own_normals
   std::span<const float> radii;     // item order: the cloud's, or own_radii
-  std::vector<Vec3> half_extents;   // of each disc's bounding box: r * sqrt(1 - n_a^2), padded
   std::vector<uint32_t> point;      // item k's index in the arrays it was made from; empty: k
   std::vector<uint32_t> prim;       // item k's hit primitive; empty: k
   std::vector<PackedSplat> packed;  // item-order records, only for methods that ask (pack())
@@ -45,7 +45,7 @@ struct SplatSet {
   SplatSet& operator=(const SplatSet&) = delete;
 
   [[nodiscard]] size_t size() const { return centres.size(); }
-  [[nodiscard]] ItemSet items() const { return {centres, radii, half_extents}; }
+  [[nodiscard]] ItemSet items() const { return {centres, radii, {}, normals}; }
   [[nodiscard]] uint32_t point_of(uint32_t k) const { return point.empty() ? k : point[k]; }
   [[nodiscard]] uint32_t prim_of(uint32_t k) const { return prim.empty() ? k : prim[k]; }
   [[nodiscard]] PackedSplat splat(uint32_t k) const {
@@ -53,8 +53,6 @@ struct SplatSet {
   }
   // Fills `packed` (32 B per item) for methods whose leaf code reads records by item index.
   void pack();
-  // Frees the box half extents: only structure builds read them.
-  void release_build_data();
   // Frees everything but prim (and packed, if made): for methods that have copied the splats
   // into leaf-order blocks, which no leaf outside the bound structure may then ask for.
   void release_item_data();

@@ -57,6 +57,7 @@ struct Linsen2007Params {
   float max_radius_scale = 4;
   bool reduce = true;
   float front_depth = 0.5f;
+  DiscBlockParams blocks;
 };
 const ParamList<Linsen2007Params>& linsen_2007_params() {
   using P = Linsen2007Params;
@@ -72,7 +73,8 @@ const ParamList<Linsen2007Params>& linsen_2007_params() {
                {"max_radius_scale", 4, 1, 100,
                 "cap on a splat's radius, in multiples of its neighbour-distance radius"})
           .add(&P::reduce, {"reduce", 1, 0, 1, "1: drop the points a larger splat already covers"})
-          .add(&P::front_depth, front_depth_spec());
+          .add(&P::front_depth, front_depth_spec())
+          .add(&P::blocks, DiscBlockParams::list());
   return l;
 }
 
@@ -128,7 +130,7 @@ class Linsen2007 final : public Method {
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
   void bind_leaf_references(std::span<const uint32_t> refs) override {
-    bind_splat_blocks(blocks_, splats_, refs);  // the blocks: the splats' one copy from here on
+    bind_splat_blocks(blocks_, splats_, refs, params_.blocks);
   }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,

@@ -9,17 +9,28 @@
 namespace pcrt {
 namespace {
 
+struct ReferenceSplatParams {
+  SplatParams splat;
+  DiscBlockParams blocks;
+};
+const ParamList<ReferenceSplatParams>& reference_splat_params() {
+  using P = ReferenceSplatParams;
+  static const auto l =
+      ParamList<P>().add(&P::splat, SplatParams::list()).add(&P::blocks, DiscBlockParams::list());
+  return l;
+}
+
 class ReferenceSplat final : public Method {
  public:
-  explicit ReferenceSplat(const SplatParams& params) : params_(params) {}
+  explicit ReferenceSplat(const ReferenceSplatParams& params) : params_(params) {}
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
-    splats_ = prepare_splats(cloud, params_, ctx);
+    splats_ = prepare_splats(cloud, params_.splat, ctx);
   }
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
 
   void bind_leaf_references(std::span<const uint32_t> refs) override {
-    bind_splat_blocks(blocks_, splats_, refs);  // the blocks: the splats' one copy from here on
+    bind_splat_blocks(blocks_, splats_, refs, params_.blocks);
   }
 
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
@@ -51,7 +62,7 @@ class ReferenceSplat final : public Method {
   }
 
  private:
-  SplatParams params_;
+  ReferenceSplatParams params_;
   SplatSet splats_;
   SplatLeafBlocks blocks_;
 };
@@ -66,9 +77,9 @@ void register_reference_splat(MethodRegistry& registry) {
                  "each point is a disc of its radius facing its normal; the nearest disc hit wins",
                  "brute_force",
                  {"point normals", "point radii"},
-                 SplatParams::list().specs(),
+                 reference_splat_params().specs(),
                  {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
-                 create_from<ReferenceSplat>(SplatParams::list(), "reference_splat"),
+                 create_from<ReferenceSplat>(reference_splat_params(), "reference_splat"),
                  {},
                  {&kSplatTests},
                  LeafFamily::kDisc});

@@ -41,7 +41,6 @@ class SchauflerJensen final : public Method {
     // Every point reaches rays passing within d: its bounding radius is d.
     splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, d_);
     splats_.pack();
-    splats_.release_build_data();  // items are balls: no disc boxes
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 

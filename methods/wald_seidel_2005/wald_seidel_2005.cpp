@@ -59,7 +59,6 @@ class WaldSeidel final : public Method {
     max_refinements_ = params_.max_iterations;
     splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, radius_);
     splats_.pack();
-    splats_.release_build_data();  // items are balls: no disc boxes
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 

@@ -63,7 +63,6 @@ class WandStrasser final : public Method {
     reach_ = cutoff_ * sigma_max_ * std::max(1.0f, aspect_);
     splats_ = prepare_splats(cloud, SplatParams{params_.normals}, ctx, reach_);
     splats_.pack();
-    splats_.release_build_data();  // items are balls: no disc boxes
   }
   [[nodiscard]] ItemSet items() const override { return {splats_.centres, splats_.radii, {}}; }
 
