@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "methods/kernels/splat_blocks.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 
 namespace pcrt {
@@ -14,6 +15,12 @@ bool needs(const MethodInfo& m, const std::string& what) {
 // nanoflann's index: its permutation of indices and about one 40-byte node per 5 points.
 constexpr size_t kKnnIndexBytes = sizeof(uint32_t) + 8;
 
+// The parameter that chooses the disc blocks' layout, as DiscBlockParams declares it.
+const std::string& disc_blocks_name() {
+  static const std::string name = DiscBlockParams::list().specs().at(0).name;
+  return name;
+}
+
 }  // namespace
 
 size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& cloud,
@@ -23,12 +30,11 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
     // B/point measured at 10^7 with the cloud and a sphere tree).
     return kKnnIndexBytes + 4 * sizeof(float);
   }
-  // The oriented splats at their peak, when the structure is built and the splats are copied into
-  // its leaf blocks (or packed records): one 28-32-byte record per point besides the radii they
-  // are made from (freed after). Centres and normals are the cloud's until then; the box extents
-  // (12 bytes) are freed before the copy is made, and with the k-NN index and the layout's Morton
-  // check they are smaller.
-  size_t bytes = sizeof(PackedSplat) + sizeof(float);
+  // The radii (the cloud's centres and normals are adapted, not copied), and for the methods
+  // that read item-order records rather than disc blocks, one 32-byte record per point. The disc
+  // blocks, where a layout copies them, are the structure's part (structure_footprint).
+  size_t bytes = sizeof(float);
+  if (!params.count(disc_blocks_name())) bytes += sizeof(PackedSplat);
   const auto it = params.find("estimate_normals");
   if (!cloud.has_normals() || (it != params.end() && it->second != 0)) {
     // The k-NN graph of the orientation tree, its degrees and the normals themselves.
@@ -38,29 +44,36 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
   return bytes;
 }
 
-size_t structure_bytes_per_item(const std::string& structure) {
-  // Peak growth over the cloud and the prepared splats (36 bytes a point), per item: the larger
-  // of two measurements at 10^7 points, the structure build's own peak above what was resident
-  // before it (scripts/structure_memory.sh, results/scale/structmem/builds.jsonl) and the whole
-  // process's peak with reference_splat and goradia_2010 on a sphere (scripts/scale.sh,
-  // results/scale/splatmem/ and results/scale/merged/), where the leaf blocks made on top of the
-  // structure can be the peak.
-  if (structure == "brute_force") return sizeof(uint32_t);
-  if (structure == "grid") return 12;
-  if (structure == "sphere_tree") return 17;
-  if (structure == "kd_tree") return 44;
-  if (structure == "octree") return 67;
-  if (structure == "bvh") return 71;
-  return 80;  // structures of a method's own
+StructureFootprint structure_footprint(const std::string& structure) {
+  // Per item, over the cloud (24 B) and the radii (4): the process peak of reference_splat on a
+  // 10^7-point sphere with the disc blocks in item order (no copy: the structure's build peak or
+  // its final arrays, whichever is higher) and in leaf order (a 28-byte disc per reference), from
+  // results/scale/layouts (scripts/scale.sh), plus 10% and rounded up. References per item: the
+  // build_item_refs / N of the same structures at 10^6-10^7 (structure_memory.sh), the smaller
+  // where they differ, so that disc_blocks=0 is priced as leaf order wherever it may choose it.
+  if (structure == "brute_force") return {sizeof(uint32_t), sizeof(uint32_t) + 28, 1};
+  if (structure == "grid") return {20, 72, 1.9};
+  if (structure == "sphere_tree") return {23, 54, 1};
+  if (structure == "kd_tree") return {34, 138, 3.7};
+  if (structure == "octree") return {71, 374, 9.8};
+  if (structure == "bvh") return {55, 60, 1};
+  return {80, 80, 1};  // structures of a method's own
 }
 
-double structure_references_per_item(const std::string& structure) {
-  // build_item_refs / N in the same runs (references_per_item), the larger of the two sizes
-  // rounded up.
-  if (structure == "kd_tree") return 3.7;
-  if (structure == "octree") return 9.8;
-  if (structure == "grid") return 1.9;
-  return 1;  // object partitions (sphere_tree, bvh) and brute_force
+size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params) {
+  const StructureFootprint f = structure_footprint(structure);
+  const auto it = method_params.find(disc_blocks_name());
+  if (it == method_params.end()) return f.item_order;  // no disc blocks
+  switch (DiscBlockLayout(int(it->second))) {
+    case DiscBlockLayout::kLeafOrder:
+      return f.leaf_order;
+    case DiscBlockLayout::kItemOrder:
+      return f.item_order;
+    case DiscBlockLayout::kAuto:
+      break;
+  }
+  return f.references_per_item <= SplatLeafBlocks::kLeafOrderMaxRefsPerItem ? f.leaf_order
+                                                                            : f.item_order;
 }
 
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,
@@ -69,7 +82,7 @@ size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structu
     if (const size_t own = method.own_bytes_per_point(cloud, method_params); own > 0)
       return cloud.size() * own;
   return cloud.size() * (prepared_bytes_per_point(method, cloud, method_params) +
-                         structure_bytes_per_item(structure));
+                         structure_bytes_per_item(structure, method_params));
 }
 
 }  // namespace pcrt

@@ -17,11 +17,17 @@ namespace pcrt {
 // Bytes per point the method's prepare step holds at its peak, besides the cloud.
 size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& cloud,
                                 const ParamValues& method_params);
-// Bytes per item the structure holds at its build peak.
-size_t structure_bytes_per_item(const std::string& structure);
-// Leaf references per item the structure stores (the entries of data a method lays out in leaf
-// order, such as reference_splat's disc blocks: one slot per reference).
-double structure_references_per_item(const std::string& structure);
+// What a structure adds per item at the process's peak (its build or its final arrays with the
+// method's leaf data): with the disc blocks adapted in item order (also the figure for methods
+// without disc blocks) or copied in leaf order, and the leaf references it stores per item.
+struct StructureFootprint {
+  size_t item_order = 0;
+  size_t leaf_order = 0;
+  double references_per_item = 1;
+};
+StructureFootprint structure_footprint(const std::string& structure);
+// The footprint for the layout the method's parameters choose (disc_blocks; none: item order).
+size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params);
 // Both, for the cloud's size.
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,
                             const PointCloud& cloud, const ParamValues& method_params);
