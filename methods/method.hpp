@@ -108,6 +108,9 @@ struct MethodInfo {
   // Methods whose memory the splat-and-structure estimate (render/memory_estimate) does not
   // describe for some parameters: their bytes per point for those parameters, else 0.
   std::function<size_t(const PointCloud&, const ParamValues&)> own_bytes_per_point = {};
+  // Bytes per point a method keeps besides the estimate's splats and structure (its own copies of
+  // the splats it makes, fields per splat): an upper bound, one splat per point.
+  size_t own_data_bytes_per_point = 0;
 
   // One of the thesis's surveyed methods (it has a reference number), not a reference oracle.
   [[nodiscard]] bool surveyed() const { return thesis_ref != "-"; }

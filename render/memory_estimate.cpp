@@ -81,8 +81,9 @@ size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structu
   if (method.own_bytes_per_point)
     if (const size_t own = method.own_bytes_per_point(cloud, method_params); own > 0)
       return cloud.size() * own;
-  return cloud.size() * (prepared_bytes_per_point(method, cloud, method_params) +
-                         structure_bytes_per_item(structure, method_params));
+  return cloud.size() *
+         (prepared_bytes_per_point(method, cloud, method_params) +
+          structure_bytes_per_item(structure, method_params) + method.own_data_bytes_per_point);
 }
 
 }  // namespace pcrt

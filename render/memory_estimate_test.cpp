@@ -76,4 +76,16 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
         structure_footprint("kd_tree").item_order);
 }
 
+TEST_CASE("memory estimate: a method's own per-splat data is added") {
+  const auto& goradia = MethodRegistry::instance().get("goradia_2010", "method");
+  const auto& linsen = MethodRegistry::instance().get("linsen_2007", "method");
+  const PointCloud cloud = load_dataset("sphere:n=1000").cloud;
+  const size_t g =
+      estimate_scene_bytes(goradia, "octree", cloud, resolve_params(goradia.params, {}, "test"));
+  const size_t l =
+      estimate_scene_bytes(linsen, "octree", cloud, resolve_params(linsen.params, {}, "test"));
+  CHECK(linsen.own_data_bytes_per_point == 68);  // normal field 36, own splat 28, point index 4
+  CHECK(l - g == 1000 * linsen.own_data_bytes_per_point);
+}
+
 }  // namespace pcrt

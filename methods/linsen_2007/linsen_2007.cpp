@@ -197,7 +197,10 @@ void register_linsen_2007(MethodRegistry& registry) {
       create_from<Linsen2007>(linsen_2007_params(), "linsen_2007"),
       {},
       {&kProjectionTests, &kSplatTests},
-      LeafFamily::kSplatBlend});
+      LeafFamily::kSplatBlend,
+      {},
+      // Per splat: its normal field, its own centre, normal and radius, and its point index.
+      sizeof(Eigen::Matrix3f) + 2 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t)});
 }
 
 }  // namespace pcrt
