@@ -174,8 +174,8 @@ class KdTree final : public Structure {
     out.nodes.push_back(KdNode::leaf(out.refs.size(), 0));
   }
 
-  [[nodiscard]] float lo(uint32_t i, int ax) const { return items_.box(i).lo[ax]; }
-  [[nodiscard]] float hi(uint32_t i, int ax) const { return items_.box(i).hi[ax]; }
+  [[nodiscard]] float lo(uint32_t i, int ax) const { return items_.box_lo(i, ax); }
+  [[nodiscard]] float hi(uint32_t i, int ax) const { return items_.box_hi(i, ax); }
 
   // Builds the subtree of the references stack[begin, end) and pops them. Recursion depth is
   // bounded by max_depth (at most 100, see the parameter range).

@@ -3,6 +3,8 @@
 // each leaf it enters to a LeafIntersector (the second seam, T_int, implemented by methods).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <span>
@@ -40,6 +42,20 @@ struct ItemSet {
     if (!half_extents.empty()) return half_extents[i];
     if (!disc_normals.empty()) return disc_half_extents(disc_normals[i], radius(i));
     return Vec3::Constant(radius(i));
+  }
+  // Axis ax of half_extent(i), the same value (one square root instead of three: the kd-tree
+  // build tests one axis of every reference at every level).
+  [[nodiscard]] float half_extent(uint32_t i, int ax) const {
+    if (!half_extents.empty()) return half_extents[i][ax];
+    if (disc_normals.empty()) return radius(i);
+    const float n = disc_normals[i][ax];
+    return radius(i) * (std::sqrt(std::max(1.0f - n * n, 0.0f)) + 1e-4f);
+  }
+  [[nodiscard]] float box_lo(uint32_t i, int ax) const {
+    return positions[i][ax] - half_extent(i, ax);
+  }
+  [[nodiscard]] float box_hi(uint32_t i, int ax) const {
+    return positions[i][ax] + half_extent(i, ax);
   }
   [[nodiscard]] Aabb box(uint32_t i) const {
     const Vec3 e = half_extent(i);
