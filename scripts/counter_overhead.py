@@ -16,6 +16,7 @@ anchor does not time, such as the MLS ones) it is the render phase's wall time O
 """
 import argparse
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -117,6 +118,19 @@ def quartiles(v):
     return q[0], q[2]
 
 
+def median_ci(v):
+    """A distribution-free 95% confidence interval of the median: order statistics k and n-1-k,
+    k the largest with P(Binomial(n, 1/2) <= k) <= 2.5%; None below 6 pairs (no such k)."""
+    n, v = len(v), sorted(v)
+    cdf, k = 0.0, -1
+    for i in range(n):
+        cdf += math.comb(n, i) / 2**n
+        if cdf > 0.025:
+            break
+        k = i
+    return (v[k], v[n - 1 - k]) if k >= 0 else None
+
+
 def summary_rows(out):
     runs = [json.loads(line) for line in open(os.path.join(out, "runs.jsonl"))]
     rows = []
@@ -129,7 +143,8 @@ def summary_rows(out):
             raw = [p[s][1] for p in per]
             rows.append({"case": case, "rays": s, "pairs": len(per),
                          "median": statistics.median(norm), "min": min(norm), "max": max(norm),
-                         "iqr": quartiles(norm), "raw_median": statistics.median(raw),
+                         "iqr": quartiles(norm), "ci95": median_ci(norm),
+                         "raw_median": statistics.median(raw),
                          "raw_min": min(raw), "raw_max": max(raw),
                          "load": (min(loads), statistics.median(loads), max(loads))})
     return rows
@@ -140,11 +155,13 @@ def pct(x):
 
 
 def markdown(rows):
-    lines = ["| case | rays | pairs | overhead, median | IQR | min .. max | raw median (min .. max) "
-             "| load avg min / median / max |", "|---|---|---|---|---|---|---|---|"]
+    lines = ["| case | rays | pairs | overhead, median | 95% CI of median | IQR | min .. max "
+             "| raw median (min .. max) | load avg min / median / max |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
+        ci = f"{pct(r['ci95'][0])} .. {pct(r['ci95'][1])}" if r["ci95"] else "-"
         lines.append(
-            f"| {r['case']} | {r['rays']} | {r['pairs']} | {pct(r['median'])} | "
+            f"| {r['case']} | {r['rays']} | {r['pairs']} | {pct(r['median'])} | {ci} | "
             f"{pct(r['iqr'][0])} .. {pct(r['iqr'][1])} | {pct(r['min'])} .. {pct(r['max'])} | "
             f"{pct(r['raw_median'])} ({pct(r['raw_min'])} .. {pct(r['raw_max'])}) | "
             f"{r['load'][0]:.2f} / {r['load'][1]:.2f} / {r['load'][2]:.2f} |")
