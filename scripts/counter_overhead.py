@@ -10,9 +10,14 @@ work in both builds: a few counts per ray), so the pair's ratio is
 and the raw ratio rate_OFF / rate_ON is kept beside it. For `pcrt render` cases (methods that
 anchor does not time, such as the MLS ones) it is the render phase's wall time ON / OFF.
 
+  cmake -S . -B build-nocount -G Ninja -DCMAKE_BUILD_TYPE=Release -DPCRT_COUNTERS=OFF
+  cmake --build build-nocount --target pcrt
   scripts/counter_overhead.py --on build/bin/pcrt --off build-nocount/bin/pcrt \
-      --pairs 7 --out results/anchor/counters            # runs, then writes summary.md
+      --pairs 7 --out results/anchor/counters    # runs (appended to OUT), then the table
   scripts/counter_overhead.py --out results/anchor/counters --summary-only
+
+Writes OUT/raw/CASE_{on,off}_PAIR.json, OUT/runs.jsonl (command, load average, time of each run)
+and OUT/summary.json; prints the table as markdown. Refuses an OFF binary that counts.
 """
 import argparse
 import json
@@ -95,12 +100,27 @@ def anchor_rates(j, ray_set):
     return c["mrays_per_s"], c["references"][0]["ratio"]
 
 
+def counts(j):
+    """The operation counts a run reported (render stats, or anchor's first ray set's work)."""
+    if "counters" in j:
+        return j["counters"]
+    first = j if "mesh" in j else j["candidates"][0]
+    return first["primary"].get("work_per_ray") or {}
+
+
+def check_counting(j, case, pair):
+    if not counts(j["on"]) or counts(j["off"]):
+        sys.exit(f"counter_overhead: pair {pair} of {case}: the ON run must count and the OFF run "
+                 "must not (is --off built with -DPCRT_COUNTERS=OFF?)")
+
+
 def pair_ratios(out, case, pair):
     """{ray set: (normalised ON/OFF time ratio, raw ratio)} of one pair, None if incomplete."""
     files = {b: os.path.join(out, "raw", f"{case}_{b}_{pair}.json") for b in ("on", "off")}
     if not all(os.path.exists(p) for p in files.values()):
         return None
     j = {b: json.load(open(p)) for b, p in files.items()}
+    check_counting(j, case, pair)
     if CASES[case][0] == "render":
         t = {b: j[b]["timings"]["render"] for b in j}
         return {"frame": (t["on"] / t["off"], t["on"] / t["off"])}
