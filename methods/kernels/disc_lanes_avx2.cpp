@@ -31,15 +31,12 @@ struct Lane8 {
 };
 
 // Records items[0..n) (n <= 8) as lanes: one 32-byte load per record (a record is 8 floats) and
-// an 8 x 8 transpose, so that lane j of field k is record j's field k. Missing records are zero.
+// an 8 x 8 transpose, so that lane j of field k is record j's field k. Lanes past n repeat record
+// items[0] (no branch per lane; projection_candidates masks them off).
 void load_record_lanes(const float* records, const uint32_t* items, uint32_t n, Lane8* f) {
   __m256 r[8];
-  if (n == kDiscGroup) {
-    for (uint32_t j = 0; j < 8; ++j) r[j] = _mm256_load_ps(records + uint64_t(items[j]) * 8);
-  } else {
-    for (uint32_t j = 0; j < 8; ++j)
-      r[j] = j < n ? _mm256_load_ps(records + uint64_t(items[j]) * 8) : _mm256_setzero_ps();
-  }
+  for (uint32_t j = 0; j < 8; ++j)
+    r[j] = _mm256_load_ps(records + uint64_t(items[j < n ? j : 0]) * kRecordFloats);
   __m256 t[8], s[8];
   for (uint32_t j = 0; j < 8; j += 2) {
     t[j] = _mm256_unpacklo_ps(r[j], r[j + 1]);

@@ -64,7 +64,7 @@ inline void load_record_lanes(const float* records, const uint32_t* items, uint3
 }
 
 // Sets bit i of *word for each candidate among the count <= 64 records items[0..count) of
-// `records` (lanes past count are zero records: never candidates).
+// `records` (lanes past count, whatever a lane type loads there, are masked off).
 template <class L>
 void projection_candidates(const float* records, const uint32_t* items, uint32_t count,
                            const ProjectionQuery& q, uint64_t* word) {
@@ -75,7 +75,7 @@ void projection_candidates(const float* records, const uint32_t* items, uint32_t
     load_record_lanes(records, items + i, n, f);
     bits |= uint64_t(projection_group<L>(q, f)) << i;
   }
-  *word = bits;
+  *word = count < 64 ? bits & ((uint64_t(1) << count) - 1) : bits;
 }
 
 using ProjectionKernel = void (*)(const float* records, const uint32_t* items, uint32_t count,
