@@ -1,7 +1,10 @@
 // Point projection onto a ray (thesis section 5.5.2, "point projection based intersection"): the
 // leaf's points are projected onto the ray through their tangent planes, and the front-most group
 // is blended into one hit. Shared by Schaufler and Jensen 2000 (ray cylinder, linear weights) and
-// Wand and Strasser 2003 (ray cone, Gaussian weights); the weight function is what differs.
+// Wand and Strasser 2003 (ray cone, Gaussian weights); the weight function is what differs. Their
+// leaves are read through an 8-wide prefilter (projection_lanes.hpp) and projected exactly only
+// where it lets a point through, once per leaf; the splat blend (splat_blend.hpp) reuses the
+// grouping with the disc lanes as its prefilter.
 #pragma once
 
 #include <algorithm>
@@ -152,10 +155,10 @@ bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_e
 // is rounded once more than the lanes' comparison), r^2 widened by 10% (5% on the radius). The
 // lanes compute num and den as the exact projection does (projection_lanes.hpp); their |x - c|^2
 // and the exact one then differ by a few roundings of the coordinates of o, c and x = o + t d
-// (about 1e-7 of |o| + |c| + |t| each), whatever the angle between ray and plane: below 0.1% of
-// the radius wherever it exceeds 1e-4 of the scene's extent and the camera's distance (3 mean
-// spacings or more on the clouds measured: 2e-3 to 1e-2 of the extent). Checked by
-// ray_projection_test.cpp, which fails with no margin.
+// (about 6e-8 of |o| + |c| + |t| each), whatever the angle between ray and plane: a few 0.1% of
+// the radius where it is 1e-4 of the scene's and the camera's scale, less above. The methods'
+// radii are 3 (schaufler_jensen_2000) and 6 (wand_strasser_2003) mean spacings by default.
+// Checked by ray_projection_test.cpp, which fails with r^2 scaled by 0.999 (it passes at 1.0).
 inline ProjectionQuery projection_query(const Ray& ray) {
   return {{ray.o.x(), ray.o.y(), ray.o.z()},
           {ray.d.x(), ray.d.y(), ray.d.z()},
