@@ -1,13 +1,19 @@
 // Point projection onto a ray (thesis section 5.5.2, "point projection based intersection"): the
 // leaf's points are projected onto the ray through their tangent planes, and the front-most group
 // is blended into one hit. Shared by Schaufler and Jensen 2000 (ray cylinder, linear weights) and
-// Wand and Strasser 2003 (ray cone, Gaussian weights); the weight function is what differs.
+// Wand and Strasser 2003 (ray cone, Gaussian weights); the weight function is what differs. Their
+// leaves are read through an 8-wide prefilter (projection_lanes.hpp) and projected exactly only
+// where it lets a point through, once per leaf; the splat blend (splat_blend.hpp) reuses the
+// grouping with the disc lanes as its prefilter.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <span>
 
 #include "core/counters.hpp"
+#include "methods/kernels/projection_lanes.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 #include "structures/structure.hpp"
 
@@ -41,30 +47,33 @@ inline bool record_blend(const Ray& ray, const LeafVisit& leaf, const Projection
   return true;
 }
 
-// Weight(ray, splat, t, lateral) returns the weight of a point whose tangent plane the ray crosses
-// at t, with `lateral` its offset from the ray axis, and 0 if it is no candidate. ForEachSplat(f)
-// calls f(k, splat) for the leaf's items in leaf order (k the item index; it may skip items whose
-// weight would be 0). NormalAt(k, splat, x) is item k's normal at the crossing x (its own normal,
-// or a normal field's value there). Allocation-free, two passes over the leaf per group tried:
-// O(K) per group.
-template <typename ForEachSplat, typename Weight, typename NormalAt>
-bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_each_splat,
-                     const ProjectionSettings& s, Weight&& weight, NormalAt&& normal_at, Hit& hit,
-                     OpCounters& counters) {
-  auto project = [&](const PackedSplat& p, float& t, float& w) {
-    const Vec3 v = p.c - ray.o;
-    const Vec3 lateral = v - v.dot(ray.d) * ray.d;
-    const float denom = p.n.dot(ray.d);
-    if (denom == 0) return false;
-    t = p.n.dot(v) / denom;
-    if (t < ray.tmin) return false;
-    w = weight(ray, p, t, lateral);
-    return w > 0;
-  };
-  // Groups front to back: the front-most candidate starts a group of the candidates within
-  // `depth` behind it. A group below the coverage threshold is no surface (a stray tangent plane
-  // crossing the ray early); the next group is tried rather than the leaf giving up, since the
-  // surface behind the stray crossing may then lie before the next leaf's reach and be lost.
+// Projects point p onto the ray through its tangent plane: false if the ray is parallel to the
+// plane, crosses it before tmin, or Weight(ray, p, t, lateral) is 0 (no candidate); else the
+// crossing t and the weight w (lateral: the point's offset from the ray axis).
+template <typename Weight>
+inline bool project_point(const Ray& ray, const PackedSplat& p, Weight&& weight, float& t,
+                          float& w) {
+  const Vec3 v = p.c - ray.o;
+  const Vec3 lateral = v - v.dot(ray.d) * ray.d;
+  const float denom = p.n.dot(ray.d);
+  if (denom == 0) return false;
+  t = p.n.dot(v) / denom;
+  if (t < ray.tmin) return false;
+  w = weight(ray, p, t, lateral);
+  return w > 0;
+}
+
+// The blend over a leaf's projected points. ForEachProjected(g) calls g(k, p, t, w) for each
+// point of the leaf that project_point accepts, in leaf order (k the item index). Groups front to
+// back: the front-most point starts a group of the points within `depth` behind it. A group below
+// the coverage threshold is no surface (a stray tangent plane crossing the ray early); the next
+// group is tried rather than the leaf giving up, since the surface behind the stray crossing may
+// then lie before the next leaf's reach and be lost. Work counts as the thesis algorithm's: every
+// leaf item projected twice per group tried.
+template <typename ForEachProjected, typename NormalAt>
+bool blend_groups(const Ray& ray, const LeafVisit& leaf, ForEachProjected&& for_each_projected,
+                  const ProjectionSettings& s, NormalAt&& normal_at, Hit& hit,
+                  OpCounters& counters) {
   float floor_t = -kInfinity, wsum = 0, tsum = 0;
   Vec3 nsum = Vec3::Zero();
   PackedSplat best{};
@@ -74,18 +83,16 @@ bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_e
   while (true) {
     counters.add(kProjectionTests, leaf.items.size());
     float front = kInfinity;
-    for_each_splat([&](uint32_t, const PackedSplat& p) {
-      float t = 0, w = 0;
-      if (project(p, t, w) && t > floor_t) candidates += first_pass, front = std::min(front, t);
+    for_each_projected([&](uint32_t, const PackedSplat&, float t, float) {
+      if (t > floor_t) candidates += first_pass, front = std::min(front, t);
     });
     first_pass = false;
     if (front == kInfinity) break;
     counters.add(kProjectionTests, leaf.items.size());
     wsum = 0, tsum = 0, nsum = Vec3::Zero(), has_best = false;
     float best_w = -1;
-    for_each_splat([&](uint32_t k, const PackedSplat& p) {
-      float t = 0, w = 0;
-      if (!project(p, t, w) || t < front || t > front + s.depth) return;
+    for_each_projected([&](uint32_t k, const PackedSplat& p, float t, float w) {
+      if (t < front || t > front + s.depth) return;
       wsum += w;
       tsum += w * t;
       nsum += w * normal_at(k, p, ray.at(t));
@@ -100,14 +107,101 @@ bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_e
   return record_blend(ray, leaf, s, tsum / wsum, nsum, best, hit);
 }
 
-// The same over item-order records, each point with its own normal.
+// The points a leaf's blend keeps, with their crossing and weight: projected once per leaf, not
+// twice per group tried. A leaf that keeps more than kCapacity points is blended from the
+// projection itself (projecting again per pass: the same floats, so the same hit).
+struct ProjectedPoints {
+  static constexpr uint32_t kCapacity = 64;
+  struct Entry {
+    PackedSplat p;
+    uint32_t k;
+    float t, w;
+  };
+  Entry entry[kCapacity];
+  uint32_t size = 0;
+  bool overflow = false;
+  void add(uint32_t k, const PackedSplat& p, float t, float w) {
+    if (size == kCapacity) overflow = true;
+    if (!overflow) entry[size++] = Entry{p, k, t, w};
+  }
+  template <typename G>
+  void for_each(G&& g) const {
+    for (uint32_t i = 0; i < size; ++i) g(entry[i].k, entry[i].p, entry[i].t, entry[i].w);
+  }
+};
+
+// Weight(ray, splat, t, lateral) as in project_point. ForEachSplat(f) calls f(k, splat) for the
+// leaf's items in leaf order (k the item index; it may skip items whose weight would be 0).
+// NormalAt(k, splat, x) is item k's normal at the crossing x (its own normal, or a normal field's
+// value there). Allocation-free; O(K) per leaf, plus O(candidates) per group tried.
+template <typename ForEachSplat, typename Weight, typename NormalAt>
+bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_each_splat,
+                     const ProjectionSettings& s, Weight&& weight, NormalAt&& normal_at, Hit& hit,
+                     OpCounters& counters) {
+  auto projected = [&](auto&& g) {
+    for_each_splat([&](uint32_t k, const PackedSplat& p) {
+      float t = 0, w = 0;
+      if (project_point(ray, p, weight, t, w)) g(k, p, t, w);
+    });
+  };
+  ProjectedPoints kept;
+  projected([&](uint32_t k, const PackedSplat& p, float t, float w) { kept.add(k, p, t, w); });
+  if (kept.overflow) return blend_groups(ray, leaf, projected, s, normal_at, hit, counters);
+  auto each_kept = [&](auto&& g) { kept.for_each(g); };
+  return blend_groups(ray, leaf, each_kept, s, normal_at, hit, counters);
+}
+
+// The prefilter's query: crossings from ray.tmin widened by 1e-5 relative (the exact t = num / den
+// is rounded once more than the lanes' comparison), r^2 widened by 10% (5% on the radius). The
+// lanes compute num and den as the exact projection does (projection_lanes.hpp); their |x - c|^2
+// and the exact one then differ by a few roundings of the coordinates of o, c and x = o + t d
+// (about 6e-8 of |o| + |c| + |t| each), whatever the angle between ray and plane: a few 0.1% of
+// the radius where it is 1e-4 of the scene's and the camera's scale, less above. The methods'
+// radii are 3 (schaufler_jensen_2000) and 6 (wand_strasser_2003) mean spacings by default.
+// Checked by ray_projection_test.cpp, which fails with r^2 scaled by 0.999 (it passes at 1.0).
+inline ProjectionQuery projection_query(const Ray& ray) {
+  return {{ray.o.x(), ray.o.y(), ray.o.z()},
+          {ray.d.x(), ray.d.y(), ray.d.z()},
+          ray.tmin - 1e-5f * std::abs(ray.tmin) - 1e-30f,
+          1.1f};
+}
+
+static_assert(sizeof(PackedSplat) == kRecordFloats * sizeof(float) && alignof(PackedSplat) == 32,
+              "projection lanes read PackedSplat records as 8 aligned floats");
+static_assert(offsetof(PackedSplat, r) == kR * sizeof(float) &&
+                  offsetof(PackedSplat, n) == kNx * sizeof(float),
+              "projection lanes read c, r, n at these fields");
+
+// Calls f(k, record) for the items of the leaf whose records the lanes let through (a superset
+// of those project_point accepts, given a Weight that is 0 where |x - c| >= r), in leaf order,
+// 64 items at a time.
+template <typename F>
+void for_each_projection_candidate(std::span<const PackedSplat> splats,
+                                   std::span<const uint32_t> items, ProjectionKernel kernel,
+                                   const ProjectionQuery& q, F&& f) {
+  const float* records = reinterpret_cast<const float*>(splats.data());
+  for (uint32_t c = 0; c < items.size(); c += 64) {
+    const uint32_t n = std::min<uint32_t>(64, uint32_t(items.size()) - c);
+    uint64_t bits = 0;
+    kernel(records, items.data() + c, n, q, &bits);
+    for (; bits; bits &= bits - 1) {
+      const uint32_t k = items[c + uint32_t(__builtin_ctzll(bits))];
+      f(k, splats[k]);
+    }
+  }
+}
+
+// The blend over item-order records, each point with its own normal, read through the lanes
+// (kernel: best_projection_kernel(), chosen once by the caller). Weight must be 0 where the
+// crossing lies r or more from the point (|ray.at(t) - p.c| >= p.r, up to a few roundings of r):
+// the lanes drop those points unprojected.
 template <typename Weight>
 bool blend_projected_points(const Ray& ray, const LeafVisit& leaf,
-                            std::span<const PackedSplat> splats, const ProjectionSettings& s,
-                            Weight&& weight, Hit& hit, OpCounters& counters) {
-  auto each = [&](auto&& f) {
-    for (uint32_t k : leaf.items) f(k, splats[k]);
-  };
+                            std::span<const PackedSplat> splats, ProjectionKernel kernel,
+                            const ProjectionSettings& s, Weight&& weight, Hit& hit,
+                            OpCounters& counters) {
+  const ProjectionQuery q = projection_query(ray);
+  auto each = [&](auto&& f) { for_each_projection_candidate(splats, leaf.items, kernel, q, f); };
   auto own_normal = [](uint32_t, const PackedSplat& p, const Vec3&) { return p.n; };
   return blend_projected(ray, leaf, each, s, weight, own_normal, hit, counters);
 }

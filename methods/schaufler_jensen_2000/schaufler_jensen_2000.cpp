@@ -56,12 +56,14 @@ class SchauflerJensen final : public Method {
       return 1.0f - std::sqrt(dist2) / d_;
     };
     const ProjectionSettings settings{depth_, 0.0f, d_, d_};
-    return blend_projected_points(ray, leaf, splats_.packed, settings, weight, hit, counters);
+    return blend_projected_points(ray, leaf, splats_.packed, kernel_, settings, weight, hit,
+                                  counters);
   }
 
  private:
   SchauflerJensenParams params_;
   SplatSet splats_;
+  ProjectionKernel kernel_ = best_projection_kernel();  // the widest lanes, chosen once
   float h_ = 0, d_ = 0, depth_ = 0;
 };
 

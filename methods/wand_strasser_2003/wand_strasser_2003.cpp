@@ -85,12 +85,14 @@ class WandStrasser final : public Method {
     };
     const ProjectionSettings settings{params_.front_depth * reach_, params_.min_weight, reach_,
                                       reach_};
-    return blend_projected_points(ray, leaf, splats_.packed, settings, weight, hit, counters);
+    return blend_projected_points(ray, leaf, splats_.packed, kernel_, settings, weight, hit,
+                                  counters);
   }
 
  private:
   WandStrasserParams params_;
   SplatSet splats_;
+  ProjectionKernel kernel_ = best_projection_kernel();  // the widest lanes, chosen once
   float h_ = 0, sigma0_ = 0, spread_ = 0, sigma_max_ = 0, aspect_ = 1, cutoff_ = 3, reach_ = 0;
 };
 
