@@ -33,8 +33,10 @@ template <class L>
 inline uint32_t disc_group(const DiscQuery& q, L cx, L cy, L cz, L nx, L ny, L nz, L r) {
   const L vx = cx - L(q.o[0]), vy = cy - L(q.o[1]), vz = cz - L(q.o[2]);
   const L dx(q.d[0]), dy(q.d[1]), dz(q.d[2]);
-  const L num = (nx * vx + ny * vy) + nz * vz;
-  const L den = (nx * dx + ny * dy) + nz * dz;
+  // Summed as Eigen's 3-vector dot, x + (y + z): the floats of the exact projection that the
+  // blend's weight is computed from (at grazing incidence t = num / den magnifies a last bit).
+  const L num = nx * vx + (ny * vy + nz * vz);
+  const L den = nx * dx + (ny * dy + nz * dz);
   const L qx = num * dx - den * vx, qy = num * dy - den * vy, qz = num * dz - den * vz;
   const L q2 = (qx * qx + qy * qy) + qz * qz;
   const L num_abs = flip_sign(num, den), den_abs = abs(den);

@@ -101,8 +101,8 @@ inline bool disc_candidate(const DiscQuery& q, const PackedSplat& s) {
 inline float disc_t(const DiscQuery& q, float cx, float cy, float cz, float nx, float ny,
                     float nz) {
   const float vx = cx - q.o[0], vy = cy - q.o[1], vz = cz - q.o[2];
-  const float num = (nx * vx + ny * vy) + nz * vz;
-  const float den = (nx * q.d[0] + ny * q.d[1]) + nz * q.d[2];
+  const float num = nx * vx + (ny * vy + nz * vz);  // the lanes' order
+  const float den = nx * q.d[0] + (ny * q.d[1] + nz * q.d[2]);
   return num / den;
 }
 inline float disc_t(const DiscQuery& q, const PackedSplat& s) {
