@@ -27,7 +27,8 @@ void release(std::vector<T>& v) {
 template <class T>
 class ChunkedArray {
  public:
-  static constexpr size_t kChunk = size_t(1) << 14;  // elements per chunk
+  static constexpr size_t kChunk = size_t(1) << 14;  // elements per chunk, at most
+  static constexpr size_t kFirstChunk = size_t(1) << 9;
   static constexpr size_t kChunksPerTrim = 64;
 
   // Where an element lives: valid until the array is flattened, whatever is appended or spliced.
@@ -95,9 +96,12 @@ class ChunkedArray {
   }
 
  private:
+  // Chunks grow from kFirstChunk to kChunk, doubling: a build has thousands of small parallel
+  // subtrees, each with a partly filled last chunk, until they are spliced.
   void new_chunk() {
+    const size_t capacity = std::min(kChunk, kFirstChunk << std::min<size_t>(chunks_.size(), 16));
     chunks_.emplace_back();
-    chunks_.back().reserve(kChunk);
+    chunks_.back().reserve(capacity);
   }
 
   std::vector<std::vector<T>> chunks_;
