@@ -18,7 +18,13 @@ TEST_CASE("memory estimate: grows with N, counts normal estimation, MLS below sp
   const size_t b = estimate_scene_bytes(splat, "kd_tree", bare, p);
   CHECK(a % 1000 == 0);
   CHECK(b - a == 1000 * (16 * sizeof(uint32_t) + 1 + sizeof(Vec3)));  // the k-NN graph, normal_k 16
-  CHECK(estimate_scene_bytes(splat, "brute_force", with_normals, p) < a);
+  // With the same (item-order) disc layout, brute force's one index per point is the least; by
+  // default it copies the discs in leaf order (one reference per item), the kd-tree does not.
+  const ParamValues item_order = resolve_params(splat.params, {{"disc_blocks", 2}}, "test");
+  CHECK(estimate_scene_bytes(splat, "brute_force", with_normals, item_order) <
+        estimate_scene_bytes(splat, "kd_tree", with_normals, item_order));
+  CHECK(estimate_scene_bytes(splat, "brute_force", with_normals, p) >
+        estimate_scene_bytes(splat, "brute_force", with_normals, item_order));
   const ParamValues q = resolve_params(mls.params, {}, "test");
   CHECK(estimate_scene_bytes(mls, "sphere_tree", with_normals, q) <
         estimate_scene_bytes(splat, "sphere_tree", with_normals, p));
