@@ -119,9 +119,9 @@ class Kashyap2010Splat final : public Method {
 
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const SplatSet base = prepare_splats(cloud, params_.splat, ctx);
-    std::vector<Vec3> normals;
-    std::vector<float> cover;
-    splat_attributes_by_point(base, normals, cover);
+    const PointAttributes by_point = splat_attributes_by_point(base);
+    const std::span<const Vec3> normals = by_point.normals;
+    const std::span<const float> cover = by_point.radii;
     const float h = prepare_spacing(cloud, ctx);
     ScopedTimer t(ctx.timings, "prepare/splat_octree");
     SplatOctreeBuilder builder(cloud.positions, normals, cover, params_.error_tolerance * h,

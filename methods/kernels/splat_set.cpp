@@ -136,14 +136,20 @@ SplatSet make_splat_set(std::span<const Vec3> centres, std::span<const Vec3> nor
   return s;
 }
 
-void splat_attributes_by_point(const SplatSet& s, std::vector<Vec3>& normals,
-                               std::vector<float>& radii) {
-  normals.resize(s.size());
-  radii.resize(s.size());
-  for (uint32_t k = 0; k < s.size(); ++k) {
-    normals[s.point_of(k)] = s.normals[k];
-    radii[s.point_of(k)] = s.radii[k];
+PointAttributes splat_attributes_by_point(const SplatSet& s) {
+  PointAttributes a;
+  if (s.point.empty()) {
+    a.normals = s.normals, a.radii = s.radii;
+    return a;
   }
+  a.own_normals.resize(s.size());
+  a.own_radii.resize(s.size());
+  for (uint32_t k = 0; k < s.size(); ++k) {
+    a.own_normals[s.point_of(k)] = s.normals[k];
+    a.own_radii[s.point_of(k)] = s.radii[k];
+  }
+  a.normals = a.own_normals, a.radii = a.own_radii;
+  return a;
 }
 
 void SplatSet::pack() {

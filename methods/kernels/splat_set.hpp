@@ -82,10 +82,21 @@ struct SplatParams {
 SplatSet prepare_splats(const PointCloud& cloud, const SplatParams& params, PrepareContext& ctx,
                         float fixed_radius = 0);
 
-// The normals and radii of a SplatSet made by prepare_splats, back in the cloud's order (for
-// methods that derive their own splats from them).
-void splat_attributes_by_point(const SplatSet& s, std::vector<Vec3>& normals,
-                               std::vector<float>& radii);
+// The normals and radii of a SplatSet made by prepare_splats in the cloud's order (for methods
+// that derive their own splats from them): the set's own arrays where its item order is the
+// cloud's (every cloud loaded in Morton order: no copy), else copies put back in the cloud's order.
+struct PointAttributes {
+  std::span<const Vec3> normals;
+  std::span<const float> radii;
+  std::vector<Vec3> own_normals;  // only when the set is reordered
+  std::vector<float> own_radii;
+
+  PointAttributes() = default;
+  PointAttributes(PointAttributes&&) = default;  // keeps the buffers the spans see
+  PointAttributes(const PointAttributes&) = delete;
+  PointAttributes& operator=(const PointAttributes&) = delete;
+};
+PointAttributes splat_attributes_by_point(const SplatSet& s);
 
 // Lays out splats made by a method itself (fewer than the points, or fitted): item k is
 // input point[k] and reports prim[point[k]] (a cloud index) as its hit primitive. Copies.

@@ -85,9 +85,9 @@ class Linsen2007 final : public Method {
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     const size_t n = cloud.size();
     const SplatSet base = prepare_splats(cloud, params_.splat, ctx);
-    std::vector<Vec3> normals;
-    std::vector<float> cover;
-    splat_attributes_by_point(base, normals, cover);
+    const PointAttributes by_point = splat_attributes_by_point(base);
+    const std::span<const Vec3> normals = by_point.normals;
+    const std::span<const float> cover = by_point.radii;
     std::optional<KnnIndex> knn;
     {
       ScopedTimer t(ctx.timings, "prepare/knn_build");
