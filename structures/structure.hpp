@@ -31,25 +31,23 @@ struct ItemSet {
   std::span<const Vec3> half_extents;       // empty: from disc_normals, else the cube of the radius
   std::span<const Vec3> disc_normals = {};  // non-empty: item i is a disc of its radius facing this
 
-  // Padded by 1e-4 r so rounding of a hit point on the disc never leaves the box.
-  static Vec3 disc_half_extents(const Vec3& n, float r) {
-    return r *
-           ((Vec3::Ones() - n.cwiseProduct(n)).cwiseMax(0.0f).cwiseSqrt() + Vec3::Constant(1e-4f));
+  // One axis of a disc's box: r * sqrt(1 - n_a^2), padded by 1e-4 r so rounding of a hit point on
+  // the disc never leaves the box. The one formula for both forms below.
+  static float disc_half_extent(float n_a, float r) {
+    return r * (std::sqrt(std::max(1.0f - n_a * n_a, 0.0f)) + 1e-4f);
   }
   [[nodiscard]] size_t size() const { return positions.size(); }
   [[nodiscard]] float radius(uint32_t i) const { return radii.empty() ? 0.0f : radii[i]; }
-  [[nodiscard]] Vec3 half_extent(uint32_t i) const {
-    if (!half_extents.empty()) return half_extents[i];
-    if (!disc_normals.empty()) return disc_half_extents(disc_normals[i], radius(i));
-    return Vec3::Constant(radius(i));
-  }
-  // Axis ax of half_extent(i), the same value (one square root instead of three: the kd-tree
-  // build tests one axis of every reference at every level).
+  // Axis ax of half_extent(i) (one square root instead of three: the kd-tree build tests one axis
+  // of every reference at every level).
   [[nodiscard]] float half_extent(uint32_t i, int ax) const {
     if (!half_extents.empty()) return half_extents[i][ax];
     if (disc_normals.empty()) return radius(i);
-    const float n = disc_normals[i][ax];
-    return radius(i) * (std::sqrt(std::max(1.0f - n * n, 0.0f)) + 1e-4f);
+    return disc_half_extent(disc_normals[i][ax], radius(i));
+  }
+  [[nodiscard]] Vec3 half_extent(uint32_t i) const {
+    if (!half_extents.empty()) return half_extents[i];
+    return {half_extent(i, 0), half_extent(i, 1), half_extent(i, 2)};
   }
   [[nodiscard]] float box_lo(uint32_t i, int ax) const {
     return positions[i][ax] - half_extent(i, ax);
