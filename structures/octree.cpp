@@ -1,13 +1,15 @@
 // Octree (thesis section 5.4, figure 1.3; Schaufler and Jensen 2000 and most splat methods):
 // the bounding cube of all footprints split regularly into eight equal children until a node
 // holds at most leaf_size items, reaches max_depth, or splitting stops paying (footprints wider
-// than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size). An
-// item is referenced by every child its footprint box overlaps. Traversal: depth first, the
-// children a ray crosses sorted by entry distance, so leaves come front to back (cells are
-// disjoint).
+// than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size). The
+// splits go by the items' footprint boxes; a leaf references the items whose box overlaps it and,
+// for a disc, whose plane cuts its cube (a quarter fewer references on a sphere), and a child no
+// disc plane reaches is not stored. Traversal: depth first, the children a ray crosses sorted by
+// entry distance, so leaves come front to back (cells are disjoint).
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <stdexcept>
 
 #include "core/offsets.hpp"
 #include "structures/build_buffer.hpp"
@@ -107,7 +109,9 @@ class Octree final : public Structure {
     const N& n = nodes[node];
     if (n.leaf()) return uint64_t(n.count) * level;
     uint64_t sum = 0;
-    for (uint32_t c = 0; c < 8; ++c) sum += item_visits(nodes, uint32_t(n.first()) + c, level + 1);
+    const uint32_t kids = uint32_t(__builtin_popcount(n.child_mask()));
+    for (uint32_t k = 0; k < kids; ++k)
+      sum += item_visits(nodes, uint32_t(n.first()) + k, level + 1);
     return sum;
   }
 
@@ -156,12 +160,14 @@ class Octree final : public Structure {
     int nk = 0;
     const float half = 0.5f * cur.side;
     const auto first = uint32_t(n.first());
-    for (uint32_t c = 0; c < 8; ++c) {
-      if (nodes[first + c].count == 0) continue;
+    uint32_t rank = 0;
+    for (uint32_t mask = n.child_mask(); mask; mask &= mask - 1, ++rank) {
+      const auto c = uint32_t(__builtin_ctz(mask));
+      if (nodes[first + rank].count == 0) continue;  // a leaf the disc planes all missed
       const Vec3 lo = cur.lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
       float a = 0, b = 0;
       if (Aabb{lo, lo + Vec3::Constant(half)}.intersect(ray, inv, a, b))
-        kids[size_t(nk++)] = Todo{first + c, lo, half, a, b};
+        kids[size_t(nk++)] = Todo{first + rank, lo, half, a, b};
     }
     // Insertion sort, far first: at most 8 entries (a ray crosses at most 4 children).
     for (int k = 1; k < nk; ++k) {
@@ -203,33 +209,54 @@ class Octree final : public Structure {
     return mask;
   }
 
+  // How many references each child's box test gives, and which children are reached at all: a
+  // child whose cube no disc plane cuts would hold only empty leaves, so it is not stored.
+  struct ChildCounts {
+    std::array<size_t, 8> count{};
+    uint32_t reached = 0;
+  };
+  [[nodiscard]] ChildCounts count_children(const std::vector<uint32_t>& st, size_t begin,
+                                           const Vec3& mid, float half) const {
+    ChildCounts out;
+    const bool discs = !items_.disc_normals.empty();
+    for (size_t k = begin; k < st.size(); ++k) {
+      const uint32_t boxes = children_of(st[k], mid);
+      out.reached |= discs ? boxes & disc_plane_cuts_children(st[k], mid, half) : boxes;
+      for (uint32_t mask = boxes; mask; mask &= mask - 1) ++out.count[size_t(__builtin_ctz(mask))];
+    }
+    return out;
+  }
+
   // Builds the subtree of the references stack[begin, end) into `node` and pops them.
   template <class N>
   void build_node(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
                   const Vec3& lo, float side, int depth) {
     std::vector<uint32_t>& st = b.stack;
     const size_t n = st.size() - begin;
-    if (n <= leaf_size_ || depth >= max_depth_ || !(side > 0)) return make_leaf(b, node, begin);
+    if (n <= leaf_size_ || depth >= max_depth_ || !(side > 0))
+      return make_leaf(b, node, begin, lo, side);
     const float half = 0.5f * side;
     const Vec3 mid = lo + Vec3::Constant(half);
-    std::array<size_t, 8> count{};
-    for (size_t k = begin; k < st.size(); ++k)
-      for (uint32_t mask = children_of(st[k], mid); mask; mask &= mask - 1)
-        ++count[size_t(__builtin_ctz(mask))];
+    const ChildCounts counts = count_children(st, begin, mid, half);
     // A split must pay: once footprints are wider than the cells, each item lands in several
     // children and the fullest child keeps most of them, so every further level only multiplies
     // references (identical points, or a dense plane of wide splats, would recurse to max_depth).
     // Stop when both hold: 3 references per item and over half of the items in one child. (All
     // items in one child alone is progress: the rest of the cell was empty.)
     size_t refs = 0, fullest = 0;
-    for (size_t k : count) refs += k, fullest = std::max(fullest, k);
-    if (refs >= 3 * n && 2 * fullest > n) return make_leaf(b, node, begin);
-    const std::array<size_t, 8> at = split_in_place(st, begin, mid, count);
-    b.nodes[node] = N::make(node_index32(b.nodes.size(), "octree"), kOctInner);
-    const auto kids = b.nodes.push_n(8, N{});
-    for (uint32_t c = 0; c < 8; ++c) {
+    for (size_t k : counts.count) refs += k, fullest = std::max(fullest, k);
+    if (refs >= 3 * n && 2 * fullest > n) return make_leaf(b, node, begin, lo, side);
+    const std::array<size_t, 8> at = split_in_place(st, begin, mid, counts.count);
+    b.nodes[node] = N::make(node_index32(b.nodes.size(), "octree"), oct_inner(counts.reached));
+    const auto kids = b.nodes.push_n(size_t(__builtin_popcount(counts.reached)), N{});
+    size_t rank = 0;
+    for (uint32_t c = 0; c < 8; ++c) {  // child 0's references are on top
+      if (!((counts.reached >> c) & 1)) {
+        st.resize(at[c]);
+        continue;
+      }
       const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-      build_node(b, {kids.chunk, kids.pos + c}, at[c], clo, half, depth + 1);
+      build_node(b, {kids.chunk, kids.pos + rank++}, at[c], clo, half, depth + 1);
     }
   }
 
@@ -253,13 +280,62 @@ class Octree final : public Structure {
     return at;
   }
 
+  // A leaf keeps the references on the top of the stack whose footprint reaches into its cube.
   template <class N>
-  void make_leaf(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin) {
+  void make_leaf(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
+                 const Vec3& lo, float side) {
+    if (!items_.disc_normals.empty()) keep_discs_cutting(b.stack, begin, lo, side);
     const size_t first = b.refs.size(), n = b.stack.size() - begin;
     if (!N::kWide && !fits_narrow_offset(first)) throw NeedsWideOffsets{};
+    if (n >= kOctInner) throw std::length_error("octree: a leaf of 2^31 references or more");
     b.nodes[node] = N::make(first, uint32_t(n));
     b.refs.append({b.stack.data() + begin, n});
     b.stack.resize(begin);
+  }
+
+  // Drops from stack[begin, end) the discs whose plane misses the cube [lo, lo + side]: a tilted
+  // disc's box reaches into cells above and below the disc (a quarter of the references on a
+  // sphere). The splits still go by the boxes, so the tree is the one they make.
+  void keep_discs_cutting(std::vector<uint32_t>& st, size_t begin, const Vec3& lo,
+                          float side) const {
+    const float q = 0.5f * side;
+    const Vec3 centre = lo + Vec3::Constant(q);
+    size_t kept = begin;
+    for (size_t k = begin; k < st.size(); ++k)
+      if (disc_plane_cuts_cube(st[k], centre, q)) st[kept++] = st[k];
+    st.resize(kept);
+  }
+
+  // Whether the plane of disc i meets the cube of this centre and half side q: |n . (centre - p)|
+  // <= q |n|_1, with a margin for the rounding of the dot product over these coordinates and for
+  // hit points just off the disc (the 1e-4 r of its box). Conservative: a cube holding a point of
+  // the disc always passes.
+  [[nodiscard]] bool disc_plane_cuts_cube(uint32_t i, const Vec3& centre, float q) const {
+    const Vec3& n = items_.disc_normals[i];
+    const Vec3& p = items_.positions[i];
+    return std::abs(n.dot(centre - p)) <= disc_plane_reach(i, centre, q);
+  }
+  [[nodiscard]] float disc_plane_reach(uint32_t i, const Vec3& centre, float q) const {
+    const Vec3& n = items_.disc_normals[i];
+    const float scale =
+        centre.cwiseAbs().maxCoeff() + items_.positions[i].cwiseAbs().maxCoeff() + q;
+    return q * n.cwiseAbs().sum() + 1e-4f * items_.radius(i) + 1e-6f * scale;
+  }
+  // The same test for the eight children of a cell split at mid (child side `half`): bit c for
+  // child c. The children's centres are mid +- half / 2 per axis.
+  [[nodiscard]] uint32_t disc_plane_cuts_children(uint32_t i, const Vec3& mid, float half) const {
+    const Vec3& n = items_.disc_normals[i];
+    const float q = 0.5f * half;
+    const float at_mid = n.dot(mid - items_.positions[i]);
+    // A child's centre is within q of mid per axis, so this covers the margin at each of them.
+    const float reach = disc_plane_reach(i, mid, q) + 1e-6f * q;
+    uint32_t mask = 0;
+    for (uint32_t c = 0; c < 8; ++c) {
+      const float to_centre = q * ((c & 1 ? n.x() : -n.x()) + ((c >> 1) & 1 ? n.y() : -n.y()) +
+                                   ((c >> 2) & 1 ? n.z() : -n.z()));
+      mask |= uint32_t(std::abs(at_mid + to_centre) <= reach) << c;
+    }
+    return mask;
   }
 
   size_t leaf_size_;

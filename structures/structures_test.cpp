@@ -288,3 +288,29 @@ TEST_CASE("the 8-wide node test hits the same children with AVX2 and with SSE", 
   }
   REQUIRE(hits > 500);  // about 1300 children hit
 }
+
+TEST_CASE("the octree's leaves drop the discs whose plane misses them", "[structures]") {
+  // The same boxes twice: stored (so nothing says the items are discs) and derived from the disc
+  // normals. Splits go by the boxes, so the trees have the same cells; with the normals a leaf
+  // keeps only the discs whose plane cuts its cube, and children no plane reaches are not stored.
+  const Dataset d = load_dataset("sphere:n=20000,seed=8");
+  std::vector<float> radii(d.cloud.size(), 0.05f);
+  std::vector<Vec3> boxes(d.cloud.size());
+  for (size_t i = 0; i < boxes.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      boxes[i][a] = ItemSet::disc_half_extent(d.cloud.normals[i][a], radii[i]);
+  const StructureInfo& info = StructureRegistry::instance().get("octree", "structure");
+  auto build = [&](const ItemSet& items) {
+    OpCounters c;
+    info.create(resolve_params(info.params, {}, "octree"))->build(items, c);
+    return std::pair{c.get(kBuildItemRefs), c.get(kBuildNodes)};
+  };
+  const auto [box_refs, box_nodes] = build(ItemSet{d.cloud.positions, radii, boxes});
+  const auto [disc_refs, disc_nodes] =
+      build(ItemSet{d.cloud.positions, radii, {}, d.cloud.normals});
+  INFO("references " << box_refs << " -> " << disc_refs << ", nodes " << box_nodes << " -> "
+                     << disc_nodes);
+  REQUIRE(disc_refs < box_refs * 9 / 10);
+  REQUIRE(disc_refs >= d.cloud.size());
+  REQUIRE(disc_nodes < box_nodes);
+}

@@ -46,10 +46,17 @@ struct KdNode {
 };
 static_assert(sizeof(KdNode) == 16);
 
-// Octree nodes. Inner: `count` is kInner and the eight children are consecutive from first().
+// Octree nodes. Inner: `count` is kOctInner with the mask of its non-empty children in the low
+// eight bits (OctInner(mask)); only those children are stored, consecutive from first() in child
+// order (an octree over a surface leaves most children empty: 60% of the nodes on a sphere).
 // Leaf: its references from first(). OctNode32 (8 bytes) while the references fit 32-bit offsets,
 // OctNode64 (12 bytes) beyond.
-inline constexpr uint32_t kOctInner = ~uint32_t{0};
+inline constexpr uint32_t kOctInner = uint32_t{1} << 31;
+inline constexpr uint32_t oct_inner(uint32_t child_mask) { return kOctInner | child_mask; }
+// Where child c of an inner node with this child mask is stored, counted from its first child.
+inline uint32_t oct_child_rank(uint32_t child_mask, uint32_t c) {
+  return uint32_t(__builtin_popcount(child_mask & ((uint32_t{1} << c) - 1)));
+}
 
 struct OctNode32 {
   uint32_t first_ = 0;
@@ -58,7 +65,8 @@ struct OctNode32 {
   static constexpr bool kWide = false;
   static OctNode32 make(uint64_t first, uint32_t count) { return {uint32_t(first), count}; }
   [[nodiscard]] uint64_t first() const { return first_; }
-  [[nodiscard]] bool leaf() const { return count != kOctInner; }
+  [[nodiscard]] bool leaf() const { return (count & kOctInner) == 0; }
+  [[nodiscard]] uint32_t child_mask() const { return leaf() ? 0 : count & 0xFFu; }
 };
 static_assert(sizeof(OctNode32) == 8);
 
@@ -72,7 +80,8 @@ struct OctNode64 {
     return {uint32_t(first), count, uint32_t(first >> 32)};
   }
   [[nodiscard]] uint64_t first() const { return uint64_t(first_hi) << 32 | first_lo; }
-  [[nodiscard]] bool leaf() const { return count != kOctInner; }
+  [[nodiscard]] bool leaf() const { return (count & kOctInner) == 0; }
+  [[nodiscard]] uint32_t child_mask() const { return leaf() ? 0 : count & 0xFFu; }
 };
 static_assert(sizeof(OctNode64) == 12);
 

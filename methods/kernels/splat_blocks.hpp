@@ -5,7 +5,7 @@
 // released); or item order, no copy at all: a leaf gathers its discs from the set's item arrays
 // (the cloud's own, adapted) into blocks on the stack. Leaf order costs 28 bytes per reference: a
 // structure that references each item about once (bvh, sphere_tree, brute_force) pays it once, the
-// kd-tree (3.7 references per point on a 10^6 sphere), grid (2.4) and octree (up to 10.7) 67-300
+// kd-tree (3.7 references per point on a 10^6 sphere), grid (2.4) and octree (up to 8) 67-230
 // B/point. Before binding, a leaf (of a structure built by a test, say) is read one disc at a time
 // from the item-order SplatSet.
 #pragma once
