@@ -49,7 +49,9 @@ StructureFootprint structure_footprint(const std::string& structure) {
   // 10^7-point sphere with the disc blocks in item order (no copy: the structure's build peak or
   // its final arrays, whichever is higher) and in leaf order (a 28-byte disc per reference), from
   // results/scale/layouts (scripts/scale.sh; the kd-tree's item order from results/scale/lean,
-  // since its build's chunks grow: the larger of 10^7 and 10^8), plus 10% and rounded up.
+  // since its build's chunks grow: the larger of 10^7 and 10^8; the octree's from
+  // results/scale/octree, since its leaves keep only the discs whose plane cuts them), plus 10% and
+  // rounded up.
   // References per item: the build_item_refs / N of the same structures at 10^6-10^7
   // (structure_memory.sh), the smaller where they differ, so that disc_blocks=0 is priced as leaf
   // order wherever it may choose it.
@@ -57,7 +59,7 @@ StructureFootprint structure_footprint(const std::string& structure) {
   if (structure == "grid") return {20, 72, 1.9};
   if (structure == "sphere_tree") return {23, 54, 1};
   if (structure == "kd_tree") return {25, 138, 3.7};
-  if (structure == "octree") return {71, 374, 9.8};
+  if (structure == "octree") return {45, 249, 7.2};
   if (structure == "bvh") return {55, 60, 1};
   return {80, 80, 1};  // structures of a method's own
 }
