@@ -8,6 +8,8 @@
 #pragma once
 
 #include <malloc.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -22,6 +24,21 @@ namespace pcrt {
 template <class T>
 void release(std::vector<T>& v) {
   std::vector<T>().swap(v);
+}
+
+// Hands back to the system the whole pages of v's storage between its size and `touched` elements
+// (the most it has held since the last call), once they come to min_bytes; returns the new
+// high-water mark. A stack that grew and shrank keeps its pages resident otherwise, though no
+// element there is read again (the next growth writes them first).
+template <class T>
+size_t release_pages_past_size(std::vector<T>& v, size_t touched, size_t min_bytes) {
+  static const auto page = uintptr_t(sysconf(_SC_PAGESIZE));
+  const auto base = reinterpret_cast<uintptr_t>(v.data());
+  const uintptr_t lo = (base + v.size() * sizeof(T) + page - 1) & ~(page - 1);
+  const uintptr_t hi = (base + std::min(touched, v.capacity()) * sizeof(T)) & ~(page - 1);
+  if (hi <= lo || hi - lo < min_bytes) return std::max(touched, v.size());
+  madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_DONTNEED);
+  return v.size();
 }
 
 template <class T>

@@ -1,10 +1,10 @@
 // Octree (thesis section 5.4, figure 1.3; Schaufler and Jensen 2000 and most splat methods):
 // the bounding cube of all footprints split regularly into eight equal children until a node
 // holds at most leaf_size items, reaches max_depth, or splitting stops paying (footprints wider
-// than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size). The
-// splits go by the items' footprint boxes; a leaf references the items whose box overlaps it and,
-// for a disc, whose plane cuts its cube (a quarter fewer references on a sphere), and a child no
-// disc plane reaches is not stored. Traversal: depth first, the children a ray crosses sorted by
+// than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size).
+// The splits go by the items' footprint boxes; a leaf references the items whose box overlaps it
+// and, for a disc, whose plane cuts its cube (a quarter fewer references on a sphere), and a child
+// no disc plane reaches is not stored. Traversal: depth first, the children a ray crosses sorted by
 // entry distance, so leaves come front to back (cells are disjoint).
 #include <algorithm>
 #include <array>
@@ -28,6 +28,15 @@ struct OctBuild {
   ChunkedArray<N> nodes;
   ChunkedArray<uint32_t> refs;
   std::vector<uint32_t> stack;
+  size_t stack_touched = 0;  // the most elements the stack has held since its pages were trimmed
+
+  // A split writes the children's references past the parent's (twice the items at the root)
+  // and leaves pop theirs: the stack's pages past its top are handed back as it shrinks, so that
+  // the peak is the tree built so far plus the stack in use (8 B/item less at 10^7).
+  void trim_stack() {
+    constexpr size_t kMinBytes = size_t(1) << 20;
+    stack_touched = release_pages_past_size(stack, stack_touched, kMinBytes);
+  }
 };
 
 // Thrown when a leaf's first reference does not fit 32 bits: the build starts again with
@@ -188,6 +197,7 @@ class Octree final : public Structure {
   void build_all(std::vector<N>& nodes) {
     OctBuild<N> b;
     b.stack.resize(items_.size());
+    b.stack_touched = b.stack.size();
     for (uint32_t i = 0; i < b.stack.size(); ++i) b.stack[i] = i;
     const auto root = b.nodes.push_back(N{});
     build_node(b, root, 0, root_lo_, root_side_, 0);
@@ -246,7 +256,7 @@ class Octree final : public Structure {
     size_t refs = 0, fullest = 0;
     for (size_t k : counts.count) refs += k, fullest = std::max(fullest, k);
     if (refs >= 3 * n && 2 * fullest > n) return make_leaf(b, node, begin, lo, side);
-    const std::array<size_t, 8> at = split_in_place(st, begin, mid, counts.count);
+    const std::array<size_t, 8> at = split_in_place(b, begin, mid, counts.count);
     b.nodes[node] = N::make(node_index32(b.nodes.size(), "octree"), oct_inner(counts.reached));
     const auto kids = b.nodes.push_n(size_t(__builtin_popcount(counts.reached)), N{});
     size_t rank = 0;
@@ -263,20 +273,23 @@ class Octree final : public Structure {
   // Replaces stack[begin, end) by the children's references, child 7's lowest and child 0's on
   // top, each in its order there (written past the end, then moved down); returns where each
   // child's start.
-  [[nodiscard]] std::array<size_t, 8> split_in_place(std::vector<uint32_t>& st, size_t begin,
-                                                     const Vec3& mid,
+  template <class N>
+  [[nodiscard]] std::array<size_t, 8> split_in_place(OctBuild<N>& b, size_t begin, const Vec3& mid,
                                                      const std::array<size_t, 8>& count) const {
+    std::vector<uint32_t>& st = b.stack;
     const size_t end = st.size();
     std::array<size_t, 8> at{}, w{};
     size_t refs = 0;
     for (int c = 7; c >= 0; --c) at[size_t(c)] = begin + refs, refs += count[size_t(c)];
     st.resize(end + refs);
+    b.stack_touched = std::max(b.stack_touched, st.size());
     for (size_t c = 0; c < 8; ++c) w[c] = at[c] - begin + end;
     for (size_t k = begin; k < end; ++k)
       for (uint32_t mask = children_of(st[k], mid); mask; mask &= mask - 1)
         st[w[size_t(__builtin_ctz(mask))]++] = st[k];
     std::memmove(st.data() + begin, st.data() + end, refs * sizeof(uint32_t));
     st.resize(begin + refs);
+    b.trim_stack();
     return at;
   }
 
@@ -291,6 +304,7 @@ class Octree final : public Structure {
     b.nodes[node] = N::make(first, uint32_t(n));
     b.refs.append({b.stack.data() + begin, n});
     b.stack.resize(begin);
+    b.trim_stack();
   }
 
   // Drops from stack[begin, end) the discs whose plane misses the cube [lo, lo + side]: a tilted
