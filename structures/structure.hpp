@@ -111,7 +111,8 @@ class Structure {
   }
   [[nodiscard]] virtual size_t memory_bytes() const = 0;
   // The array every LeafVisit::items of this structure is a piece of (item references in leaf
-  // order), so that a method may lay its data out in the same order (leaf blocks).
+  // order), so that a method may lay its data out in the same order (leaf blocks); empty where
+  // the structure decodes its leaves for the method (the octree's compact references).
   [[nodiscard]] virtual std::span<const uint32_t> leaf_references() const = 0;
 };
 

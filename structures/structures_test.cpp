@@ -314,3 +314,41 @@ TEST_CASE("the octree's leaves drop the discs whose plane misses them", "[struct
   REQUIRE(disc_refs >= d.cloud.size());
   REQUIRE(disc_nodes < box_nodes);
 }
+
+TEST_CASE("the octree's compact references trace as its 32-bit ones, in fewer bytes",
+          "[structures]") {
+  const PointCloud cloud = load_dataset("bumpy_sphere:n=20000,seed=9").cloud;
+  const MethodInfo& info = MethodRegistry::instance().get("reference_splat", "method");
+  auto leaf_order = info.create(resolve_params(info.params, {{"disc_blocks", 1}}, "test"));
+  OpCounters prep;
+  Timings t;
+  PrepareContext ctx{prep, t};
+  leaf_order->prepare(cloud, ctx);
+  const StructureInfo& octree = StructureRegistry::instance().get("octree", "structure");
+  auto build = [&](double compact) {
+    auto s = octree.create(resolve_params(octree.params, {{"compact_refs", compact}}, "octree"));
+    OpCounters c;
+    s->build(leaf_order->items(), c);
+    return s;
+  };
+  const auto plain = build(0), compact = build(1);
+  const auto rays = random_rays(cloud, 20000, 13);
+  const Traced a = trace_all(*plain, *leaf_order, rays), b = trace_all(*compact, *leaf_order, rays);
+  size_t same = 0, hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    hits += size_t(a.found[i]);
+    same +=
+        size_t(a.found[i] == b.found[i] &&
+               (!a.found[i] || (a.hits[i].prim == b.hits[i].prim && a.hits[i].t == b.hits[i].t)));
+  }
+  CHECK(same == rays.size());
+  CHECK(hits > rays.size() / 10);
+  CHECK(a.items == b.items);
+  INFO("bytes " << plain->memory_bytes() << " -> " << compact->memory_bytes());
+  CHECK(compact->memory_bytes() * 10 < plain->memory_bytes() * 7);
+  // Decoded leaves are no pieces of one array: a leaf-order disc copy is refused, in words.
+  CHECK(compact->leaf_references().empty());
+  REQUIRE_THROWS_WITH(leaf_order->bind_leaf_references(compact->leaf_references()),
+                      Catch::Contains("compact_refs=0"));
+  REQUIRE_NOTHROW(leaf_order->bind_leaf_references(plain->leaf_references()));
+}

@@ -49,9 +49,11 @@ static_assert(sizeof(KdNode) == 16);
 // Octree nodes. Inner: `count` is kOctInner with the mask of its non-empty children in the low
 // eight bits (OctInner(mask)); only those children are stored, consecutive from first() in child
 // order (an octree over a surface leaves most children empty: 60% of the nodes on a sphere).
-// Leaf: its references from first(). OctNode32 (8 bytes) while the references fit 32-bit offsets,
-// OctNode64 (12 bytes) beyond.
+// Leaf: its references from first(), and kOctCompact set in `count` when they are 16-bit offsets
+// from a base item (octree.cpp) rather than 32-bit items. OctNode32 (8 bytes) while the references
+// fit 32-bit offsets, OctNode64 (12 bytes) beyond.
 inline constexpr uint32_t kOctInner = uint32_t{1} << 31;
+inline constexpr uint32_t kOctCompact = uint32_t{1} << 30;
 inline constexpr uint32_t oct_inner(uint32_t child_mask) { return kOctInner | child_mask; }
 // Where child c of an inner node with this child mask is stored, counted from its first child.
 inline uint32_t oct_child_rank(uint32_t child_mask, uint32_t c) {
@@ -67,6 +69,8 @@ struct OctNode32 {
   [[nodiscard]] uint64_t first() const { return first_; }
   [[nodiscard]] bool leaf() const { return (count & kOctInner) == 0; }
   [[nodiscard]] uint32_t child_mask() const { return leaf() ? 0 : count & 0xFFu; }
+  [[nodiscard]] bool compact() const { return (count & (kOctInner | kOctCompact)) == kOctCompact; }
+  [[nodiscard]] uint32_t leaf_count() const { return count & (kOctCompact - 1); }
 };
 static_assert(sizeof(OctNode32) == 8);
 
@@ -82,6 +86,8 @@ struct OctNode64 {
   [[nodiscard]] uint64_t first() const { return uint64_t(first_hi) << 32 | first_lo; }
   [[nodiscard]] bool leaf() const { return (count & kOctInner) == 0; }
   [[nodiscard]] uint32_t child_mask() const { return leaf() ? 0 : count & 0xFFu; }
+  [[nodiscard]] bool compact() const { return (count & (kOctInner | kOctCompact)) == kOctCompact; }
+  [[nodiscard]] uint32_t leaf_count() const { return count & (kOctCompact - 1); }
 };
 static_assert(sizeof(OctNode64) == 12);
 

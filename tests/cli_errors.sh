@@ -49,6 +49,8 @@ else
   (fails=0; ulimit -v 500000 && expect_error "out of memory: sphere:n=5000000 with reference_splat on 5000000 points is too large for this machine: about 0.66 GiB needed (estimate)" render --method reference_splat --structure kd_tree --set disc_blocks=1 --data sphere:n=5000000 --out "$dir/a.png"; exit "$fails")
   [ $? -eq 0 ] || fails=$((fails + 1))
 fi
+# Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
+expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"
 expect_error "zero_dir.csv: line 2: zero direction" trace --method reference_splat --data sphere:n=100 --rays "$dir/zero_dir.csv" --out "$dir/h.csv"
 expect_error "bad_header.csv: line 1" trace --method reference_splat --data sphere:n=100 --rays "$dir/bad_header.csv" --out "$dir/h.csv"
 expect_error "short_row.csv: line 3" trace --method reference_splat --data sphere:n=100 --rays "$dir/short_row.csv" --out "$dir/h.csv"

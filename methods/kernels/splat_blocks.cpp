@@ -4,6 +4,8 @@
 
 #include <cstdint>
 
+#include "core/error.hpp"
+
 namespace pcrt {
 
 const ParamList<DiscBlockParams>& DiscBlockParams::list() {
@@ -37,9 +39,16 @@ bool use_leaf_order(DiscBlockLayout layout, size_t refs, size_t items) {
 
 void SplatLeafBlocks::bind(std::span<const uint32_t> refs, const SplatSet& splats,
                            DiscBlockLayout layout) {
+  // No references for items: the structure decodes its leaves (the octree's compact_refs), so
+  // there is no leaf order to copy.
+  const bool decoded_leaves = refs.empty() && splats.size() > 0;
+  if (decoded_leaves && layout == DiscBlockLayout::kLeafOrder)
+    input_error(
+        "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference "
+        "array; the octree's compact references are decoded per leaf (set compact_refs=0)");
   base_ = refs.data();
   count_ = refs.size();
-  leaf_order_ = use_leaf_order(layout, refs.size(), splats.size());
+  leaf_order_ = !decoded_leaves && use_leaf_order(layout, refs.size(), splats.size());
   kernel_ = best_disc_kernel();
   std::vector<DiscBlock>().swap(blocks_);
   if (!leaf_order_) {
