@@ -44,14 +44,15 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
   return bytes;
 }
 
-StructureFootprint structure_footprint(const std::string& structure) {
+StructureFootprint structure_footprint(const std::string& structure,
+                                       const ParamValues& structure_params) {
   // Per item, over the cloud (24 B) and the radii (4): the process peak of reference_splat on a
   // 10^7-point sphere with the disc blocks in item order (no copy: the structure's build peak or
   // its final arrays, whichever is higher) and in leaf order (a 28-byte disc per reference), from
   // results/scale/layouts (scripts/scale.sh; the kd-tree's item order from results/scale/lean,
   // since its build's chunks grow: the larger of 10^7 and 10^8; the octree's from
-  // results/scale/octree, since its leaves keep only the discs whose plane cuts them), plus 10% and
-  // rounded up.
+  // results/scale/octree at 6b7fb5f, with compact references or without, and its leaf order at
+  // 667aa3e), plus 10% and rounded up.
   // References per item: the build_item_refs / N of the same structures at 10^6-10^7
   // (structure_memory.sh), the smaller where they differ, so that disc_blocks=0 is priced as leaf
   // order wherever it may choose it.
@@ -59,13 +60,19 @@ StructureFootprint structure_footprint(const std::string& structure) {
   if (structure == "grid") return {20, 72, 1.9};
   if (structure == "sphere_tree") return {23, 54, 1};
   if (structure == "kd_tree") return {25, 138, 3.7};
-  if (structure == "octree") return {45, 249, 7.2};
+  if (structure == "octree") {
+    // Compact references (the default) or 32-bit ones, which the leaf-order copy needs.
+    const auto compact = structure_params.find("compact_refs");
+    const bool is_compact = compact == structure_params.end() || compact->second != 0;
+    return {is_compact ? size_t(24) : size_t(37), 249, 7.2};
+  }
   if (structure == "bvh") return {55, 60, 1};
   return {80, 80, 1};  // structures of a method's own
 }
 
-size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params) {
-  const StructureFootprint f = structure_footprint(structure);
+size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params,
+                                const ParamValues& structure_params) {
+  const StructureFootprint f = structure_footprint(structure, structure_params);
   const auto it = method_params.find(disc_blocks_name());
   if (it == method_params.end()) return f.item_order;  // no disc blocks
   switch (DiscBlockLayout(int(it->second))) {
@@ -81,13 +88,14 @@ size_t structure_bytes_per_item(const std::string& structure, const ParamValues&
 }
 
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,
-                            const PointCloud& cloud, const ParamValues& method_params) {
+                            const PointCloud& cloud, const ParamValues& method_params,
+                            const ParamValues& structure_params) {
   if (method.own_bytes_per_point)
     if (const size_t own = method.own_bytes_per_point(cloud, method_params); own > 0)
       return cloud.size() * own;
-  return cloud.size() *
-         (prepared_bytes_per_point(method, cloud, method_params) +
-          structure_bytes_per_item(structure, method_params) + method.own_data_bytes_per_point);
+  return cloud.size() * (prepared_bytes_per_point(method, cloud, method_params) +
+                         structure_bytes_per_item(structure, method_params, structure_params) +
+                         method.own_data_bytes_per_point);
 }
 
 }  // namespace pcrt

@@ -25,11 +25,16 @@ struct StructureFootprint {
   size_t leaf_order = 0;
   double references_per_item = 1;
 };
-StructureFootprint structure_footprint(const std::string& structure);
+// The structure's own parameters count where they change its bytes (the octree's compact_refs);
+// none given: its defaults.
+StructureFootprint structure_footprint(const std::string& structure,
+                                       const ParamValues& structure_params = {});
 // The footprint for the layout the method's parameters choose (disc_blocks; none: item order).
-size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params);
+size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params,
+                                const ParamValues& structure_params = {});
 // Both, for the cloud's size.
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,
-                            const PointCloud& cloud, const ParamValues& method_params);
+                            const PointCloud& cloud, const ParamValues& method_params,
+                            const ParamValues& structure_params = {});
 
 }  // namespace pcrt

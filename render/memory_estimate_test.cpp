@@ -80,6 +80,11 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
         structure_footprint("sphere_tree").references_per_item);
   CHECK(structure_bytes_per_item("kd_tree", with_layout(DiscBlockLayout::kAuto)) ==
         structure_footprint("kd_tree").item_order);
+  // The octree's 32-bit references cost more than its compact ones (the default).
+  CHECK(structure_footprint("octree", {{"compact_refs", 0}}).item_order >
+        structure_footprint("octree", {{"compact_refs", 1}}).item_order);
+  CHECK(structure_footprint("octree").item_order ==
+        structure_footprint("octree", {{"compact_refs", 1}}).item_order);
 }
 
 TEST_CASE("memory estimate: a method's own per-splat data is added") {

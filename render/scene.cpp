@@ -47,7 +47,8 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   structure_params_ = resolve_params(sinfo.params, for_structure, "structure " + structure_id_);
 
   // Refused before any work if it cannot fit (the cloud is already in memory).
-  estimated_bytes_ = estimate_scene_bytes(*method_info_, structure_id_, cloud, method_params_);
+  estimated_bytes_ =
+      estimate_scene_bytes(*method_info_, structure_id_, cloud, method_params_, structure_params_);
   require_memory(estimated_bytes_, fmt::format("{} with {} on {} points", cloud.name,
                                                method_info_->id, cloud.size()));
   method_ = method_info_->create(method_params_);
