@@ -18,26 +18,35 @@ inline const Counter kNormalsEstimated{"normals_estimated", "PCA normal fits"};
 inline const Counter kOrientationFlips{"normal_orientation_flips",
                                        "normals flipped to agree with the MST"};
 
-// A k-NN query per point in parallel. The counter totals are added once, afterwards: they are
-// exactly N queries whatever the split, so thread count cannot change them.
+// A k-NN query per query point in parallel: body(s, nbrs, d2) for the point query_point(s), s in
+// [0, count). The counter totals are added once, afterwards: they are exactly `count` queries
+// whatever the split, so thread count cannot change them.
+template <typename QueryPoint, typename Body>
+void for_each_knn(size_t count, QueryPoint query_point, const KnnIndex& knn, size_t k,
+                  OpCounters& counters, Body body) {
+  k = std::min(k, knn.size());
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+        std::vector<uint32_t> idx(k);
+        std::vector<float> d2(k);
+        OpCounters local;
+        for (size_t s = r.begin(); s != r.end(); ++s) {
+          const size_t found = knn.knn(query_point(s), k, idx.data(), d2.data(), local);
+          body(s, std::span<const uint32_t>(idx.data(), found),
+               std::span<const float>(d2.data(), found));
+        }
+      });
+  counters.add(kKnnQueries, count);
+  counters.add(kKnnResults, count * k);
+}
+
+// The same for every point of the indexed cloud, each its own query.
 template <typename Body>
 void for_each_point_knn(std::span<const Vec3> positions, const KnnIndex& knn, size_t k,
                         OpCounters& counters, Body body) {
-  const size_t n = positions.size();
-  k = std::min(k, n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      std::vector<uint32_t> idx(k);
-                      std::vector<float> d2(k);
-                      OpCounters local;
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        const size_t found = knn.knn(positions[i], k, idx.data(), d2.data(), local);
-                        body(i, std::span<const uint32_t>(idx.data(), found),
-                             std::span<const float>(d2.data(), found));
-                      }
-                    });
-  counters.add(kKnnQueries, n);
-  counters.add(kKnnResults, n * k);
+  for_each_knn(
+      positions.size(), [&](size_t i) -> const Vec3& { return positions[i]; }, knn,
+      std::min(k, positions.size()), counters, body);
 }
 
 // Unit normal of the least-squares plane through the given points (smallest eigenvector of their
