@@ -57,7 +57,7 @@ class ChunkedArray {
 
   Handle push_back(const T& x) { return push_n(1, x); }
 
-  // n copies of x, contiguous within one chunk (n <= kChunk): the octree's eight children.
+  // n copies of x, contiguous within one chunk (n <= kChunk): an octree node's stored children.
   Handle push_n(size_t n, const T& x) {
     if (chunks_.empty() || chunks_.back().capacity() - chunks_.back().size() < n) new_chunk();
     std::vector<T>& c = chunks_.back();

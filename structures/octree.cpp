@@ -3,11 +3,12 @@
 // holds at most leaf_size items, reaches max_depth, or splitting stops paying (footprints wider
 // than the cells: the fullest child keeps over half of the items; such leaves exceed leaf_size).
 // The splits go by the items' footprint boxes; a leaf references the items whose box overlaps it
-// and, for a disc, whose plane cuts its cube (a quarter fewer references on a sphere), and a child
-// no disc plane reaches is not stored. A leaf's references are 16-bit offsets from its lowest item
-// where they fit (compact_refs; items are in Morton order, so a cell's neighbours are mostly near),
-// decoded onto the stack when a ray reaches it. Traversal: depth first, the children a ray crosses
-// sorted by entry distance, so leaves come front to back (cells are disjoint).
+// and, for discs the method hits only on the disc, whose plane cuts its cube (a quarter fewer
+// references on a sphere); a child no item reaches is not stored. A leaf's references are 16-bit
+// offsets from its lowest item where they fit (compact_refs; items are in Morton order, so a cell's
+// neighbours are mostly near), decoded onto the stack when a ray reaches it. Traversal: depth
+// first, the children a ray crosses sorted by entry distance, so leaves come front to back (cells
+// are disjoint).
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -129,7 +130,8 @@ class Octree final : public Structure {
 
   [[nodiscard]] bool wide() const { return !nodes64_.empty(); }
 
-  // Sum over leaves of references x levels from the root (the build's partitioning work).
+  // Sum over leaves of their references x levels from the root: the build's partitioning work as
+  // the leaves keep it (references a leaf drops by the plane test are not counted).
   template <class N>
   static uint64_t item_visits(const std::vector<N>& nodes, uint32_t node, uint64_t level) {
     const N& n = nodes[node];
@@ -259,7 +261,7 @@ class Octree final : public Structure {
   [[nodiscard]] ChildCounts count_children(const std::vector<uint32_t>& st, size_t begin,
                                            const Vec3& mid, float half) const {
     ChildCounts out;
-    const bool discs = !items_.disc_normals.empty();
+    const bool discs = culls_by_plane();
     for (size_t k = begin; k < st.size(); ++k) {
       const uint32_t boxes = children_of(st[k], mid);
       out.reached |= discs ? boxes & disc_plane_cuts_children(st[k], mid, half) : boxes;
@@ -329,7 +331,7 @@ class Octree final : public Structure {
   template <class N>
   void make_leaf(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
                  const Vec3& lo, float side) {
-    if (!items_.disc_normals.empty()) keep_discs_cutting(b.stack, begin, lo, side);
+    if (culls_by_plane()) keep_discs_cutting(b.stack, begin, lo, side);
     const std::span<const uint32_t> items{b.stack.data() + begin, b.stack.size() - begin};
     if (items.size() >= kOctCompact) throw std::length_error("octree: a leaf of 2^30 references");
     const auto n = uint32_t(items.size());
@@ -362,6 +364,12 @@ class Octree final : public Structure {
     out[1] = uint16_t(*lo >> 16);
     for (size_t k = 0; k < items.size(); ++k) out[k + 2] = uint16_t(items[k] - *lo);
     return true;
+  }
+
+  // Whether leaves may drop the discs whose plane misses them: the items are discs and the
+  // method's candidates are points of them (ItemSet::hits_on_discs).
+  [[nodiscard]] bool culls_by_plane() const {
+    return items_.hits_on_discs && !items_.disc_normals.empty();
   }
 
   // Drops from stack[begin, end) the discs whose plane misses the cube [lo, lo + side]: a tilted

@@ -30,6 +30,10 @@ struct ItemSet {
   std::span<const float> radii;             // empty: points
   std::span<const Vec3> half_extents;       // empty: from disc_normals, else the cube of the radius
   std::span<const Vec3> disc_normals = {};  // non-empty: item i is a disc of its radius facing this
+  // The method's leaf candidates are points of the discs (crossings within the radius), so a
+  // structure may leave a disc out of a cell its plane does not cut (the octree does). Methods
+  // whose hits may lie off the discs (implicit surfaces, projections) leave it false.
+  bool hits_on_discs = false;
 
   // One axis of a disc's box: r * sqrt(1 - n_a^2), padded by 1e-4 r so rounding of a hit point on
   // the disc never leaves the box. The one formula for both forms below.

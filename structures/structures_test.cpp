@@ -291,8 +291,9 @@ TEST_CASE("the 8-wide node test hits the same children with AVX2 and with SSE", 
 
 TEST_CASE("the octree's leaves drop the discs whose plane misses them", "[structures]") {
   // The same boxes twice: stored (so nothing says the items are discs) and derived from the disc
-  // normals. Splits go by the boxes, so the trees have the same cells; with the normals a leaf
-  // keeps only the discs whose plane cuts its cube, and children no plane reaches are not stored.
+  // normals of a method that hits only on the discs. Splits go by the boxes, so the trees have the
+  // same cells; with the normals a leaf keeps only the discs whose plane cuts its cube, and
+  // children no plane reaches are not stored.
   const Dataset d = load_dataset("sphere:n=20000,seed=8");
   std::vector<float> radii(d.cloud.size(), 0.05f);
   std::vector<Vec3> boxes(d.cloud.size());
@@ -307,12 +308,17 @@ TEST_CASE("the octree's leaves drop the discs whose plane misses them", "[struct
   };
   const auto [box_refs, box_nodes] = build(ItemSet{d.cloud.positions, radii, boxes});
   const auto [disc_refs, disc_nodes] =
-      build(ItemSet{d.cloud.positions, radii, {}, d.cloud.normals});
+      build(ItemSet{d.cloud.positions, radii, {}, d.cloud.normals, true});
   INFO("references " << box_refs << " -> " << disc_refs << ", nodes " << box_nodes << " -> "
                      << disc_nodes);
   REQUIRE(disc_refs < box_refs * 9 / 10);
   REQUIRE(disc_refs >= d.cloud.size());
   REQUIRE(disc_nodes < box_nodes);
+  // A method whose hits may lie off the discs (hits_on_discs false) keeps every box reference.
+  const auto [off_disc_refs, off_disc_nodes] =
+      build(ItemSet{d.cloud.positions, radii, {}, d.cloud.normals, false});
+  REQUIRE(off_disc_refs == box_refs);
+  REQUIRE(off_disc_nodes == box_nodes);
 }
 
 TEST_CASE("the octree's compact references trace as its 32-bit ones, in fewer bytes",

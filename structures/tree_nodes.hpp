@@ -46,8 +46,8 @@ struct KdNode {
 };
 static_assert(sizeof(KdNode) == 16);
 
-// Octree nodes. Inner: `count` is kOctInner with the mask of its non-empty children in the low
-// eight bits (OctInner(mask)); only those children are stored, consecutive from first() in child
+// Octree nodes. Inner: `count` is kOctInner with the mask of its stored children in the low
+// eight bits (oct_inner(mask)); only those children are stored, consecutive from first() in child
 // order (an octree over a surface leaves most children empty: 60% of the nodes on a sphere).
 // Leaf: its references from first(), and kOctCompact set in `count` when they are 16-bit offsets
 // from a base item (octree.cpp) rather than 32-bit items. OctNode32 (8 bytes) while the references
@@ -55,10 +55,6 @@ static_assert(sizeof(KdNode) == 16);
 inline constexpr uint32_t kOctInner = uint32_t{1} << 31;
 inline constexpr uint32_t kOctCompact = uint32_t{1} << 30;
 inline constexpr uint32_t oct_inner(uint32_t child_mask) { return kOctInner | child_mask; }
-// Where child c of an inner node with this child mask is stored, counted from its first child.
-inline uint32_t oct_child_rank(uint32_t child_mask, uint32_t c) {
-  return uint32_t(__builtin_popcount(child_mask & ((uint32_t{1} << c) - 1)));
-}
 
 struct OctNode32 {
   uint32_t first_ = 0;

@@ -46,6 +46,8 @@ struct SplatSet {
 
   [[nodiscard]] size_t size() const { return centres.size(); }
   [[nodiscard]] ItemSet items() const { return {centres, radii, {}, normals}; }
+  // The same for methods whose leaf candidates are points of the discs (ItemSet::hits_on_discs).
+  [[nodiscard]] ItemSet disc_items() const { return {centres, radii, {}, normals, true}; }
   [[nodiscard]] uint32_t point_of(uint32_t k) const { return point.empty() ? k : point[k]; }
   [[nodiscard]] uint32_t prim_of(uint32_t k) const { return prim.empty() ? k : prim[k]; }
   [[nodiscard]] PackedSplat splat(uint32_t k) const {

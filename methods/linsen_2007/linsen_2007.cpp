@@ -111,7 +111,8 @@ class Linsen2007 final : public Method {
       splats_ = make_splat_set(c, nn, r, kept);
     }
     // The kept splats' fields fitted again (the same neighbours, so the same matrices) rather
-    // than every point's kept from the first pass: 36 B per point less at the peak.
+    // than every point's kept from the first pass: 40 B per point (the matrix and
+    // its curvature) less at the peak.
     ScopedTimer t(ctx.timings, "prepare/normal_field");
     fields_.resize(splats_.size());
     for_each_knn(
@@ -122,7 +123,7 @@ class Linsen2007 final : public Method {
         });
     settings_ = splat_blend_settings(splats_.radii, params_.front_depth);
   }
-  [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+  [[nodiscard]] ItemSet items() const override { return splats_.disc_items(); }
   void bind_leaf_references(std::span<const uint32_t> refs) override {
     bind_splat_blocks(blocks_, splats_, refs, params_.blocks);
   }

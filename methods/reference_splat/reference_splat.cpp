@@ -27,7 +27,7 @@ class ReferenceSplat final : public Method {
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     splats_ = prepare_splats(cloud, params_.splat, ctx);
   }
-  [[nodiscard]] ItemSet items() const override { return splats_.items(); }
+  [[nodiscard]] ItemSet items() const override { return splats_.disc_items(); }
 
   void bind_leaf_references(std::span<const uint32_t> refs) override {
     bind_splat_blocks(blocks_, splats_, refs, params_.blocks);
