@@ -64,7 +64,9 @@ StructureFootprint structure_footprint(const std::string& structure,
     // Compact references (the default) or 32-bit ones, which the leaf-order copy needs.
     const auto compact = structure_params.find("compact_refs");
     const bool is_compact = compact == structure_params.end() || compact->second != 0;
-    return {is_compact ? size_t(24) : size_t(37), 249, 7.2};
+    // With compact references a leaf-order copy is refused when the method binds (there is no
+    // array to copy along), so it is priced as item order: the refusal, not a memory error.
+    return is_compact ? StructureFootprint{24, 24, 7.2} : StructureFootprint{37, 249, 7.2};
   }
   if (structure == "bvh") return {55, 60, 1};
   return {80, 80, 1};  // structures of a method's own
