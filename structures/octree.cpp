@@ -353,8 +353,8 @@ class Octree final : public Structure {
   }
 
   // A leaf's items as its lowest item (two 16-bit halves) and each item's offset from it, in the
-  // leaf's order: where there are at most kCompactMax items within 2^16 of each other (98% of the
-  // leaves on a 10^6 sphere: neighbouring cells are mostly near in Morton order).
+  // leaf's order: where there are at most kCompactMax items within 2^16 of each other (most
+  // leaves: items are in Morton order, so a cell's neighbours are mostly near in it).
   static bool pack_compact(std::span<const uint32_t> items,
                            std::array<uint16_t, kCompactMax + 2>& out) {
     if (items.empty() || items.size() > kCompactMax) return false;

@@ -48,7 +48,7 @@ static_assert(sizeof(KdNode) == 16);
 
 // Octree nodes. Inner: `count` is kOctInner with the mask of its stored children in the low
 // eight bits (oct_inner(mask)); only those children are stored, consecutive from first() in child
-// order (an octree over a surface leaves most children empty: 60% of the nodes on a sphere).
+// order (an octree over a surface leaves most of a cell's children empty).
 // Leaf: its references from first(), and kOctCompact set in `count` when they are 16-bit offsets
 // from a base item (octree.cpp) rather than 32-bit items. OctNode32 (8 bytes) while the references
 // fit 32-bit offsets, OctNode64 (12 bytes) beyond.
