@@ -37,7 +37,8 @@ int run(const std::string& id, size_t n) {
   PointCloud cloud = load_dataset(fmt::format("sphere:n={},seed=1", n)).cloud;
   const float r = 1.2f * std::sqrt(4.0f * 3.14159265f / float(n));
   std::vector<float> radii(n, r);
-  const ItemSet items{cloud.positions, radii, {}, cloud.normals};
+  // Discs hit only on the disc, as reference_splat's (ItemSet::hits_on_discs).
+  const ItemSet items{cloud.positions, radii, {}, cloud.normals, true};
   const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
   auto structure = info.create(resolve_params(info.params, {}, id));
   OpCounters counters;
