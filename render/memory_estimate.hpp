@@ -24,6 +24,9 @@ struct StructureFootprint {
   size_t item_order = 0;
   size_t leaf_order = 0;
   double references_per_item = 1;
+  // For methods without disc blocks, whose items a structure keeps by their boxes alone (no disc
+  // plane test, ItemSet::hits_on_discs); 0: as item_order.
+  size_t by_boxes = 0;
 };
 // The structure's own parameters count where they change its bytes (the octree's compact_refs);
 // none given: its defaults.

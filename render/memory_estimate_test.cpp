@@ -85,6 +85,12 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
         structure_footprint("octree", {{"compact_refs", 1}}).item_order);
   CHECK(structure_footprint("octree").item_order ==
         structure_footprint("octree", {{"compact_refs", 1}}).item_order);
+  // Methods without disc blocks keep every box reference there: priced above the discs' figure.
+  const auto& projection = MethodRegistry::instance().get("schaufler_jensen_2000", "method");
+  const ParamValues none = resolve_params(projection.params, {}, "test");
+  CHECK(structure_bytes_per_item("octree", none) > structure_footprint("octree").item_order);
+  CHECK(structure_bytes_per_item("octree", none, {{"compact_refs", 0}}) >
+        structure_bytes_per_item("octree", none));
 }
 
 TEST_CASE("memory estimate: a method's own per-splat data is added") {
