@@ -22,6 +22,14 @@ const char* growth_name(Growth g);  // "1", "log x", "x^0.5", "x", "x log x", "x
 // others held fixed. Throws InputError if the string does not parse or lacks the variable.
 Growth expected_growth(const std::string& complexity, const std::string& variable);
 
+// Whom a verdict is about: the thesis, or pcrt's own scaffolding and expectations (the
+// brute-force oracle's build, the calibration workloads, pcrt's own observations): checks of
+// pcrt, tallied apart from the thesis's verdicts.
+enum class ClaimAbout { kThesis, kPcrt };
+const char* claim_about_name(ClaimAbout a);  // "thesis", "pcrt"
+// What the input must be for the claim to apply; a fit on other input is not judged.
+enum class Precondition { kNone, kUniformVolume };
+
 struct Claim {
   std::string id;          // "<subject>/<what>", e.g. "kd_tree/build", "cai_2011/leaf"
   std::string subject;     // a structure, method or reconstruction id; "*" for general claims
@@ -30,6 +38,8 @@ struct Claim {
   std::vector<std::string> variables;
   std::string source;           // "Table 5.4", "section 5.5.2", ...
   std::string not_tested = {};  // why pcrt cannot judge it (empty: it is judged)
+  ClaimAbout about = ClaimAbout::kThesis;
+  Precondition precondition = Precondition::kNone;
 };
 
 const std::vector<Claim>& all_claims();

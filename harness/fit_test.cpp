@@ -1,6 +1,9 @@
 // The fitter on exact and noisy synthetic growth (no timing here: the timed and counted
-// calibration workloads run through `pcrt calibrate`).
+// calibration workloads run through `pcrt calibrate`), and the power of its verdicts on every
+// growth design of configs/thesis.json.
 #include "harness/fit.hpp"
+
+#include <fmt/format.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -33,42 +36,53 @@ double model(Growth m, double x) {
   }
   return 0;
 }
+
+std::vector<double> powers_of_two(int from, int to, int replicates = 1) {
+  std::vector<double> x;
+  for (int e = from; e <= to; ++e)
+    for (int r = 0; r < replicates; ++r) x.push_back(std::pow(2.0, e));
+  return x;
+}
 }  // namespace
 
-TEST_CASE("fit_growth picks the generating model and its exponent", "[fit]") {
+TEST_CASE("fit_growth picks the generating model, and a true bound holds", "[fit]") {
   Rng rng(11, 2);
   for (Growth truth : kAllGrowths) {
     for (double noise : {0.0, 0.02}) {
-      std::vector<double> x, y;
-      for (int e = 6; e <= 18; ++e)
-        for (int rep = 0; rep < 3; ++rep) {
-          x.push_back(std::pow(2.0, e));
-          y.push_back(model(truth, x.back()) * (1 + noise * (2 * rng.uniform_double() - 1)));
-        }
+      const std::vector<double> x = powers_of_two(6, 18, 3);
+      std::vector<double> y;
+      for (double v : x) y.push_back(model(truth, v) * (1 + noise * (2 * rng.uniform_double() - 1)));
       const GrowthFit f = fit_growth(x, y, truth, "synthetic");
-      INFO(growth_name(truth) << " noise " << noise << " -> " << growth_name(f.best));
+      INFO(growth_name(truth) << " noise " << noise << " -> " << growth_name(f.best) << ": "
+                              << verdict_name(f.verdict) << ", " << f.reason);
       REQUIRE(f.best == truth);
-      REQUIRE(f.verdict == ClaimVerdict::kWithin);
+      REQUIRE(f.verdict == ClaimVerdict::kHolds);
+      REQUIRE(f.hidden < kHoldsTolerance);
+      REQUIRE(f.faster.size() == 3);
     }
   }
 }
 
-TEST_CASE("verdicts against an upper bound: exceeds, below, within", "[fit]") {
-  std::vector<double> x, y;
-  for (int e = 6; e <= 16; ++e)
-    x.push_back(std::pow(2.0, e)), y.push_back(model(Growth::kQuadratic, x.back()));
-  REQUIRE(fit_growth(x, y, Growth::kLinear, "q").verdict == ClaimVerdict::kExceeds);
-  REQUIRE(fit_growth(x, y, Growth::kCubic, "q").verdict == ClaimVerdict::kBelow);
-  REQUIRE(fit_growth(x, y, Growth::kLinear, "q").weight_faster >= 0.95);
+TEST_CASE("verdicts against an upper bound: exceeds, holds (loose), holds (tight)", "[fit]") {
+  const std::vector<double> x = powers_of_two(6, 16);
+  std::vector<double> y;
+  for (double v : x) y.push_back(model(Growth::kQuadratic, v));
+  const GrowthFit over = fit_growth(x, y, Growth::kLinear, "q");
+  INFO(over.reason);
+  REQUIRE(over.verdict == ClaimVerdict::kExceeds);
+  REQUIRE(over.faster[2].low99 > 0);  // x^2, two classes up
+  const GrowthFit loose = fit_growth(x, y, Growth::kCubic, "q");
+  INFO(loose.reason);
+  REQUIRE(loose.verdict == ClaimVerdict::kHolds);
+  REQUIRE(loose.tightness == Tightness::kLoose);
   const GrowthFit f = fit_growth(x, y, Growth::kQuadratic, "q");
-  REQUIRE(f.verdict == ClaimVerdict::kWithin);
+  REQUIRE(f.verdict == ClaimVerdict::kHolds);
+  REQUIRE(f.tightness == Tightness::kTight);
   REQUIRE(f.exponent == Approx(2.0).margin(0.05));
-  REQUIRE(f.ci_low <= 2.0);
-  REQUIRE(f.ci_high >= 1.9);
-  REQUIRE(!f.reason.empty());
+  REQUIRE(f.reason.find("at most") != std::string::npos);
 }
 
-TEST_CASE("verdicts: a neighbour the data cannot rule out is inconclusive", "[fit]") {
+TEST_CASE("verdicts: a faster term the data cannot exclude is inconclusive", "[fit]") {
   // Five points over a factor 4 of x at 10% noise: x and x log x cannot be told apart.
   Rng rng(3, 1);
   int inconclusive = 0;
@@ -76,60 +90,188 @@ TEST_CASE("verdicts: a neighbour the data cannot rule out is inconclusive", "[fi
     std::vector<double> x, y;
     for (double v : {1000.0, 1400.0, 2000.0, 2800.0, 4000.0})
       x.push_back(v), y.push_back(v * std::log(v) * (1 + 0.1 * (2 * rng.uniform_double() - 1)));
-    inconclusive += fit_growth(x, y, Growth::kLinear, "x").verdict == ClaimVerdict::kInconclusive;
+    const GrowthFit f = fit_growth(x, y, Growth::kLinear, "x");
+    inconclusive += f.verdict == ClaimVerdict::kInconclusive;
   }
-  REQUIRE(inconclusive >= 25);
+  REQUIRE(inconclusive >= 45);
 }
 
-// The power requirement of the verdicts (issue 12), on every growth design configs/thesis.json
-// sweeps (its grid values of the fit's variable), at the noise its op counts show (up to 4%
-// relative; `noise` in fits.json): (a) with the claim exactly true, `exceeds` at most 5% of the
-// time; (b) a violation one class up detected at least 90% of the time. 1000 seeded data sets per
-// design, through the same fit_growth as `pcrt fit`.
-TEST_CASE("verdict power on the thesis designs: false exceeds <= 5%, one class up >= 90%",
-          "[fit][power]") {
+TEST_CASE("design rules: range, leave-one-out, lack of fit, loop checks", "[fit]") {
+  Rng rng(5, 3);
+  auto noisy = [&](double scatter) { return 1 + scatter * (2 * rng.uniform_double() - 1); };
+  SECTION("a true claim over too short a range is inconclusive, unless waived") {
+    std::vector<double> x, y;
+    for (int i = 0; i < 8; ++i) x.push_back(1000 * std::pow(1.5, i));
+    for (double v : x) y.push_back(v * std::log(v) * noisy(0.01));
+    FitRules rules;
+    rules.min_decades = 2;
+    const GrowthFit f = fit_growth(x, y, Growth::kLinearLog, "short", rules);
+    REQUIRE(f.verdict == ClaimVerdict::kInconclusive);
+    REQUIRE(f.reason.find("decades") != std::string::npos);
+    rules.range_waiver = "the scan has no more points";
+    REQUIRE(fit_growth(x, y, Growth::kLinearLog, "short", rules).verdict != ClaimVerdict::kInconclusive);
+  }
+  SECTION("one point carrying the whole departure does not make a verdict") {
+    std::vector<double> x = powers_of_two(10, 17), y;
+    for (double v : x) y.push_back(std::log(v) * (v == x.back() ? 1.8 : 1.0));
+    const GrowthFit f = fit_growth(x, y, Growth::kLog, "upturn");
+    INFO(f.reason);
+    REQUIRE(f.verdict == ClaimVerdict::kInconclusive);
+  }
+  SECTION("replicates: a claimed model that misfits them is no basis for holds") {
+    // (log x)^1.3 against a claimed log x, 0.1% replicate scatter: the misfit is far above the
+    // pure error, and the class below (a constant) is already in the model.
+    std::vector<double> x = powers_of_two(10, 18, 3), y;
+    for (double v : x) y.push_back(std::pow(std::log(v), 1.3) * noisy(0.001));
+    const GrowthFit f = fit_growth(x, y, Growth::kLog, "lof");
+    REQUIRE(f.lof_tested);
+    REQUIRE(f.verdict != ClaimVerdict::kHolds);
+  }
+  SECTION("a lower-order term the replicates show is taken into the claimed model") {
+    std::vector<double> x = powers_of_two(11, 19, 3), y;
+    for (double v : x) y.push_back(v * (std::log(v) - 2) * noisy(0.002));
+    const GrowthFit f = fit_growth(x, y, Growth::kLinearLog, "n log(n/k)");
+    REQUIRE(f.verdict != ClaimVerdict::kExceeds);
+  }
+  SECTION("work per sample flat over 32x is a loop check") {
+    std::vector<double> x = {1, 2, 4, 8, 16, 32}, y;
+    for (double v : x) y.push_back(v * (100 + 2 * std::log(v)));
+    REQUIRE(fit_growth(x, y, Growth::kLinear, "S").verdict == ClaimVerdict::kLoopCheck);
+  }
+}
+
+namespace {
+
+// The growth designs of configs/thesis.json: the grid values of each fit's variable, repeated
+// for the experiment's replicates, and whether the fit is in time (noisier).
+struct Design {
+  std::string name;
+  std::vector<double> x;
+  Growth claimed;
+  bool timed;
+  double min_decades;
+};
+
+std::string fill(std::string claim, const nlohmann::json& e, const std::string& tag,
+                 const std::string& list, const std::string& dflt) {
+  const size_t at = claim.find(tag);
+  if (at == std::string::npos) return claim;
+  std::string v = e.contains(list) ? std::string(e[list][0]) : dflt;
+  if (v == "surveyed") v = dflt;
+  return claim.replace(at, tag.size(), v);
+}
+
+// Times: "time", or seconds columns ("direct_setup_s").
+bool timed(const nlohmann::json& metric) {
+  for (const std::string m : metric.is_array() ? metric : nlohmann::json::array({metric}))
+    if (m == "time" || (m.size() > 2 && m.compare(m.size() - 2, 2, "_s") == 0)) return true;
+  return false;
+}
+
+std::vector<Design> thesis_designs() {
   std::ifstream in(pcrt::test::source_dir() / "configs/thesis.json");
   REQUIRE(in);
   const nlohmann::json config = nlohmann::json::parse(in);
-  int designs = 0;
-  for (const auto& e : config["experiments"]) {
+  std::vector<Design> out;
+  for (const auto& e : config["experiments"])
     for (const auto& fit : e.value("fits", nlohmann::json::array())) {
       if (!fit.contains("variable") || fit.contains("x")) continue;  // thresholds; measured x
       const std::string var = fit["variable"];
       const std::string key = var == "K" || var == "k" ? "set." + var : var;
       if (!e["grid"].contains(key)) continue;  // x measured (points per leaf): no design
-      std::string claim = fit["claim"];
-      auto fill = [&](const std::string& tag, const std::string& list, const std::string& dflt) {
-        const size_t at = claim.find(tag);
-        if (at == std::string::npos) return;
-        std::string v = e.contains(list) ? std::string(e[list][0]) : dflt;
-        if (v == "surveyed") v = dflt;
-        claim.replace(at, tag.size(), v);
-      };
-      fill("{method}", "methods", "hubo_2006");
-      fill("{structure}", "structures", "kd_tree");
-      const Growth claimed = expected_growth(find_claim(claim).complexity, var);
-      const std::vector<double> x = e["grid"][key].get<std::vector<double>>();
-      const VerdictRates a = simulate_verdicts(x, claimed, claimed, 0.04, 0, 1000, 1);
-      const VerdictRates b = simulate_verdicts(x, next_growth(claimed), claimed, 0.04, 0, 1000, 2);
-      INFO(e["name"] << " " << claim << " in " << var << ": claimed " << growth_name(claimed)
-                     << ", false exceeds " << a.exceeds << ", one class up ("
-                     << growth_name(next_growth(claimed)) << ") detected " << b.exceeds);
-      CHECK(a.exceeds <= 0.05);
-      if (next_growth(claimed) != claimed) CHECK(b.exceeds >= 0.90);
-      ++designs;
+      std::string claim = fill(fit["claim"], e, "{method}", "methods", "hubo_2006");
+      claim = fill(claim, e, "{structure}", "structures", "kd_tree");
+      Design d{fmt::format("{} {} in {}", e["name"].get<std::string>(), claim, var), {},
+               expected_growth(find_claim(claim).complexity, var),
+               timed(fit["metric"]),
+               var == "N" || var == "M" ? 2.0 : 1.0};
+      for (double v : e["grid"][key].get<std::vector<double>>())
+        for (int r = 0; r < e.value("replicates", 1); ++r) d.x.push_back(v);
+      out.push_back(d);
     }
-  }
-  REQUIRE(designs >= 20);
+  return out;
 }
 
-TEST_CASE("verdicts with an intercept: a constant term does not make a claim fail",
-          "[fit][power]") {
-  // y = 1 + log x / log x_max: half the range is fixed overhead.
-  std::vector<double> x;
-  for (int i = 0; i < 8; ++i) x.push_back(1000 * std::pow(2.0, i));
-  const VerdictRates r = simulate_verdicts(x, Growth::kLog, Growth::kLog, 0.04, 1.0, 1000, 3);
-  REQUIRE(r.exceeds <= 0.05);
+// A class's pure form, 1 at the design's largest x.
+std::function<double(double)> unit(const std::vector<double>& x,
+                                   const std::function<double(double, double)>& h) {
+  const double xmin = *std::min_element(x.begin(), x.end());
+  const double xmax = *std::max_element(x.begin(), x.end());
+  return [=](double v) { return h(v, xmin) / h(xmax, xmin); };
+}
+
+std::function<double(double, double)> growth(Growth m) {
+  return [m](double v, double xmin) { return pure_growth(m, v, xmin); };
+}
+
+}  // namespace
+
+// Issue 27's power requirement, on every growth design of configs/thesis.json, through the same
+// fit_growth as `pcrt fit`, at the noise the committed fits show (op counts: 2% relative, the
+// upper end of their replicate scatter; times: 5%), 400 seeded data sets per case:
+//   the claim exactly true (pure; with a constant; with its lower-order term added or
+//   subtracted, as N ln N + c N, or a negative intercept) -> exceeds <= 5%;
+//   a violation one class up, pure or added so that it doubles y at x_max -> exceeds >= 90%;
+//   a between-class violation (g x^0.25), pure or added -> holds <= 5%.
+// The table is printed (the closing note of issue 27 quotes it).
+TEST_CASE("verdict power on the thesis designs", "[fit][power]") {
+  const int trials = 400;
+  int designs = 0, line = 0;
+  for (const Design& d : thesis_designs()) {
+    FitRules rules;
+    rules.min_decades = d.min_decades;
+    const double noise = d.timed ? 0.05 : 0.02;
+    const auto g = unit(d.x, growth(d.claimed));
+    // The lower-order term the fitter allows (x beside x log x; the intercept beside x).
+    const Growth below = lower_order_term(d.claimed).value_or(Growth::kConstant);
+    const auto l = unit(d.x, growth(below));
+    const double xmin = *std::min_element(d.x.begin(), d.x.end());
+    const double dip = 0.5 * g(xmin) / l(xmin);  // keeps y >= g / 2
+    const auto up = d.claimed == Growth::kCubic
+                        ? unit(d.x, [](double v, double) { return v * v * v * v; })
+                        : unit(d.x, growth(next_growth(d.claimed)));
+    const auto between = unit(d.x, [m = d.claimed](double v, double x0) {
+      return pure_growth(m, v, x0) * std::pow(v, 0.25);
+    });
+    const std::vector<std::pair<std::string, std::function<double(double)>>> truths = {
+        {"true", g},
+        {"true+1", [&](double v) { return 1 + g(v); }},
+        {"true+lower", [&](double v) { return g(v) + l(v); }},
+        {"true-lower", [&](double v) { return g(v) - dip * l(v); }}};
+    double worst_false = 0;
+    std::string worst_truth;
+    for (const auto& [name, t] : truths) {
+      const double r = simulate_verdicts(d.x, t, d.claimed, noise, trials, 11, rules).exceeds;
+      if (r >= worst_false) worst_false = r, worst_truth = name;
+    }
+    const double up_pure = simulate_verdicts(d.x, up, d.claimed, noise, trials, 12, rules).exceeds;
+    const double up_added =
+        simulate_verdicts(d.x, [&](double v) { return g(v) + up(v); }, d.claimed, noise, trials,
+                          13, rules)
+            .exceeds;
+    const double between_pure =
+        simulate_verdicts(d.x, between, d.claimed, noise, trials, 14, rules).holds;
+    const double between_added =
+        simulate_verdicts(d.x, [&](double v) { return g(v) + between(v); }, d.claimed, noise,
+                          trials, 15, rules)
+            .holds;
+    const double true_holds = simulate_verdicts(d.x, g, d.claimed, noise, trials, 16, rules).holds;
+    if (line++ == 0)
+      std::printf("power | design | claimed | noise | false exceeds (worst of 4) | class up "
+                  "pure / added | between holds pure / added | true holds\n");
+    std::printf("power | %s | %s | %.0f%% | %.3f (%s) | %.3f / %.3f | %.3f / %.3f | %.2f\n",
+                d.name.c_str(), growth_name(d.claimed), 100 * noise, worst_false,
+                worst_truth.c_str(), up_pure,
+                up_added, between_pure, between_added, true_holds);
+    INFO(d.name);
+    CHECK(worst_false <= 0.05);
+    CHECK(up_pure >= 0.90);
+    CHECK(up_added >= 0.90);
+    CHECK(between_pure <= 0.05);
+    CHECK(between_added <= 0.05);
+    ++designs;
+  }
+  REQUIRE(designs >= 20);
 }
 
 TEST_CASE("claimed growth per variable from the thesis's notation", "[fit][claims]") {
@@ -149,10 +291,12 @@ TEST_CASE("fit input errors", "[fit]") {
   REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4}, {1, 2, 3, 4}, Growth::kLinear, "four"), InputError);
   REQUIRE_THROWS_AS(fit_growth({1, 1, 2, 2, 2}, {1, 1, 2, 2, 2}, Growth::kLinear, "two x"),
                     InputError);
-  // Repetitions do not make up for distinct x: four x values are too few to tell classes apart.
+  // Replicates do not make up for distinct x: four x values are too few to tell classes apart.
   REQUIRE_THROWS_AS(
       fit_growth({1, 2, 3, 4, 1, 2, 3, 4}, {1, 2, 3, 4, 1, 2, 3, 4}, Growth::kLinear, "four x"),
       InputError);
   REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4, 5}, {1, 0, 3, 4, 5}, Growth::kLinear, "zero"),
+                    InputError);
+  REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4, 5}, {1, NAN, 3, 4, 5}, Growth::kLinear, "nan"),
                     InputError);
 }

@@ -79,13 +79,16 @@ json k_of(const RunResult& r) {
   return nullptr;
 }
 
-// I as measured: iterations per iterative run (Newton, MLS, height difference), whatever the cap;
-// what the drift check and iteration fits look at.
+// I as measured: iterations per iterative run (Newton, MLS, height difference, Algorithm 5's
+// sampling passes, k-NN march steps), whatever the cap; what the drift check and iteration fits
+// look at.
 json iterations_per_run(const RunResult& r) {
   const double steps = count(r.counters, "newton_steps") + count(r.counters, "mls_fits") +
-                       count(r.counters, "height_steps");
+                       count(r.counters, "height_steps") + count(r.counters, "sample_refinements") +
+                       count(r.counters, "knn_march_steps");
   const double runs = count(r.counters, "newton_runs") + count(r.counters, "mls_runs") +
-                      count(r.counters, "height_starts");
+                      count(r.counters, "height_starts") + count(r.counters, "sample_roots") +
+                      count(r.counters, "knn_march_runs");
   return runs > 0 ? json(steps / runs) : json(nullptr);
 }
 

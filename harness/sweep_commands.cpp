@@ -101,47 +101,25 @@ std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& d
 
 void write_fits(const std::string& dir, const std::vector<json>& fits) {
   write_json(dir + "/fits.json", json(fits));
-  const std::vector<std::string> cols = {"claim",
-                                         "method",
-                                         "structure",
-                                         "dataset",
-                                         "variable",
-                                         "x",
-                                         "metric",
-                                         "points",
-                                         "exponent",
-                                         "ci_low",
-                                         "ci_high",
-                                         "detectable_exponent",
-                                         "best_model",
-                                         "expected_model",
-                                         "r2",
-                                         "noise",
-                                         "weight_faster",
-                                         "weight_slower",
-                                         "delta_aicc_expected",
-                                         "power_one_up",
-                                         "false_exceeds",
-                                         "claimed",
-                                         "measured",
-                                         "threshold",
-                                         "verdict",
-                                         "verdict_if_fixed",
-                                         "reason",
-                                         "source",
-                                         "failed_runs",
-                                         "error"};
+  const std::vector<std::string> cols = {
+      "claim",          "about",        "method",         "structure",    "dataset",
+      "variable",       "x",            "metric",         "points",       "distinct_x",
+      "decades",        "exponent",     "ci_low",         "ci_high",      "claimed_exponent",
+      "best_model",     "expected_model", "r2",           "noise",        "pure_noise",
+      "weight_faster",  "hidden_at_most", "tolerance",    "lower_term",   "tightness",
+      "claimed",        "measured",     "threshold",      "verdict",      "verdict_if_fixed",
+      "reason",         "leave_one_out", "source",        "failed_runs",  "error"};
   write_csv(dir + "/fits.csv", cols, fits);
 }
 
-SweepConfig config_of(const std::string& dir) {
+SweepConfig config_of(const std::string& dir, DatasetCheck datasets = DatasetCheck::kOpenFiles) {
   const std::string path = dir + "/context.json";
   if (!fs::is_regular_file(path))
     input_error("{}: no such file (is {} a sweep directory?)", path, dir);
   json ctx = read_json_file(path);
   if (!ctx.is_object() || !ctx.contains("config")) input_error("{}: has no \"config\"", path);
   try {
-    return parse_sweep_config(ctx["config"], path);
+    return parse_sweep_config(ctx["config"], path, datasets);
   } catch (const json::exception& e) {
     input_error("{}: config of the wrong type: {}", path, e.what());
   }
@@ -246,7 +224,8 @@ int command_merge(const MergeOptions& o) {
 }
 
 int command_fit(const FitOptions& o) {
-  const SweepConfig config = config_of(o.dir);
+  // Fitting reads runs.jsonl only: the folder alone is enough, without the data it was made from.
+  const SweepConfig config = config_of(o.dir, DatasetCheck::kNamesOnly);
   const std::vector<json> fits = fit_runs(config, read_runs_jsonl(o.dir + "/runs.jsonl"));
   write_fits(o.dir, fits);
   std::map<std::string, int> verdicts;

@@ -264,7 +264,10 @@ void check_fit_variables(const FitSpec& s, const std::string& where) {
 }
 
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
-  check_keys(f, {"claim", "variable", "x", "metric", "per", "max", "min", "by", "free"}, where);
+  check_keys(f,
+             {"claim", "variable", "x", "metric", "per", "max", "min", "by", "free", "covariate",
+              "short_range"},
+             where);
   FitSpec s;
   s.experiment = experiment;
   if (!f.contains("claim") || !f["claim"].is_string())
@@ -278,6 +281,10 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   check_fit_metric(s, where);
   if (f.contains("by")) s.by = string_list(f["by"], where + ".by");
   if (f.contains("free")) s.free = string_list(f["free"], where + ".free");
+  s.covariate = f.value("covariate", std::string());
+  if (!s.covariate.empty() && s.covariate != "K")
+    input_error("{}.covariate: only K can be a covariate, not '{}'", where, s.covariate);
+  s.short_range = f.value("short_range", std::string());
   s.max = f.value("max", -1.0);
   s.min = f.value("min", -1.0);
   check_fit_variables(s, where);
@@ -329,6 +336,8 @@ struct Experiment {
   std::vector<GridPoint> points;
   std::vector<std::string> datasets;
   std::string dataset_dir;
+  DatasetCheck check = DatasetCheck::kOpenFiles;
+  int replicates = 1;  // data sets per grid point (seeds seed .. seed + replicates - 1)
 };
 
 RunKind parse_kind(const json& e, const std::string& where) {
@@ -375,6 +384,7 @@ void check_datasets(const Experiment& x) {
         input_error("{}.datasets: '{}' sets n; a sweep takes N from its grid", x.where, d);
       continue;
     }
+    if (x.check == DatasetCheck::kNamesOnly) continue;
     const PointCloud full = load_dataset(dataset_path(d, x.dataset_dir)).cloud;
     for (const GridPoint& p : x.points)
       if (p.get("N") && *p.get("N") > double(full.size()))
@@ -443,25 +453,28 @@ void add_runs(const Experiment& x, std::vector<RunSpec> specs, SweepConfig& c) {
       const std::string path = dataset_path(spec.dataset, x.dataset_dir);
       if (path != spec.dataset) spec.dataset_path = path;
     }
-    for (const GridPoint& p : x.points) {
-      RunSpec s = spec;
-      for (const auto& [k, v] : p.set) s.set[k] = v;
-      s.N = p.get("N");
-      s.M = p.get("M");
-      s.S = p.get("S");
-      s.B = p.get("B");
-      if (runs_method(s.kind)) validate_params(s, x.where);
-      c.runs.push_back(s);
-    }
+    for (const GridPoint& p : x.points)
+      for (int r = 0; r < x.replicates; ++r) {
+        RunSpec s = spec;
+        for (const auto& [k, v] : p.set) s.set[k] = v;
+        s.N = p.get("N");
+        s.M = p.get("M");
+        s.S = p.get("S");
+        s.B = p.get("B");
+        s.seed = spec.seed + uint64_t(r);
+        if (runs_method(s.kind)) validate_params(s, x.where);
+        c.runs.push_back(s);
+      }
   }
 }
 
 void parse_experiment(const json& e, const std::string& where, size_t index, const RunDefaults& d,
-                      const std::string& dataset_dir, std::set<std::string>& names,
-                      SweepConfig& c) {
+                      const std::string& dataset_dir, DatasetCheck check,
+                      std::set<std::string>& names, SweepConfig& c) {
   check_keys(e,
              {"name", "description", "kind", "methods", "structures", "datasets", "grid", "points",
-              "reconstructions", "engine", "workloads", "fits", "repetitions", "camera"},
+              "reconstructions", "engine", "workloads", "fits", "repetitions", "camera",
+              "replicates"},
              where);
   Experiment x{e,
                where,
@@ -470,9 +483,15 @@ void parse_experiment(const json& e, const std::string& where, size_t index, con
                RunSpec{},
                {},
                {},
-               dataset_dir};
+               dataset_dir,
+               check};
   if (!names.insert(x.name).second) input_error("{}: name '{}' used twice", where, x.name);
   x.kind = parse_kind(e, where);
+  const double replicates = e.value("replicates", 1.0);
+  if (!(replicates >= 1 && replicates <= 100 && replicates == std::floor(replicates)))
+    input_error("{}: replicates = {} is impossible (a whole number from 1 to 100)", where,
+                replicates);
+  x.replicates = int(replicates);
   check_set_values(x);
   x.points = grid_points(e, where);
   for (const GridPoint& p : x.points) check_point_values(p, x.kind, where);
@@ -500,7 +519,7 @@ std::string fill_claim(std::string claim, const json& row) {
   return claim;
 }
 
-SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
+SweepConfig parse_sweep_config(const json& raw, const std::string& origin, DatasetCheck datasets) {
   check_keys(raw,
              {"name", "description", "threads", "repetitions", "warmup", "time_limit_s", "measure",
               "seed", "experiments", "dataset_dir"},
@@ -518,7 +537,7 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin) {
   std::set<std::string> names;
   for (size_t i = 0; i < raw["experiments"].size(); ++i)
     parse_experiment(raw["experiments"][i], fmt::format("{}: experiments[{}]", origin, i), i,
-                     defaults, dataset_dir, names, c);
+                     defaults, dataset_dir, datasets, names, c);
   return c;
 }
 

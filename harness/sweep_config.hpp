@@ -27,6 +27,11 @@ struct FitSpec {
   std::vector<std::string> by;
   // Of K, k and I_run, which may move (the metric itself, say); the others must stay within 20%.
   std::vector<std::string> free;
+  // A held variable the claim adds linearly (K in O(SMB(log N + K))), fitted as a term of its
+  // own instead of being held: the claim in x is then judged at fixed covariate.
+  std::string covariate;
+  // Why x cannot span its variable's minimum range here (waives the rule; shown in the verdict).
+  std::string short_range;
 
   [[nodiscard]] bool is_threshold() const { return max >= 0 || min >= 0; }
 };
@@ -41,7 +46,11 @@ struct SweepConfig {
 
 // Reads and validates the whole config; every problem is an InputError naming the key.
 SweepConfig load_sweep_config(const std::string& path);
-SweepConfig parse_sweep_config(const json& raw, const std::string& origin);
+// Whether dataset files are opened to check that they hold the grid's largest N: a results folder
+// is fitted from its runs alone, without the scans it was made from.
+enum class DatasetCheck { kOpenFiles, kNamesOnly };
+SweepConfig parse_sweep_config(const json& raw, const std::string& origin,
+                               DatasetCheck datasets = DatasetCheck::kOpenFiles);
 
 // A claim template ({method}, {structure}, {reconstruction}, {workload}) filled from a run spec
 // or a run's row (absent keys are empty).

@@ -41,7 +41,13 @@ std::string generator_spec(const std::string& base, double n) {
 }  // namespace
 
 PointCloud run_cloud(const std::string& dataset, std::optional<double> n, uint64_t seed) {
-  if (is_generator(dataset)) return load_dataset(n ? generator_spec(dataset, *n) : dataset).cloud;
+  if (is_generator(dataset)) {
+    // A replicate draws its own points; a seed the dataset names wins.
+    std::string spec = n ? generator_spec(dataset, *n) : dataset;
+    if (seed != 1 && dataset.find("seed=") == std::string::npos)
+      spec += (spec.find(':') == std::string::npos ? ":" : ",") + ("seed=" + std::to_string(seed));
+    return load_dataset(spec).cloud;
+  }
   PointCloud full = load_dataset(dataset).cloud;
   const size_t want = n ? static_cast<size_t>(*n) : full.size();
   if (want > full.size())

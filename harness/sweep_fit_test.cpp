@@ -75,10 +75,38 @@ TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
   const json f = fit_runs(c, runs)[0];
   REQUIRE(f["verdict"] == "drifted");
   REQUIRE(f["reason"].get<std::string>().find("K moved from 8 to") != std::string::npos);
-  REQUIRE(f["verdict_if_fixed"] == "exceeds");
+  REQUIRE(f.contains("verdict_if_fixed"));
 }
 
-TEST_CASE("fit_runs: y proportional to x by construction is an identity", "[sweep][fit]") {
+TEST_CASE("fit_runs: a drifting K declared a covariate is fitted, not held", "[sweep][fit]") {
+  const SweepConfig c = config(
+      {{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}, {"covariate", "K"}});
+  std::vector<RunResult> runs;
+  double k = 8;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
+    runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
+                              {"items_visited", 100 * k},
+                              {"leaves_visited", 100},
+                              {"weighted_plane_terms", 500 * k}}));
+    k *= 1.5;
+  }
+  const json f = fit_runs(c, runs)[0];
+  INFO(f.dump());
+  REQUIRE(f["verdict"] != "drifted");
+  REQUIRE(f["verdict"] != "exceeds");  // the K term carries the growth, not N
+  REQUIRE(f["covariate_values"].size() == 6);
+}
+
+TEST_CASE("fit_runs: a threshold without its measure is an error, never a pass", "[sweep][fit]") {
+  const SweepConfig c = config({{"claim", "{method}/iterations"}, {"metric", "I_run"}, {"max", 3}});
+  std::vector<RunResult> runs;
+  for (double n : {1000, 2000}) runs.push_back(result(n, {{"rays_cast", 64}}));  // no iterations
+  const json f = fit_runs(c, runs)[0];
+  REQUIRE(f["verdict"] == "error");
+  REQUIRE(f["error"].get<std::string>().find("no value") != std::string::npos);
+}
+
+TEST_CASE("fit_runs: y proportional to x by construction is a loop check", "[sweep][fit]") {
   const SweepConfig c = config({{"claim", "{method}/leaf"},
                                 {"variable", "I"},
                                 {"x", "I_run"},
@@ -90,7 +118,7 @@ TEST_CASE("fit_runs: y proportional to x by construction is an identity", "[swee
     runs.push_back(result(n, {{"newton_steps", 100 * i++}, {"newton_runs", 100}}));
   const json f = fit_runs(c, runs)[0];
   INFO(f.dump());
-  REQUIRE(f["verdict"] == "identity");
+  REQUIRE(f["verdict"] == "loop_check");
 }
 
 TEST_CASE("fit_runs: identical points are merged, and fewer than 5 distinct x is an error",

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Contradictions between two sweeps' verdicts on the same claim and data: one says the bound holds
-(within, below) where the other says it fails (exceeds), or meets against misses. Inconclusive,
-identity, drifted and error contradict nothing. Time fits are left out (they depend on the machine).
+where the other says it fails (exceeds), or meets against misses. Inconclusive, loop checks,
+drifted, not judged and error contradict nothing. Time fits are left out (they depend on the machine).
 Usage: scripts/compare_verdicts.py DIR_A DIR_B   (exit 1 on any contradiction)"""
 import json
 import os
 import sys
 
-SIDE = {"within": "holds", "below": "holds", "exceeds": "fails", "meets": "holds", "misses": "fails"}
+SIDE = {"holds": "holds", "exceeds": "fails", "meets": "holds", "misses": "fails"}
 
 
 def verdicts(d):

@@ -9,7 +9,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libnanoflann-dev libfmt-dev nlohmann-json3-dev catch2 libbenchmark-dev libtbb-dev libpng-dev libtinyexr-dev libembree-dev
   libcli11-dev
-  libcgal-dev libgmp-dev libmpfr-dev
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   clang libclang-rt-14-dev
   python3 python3-numpy python3-matplotlib
   python3-dev pybind11-dev python3-pybind11 python3-pytest python3-pandas

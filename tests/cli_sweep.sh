@@ -15,14 +15,14 @@ cat >"$dir/tiny.json" <<'JSON'
      "datasets": ["sphere"], "grid": {"N": [500, 1000, 2000, 4000, 8000], "M": [64], "B": [0]},
      "fits": [{"claim": "{structure}/query", "variable": "N", "metric": "ops_nodes_visited", "per": "ops_rays_cast", "free": ["K"]}]},
     {"name": "worst", "kind": "reconstruct", "reconstructions": ["delaunay"], "datasets": ["skew_lines"],
-     "grid": {"N": [40, 80, 160, 320, 640]},
+     "grid": {"N": [25, 50, 100, 200, 400, 800, 1600, 2500]},
      "fits": [{"claim": "delaunay/worst", "variable": "N", "metric": "ops_cells"}]}
   ]
 }
 JSON
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --fit >/dev/null
 
-test "$(wc -l <"$dir/a/runs.jsonl")" -eq 15
+test "$(wc -l <"$dir/a/runs.jsonl")" -eq 18
 head -1 "$dir/a/runs.csv" | python3 -c '
 import sys
 cols = sys.stdin.read().strip().split(",")
@@ -39,10 +39,11 @@ fits = json.load(open(d + "/fits.json"))
 assert len(fits) == 3, len(fits)
 for f in fits:
     assert {"claim", "method", "variable", "metric", "exponent", "ci_low", "ci_high", "best_model", "r2", "verdict",
-            "reason", "detectable_exponent", "power_one_up", "false_exceeds", "akaike_weights"} <= set(f), f
-    assert f["verdict"] in ("within", "below", "exceeds", "inconclusive"), f
+            "reason", "faster_terms", "tolerance", "tightness", "about", "akaike_weights"} <= set(f), f
+    assert f["verdict"] in ("holds", "exceeds", "inconclusive"), f
+    assert all({"model", "share", "low95", "high95", "low99"} <= set(t) for t in f["faster_terms"]), f
 worst = [f for f in fits if f["claim"] == "delaunay/worst"][0]
-assert worst["best_model"] == "x^2" and worst["verdict"] == "within", worst
+assert worst["best_model"] == "x^2" and worst["verdict"] == "holds" and worst["hidden_at_most"] < 0.25, worst
 PY
 # A relative dataset file is the config's neighbour (or under its dataset_dir), wherever pcrt
 # runs; the run's identity keeps the name as written, so a moved checkout resumes.
@@ -66,15 +67,19 @@ printf '%s' '{"name": "rel", "experiments": [{"name": "e", "kind": "build", "dat
 err=$(cd "$dir" && "$pcrt" sweep cfg/wrong.json --out rel4 2>&1 >/dev/null || true)
 grep -q "cfg/cfg/scans/s.ply: no such file" <<<"$err" ||
   { echo "FAIL: a relative dataset resolved against the current folder: $err"; exit 1; }
+# A results folder is fitted from its runs alone: without the scan it was made from.
+mv "$dir/cfg/scans/s.ply" "$dir/s.ply.away"
+"$pcrt" fit "$dir/rel_moved" >/dev/null || { echo "FAIL: fit needs the dataset files"; exit 1; }
+mv "$dir/s.ply.away" "$dir/cfg/scans/s.ply"
 # --resume skips what is done; a truncated last line (a killed sweep) is redone.
 head -c -20 "$dir/a/runs.jsonl" >"$dir/t" && mv "$dir/t" "$dir/a/runs.jsonl"
-"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --resume | grep -q "1 runs done (14 already done"
-test "$(wc -l <"$dir/a/runs.jsonl")" -eq 15
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --resume | grep -q "1 runs done (17 already done"
+test "$(wc -l <"$dir/a/runs.jsonl")" -eq 18
 # Shards and merge give the same runs.
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/s0" --shard 0/2 >/dev/null
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/s1" --shard 1/2 >/dev/null
 "$pcrt" merge "$dir/s0" "$dir/s1" --out "$dir/m" >/dev/null
-test "$(wc -l <"$dir/m/runs.jsonl")" -eq 15
+test "$(wc -l <"$dir/m/runs.jsonl")" -eq 18
 "$pcrt" fit "$dir/m" >/dev/null && test -s "$dir/m/fits.csv"
 # Merged shards hold the same runs and counters as the whole sweep, whatever the shard count.
 for i in 0 1 2; do "$pcrt" sweep "$dir/tiny.json" --out "$dir/t$i" --shard $i/3 >/dev/null; done
@@ -153,7 +158,7 @@ mkdir "$dir/nopath"
 PATH=$dir/nopath "$pcrt" cluster submit "$dir/tiny.json" --out "$dir/cl" --shards 2 --dry-run >/dev/null
 test -x "$dir/cl/slurm/shard.sbatch" && test -x "$dir/cl/slurm/merge.sbatch"
 grep -q -- "--kill-on-invalid-dep=yes" "$dir/cl/slurm/merge.sbatch"
-python3 -c "import json,sys; p = json.load(open(sys.argv[1])); assert len(p['shards']) == 2 and sum(len(s['runs']) for s in p['shards']) == 15" "$dir/cl/slurm/plan.json"
+python3 -c "import json,sys; p = json.load(open(sys.argv[1])); assert len(p['shards']) == 2 and sum(len(s['runs']) for s in p['shards']) == 18" "$dir/cl/slurm/plan.json"
 if PATH=$dir/nopath "$pcrt" cluster submit "$dir/tiny.json" --out "$dir/cl2" --shards 2 2>"$dir/err"; then
   echo "FAIL: cluster submit without sbatch succeeded"; exit 1
 fi

@@ -15,6 +15,7 @@ namespace pcrt {
 namespace {
 
 inline const Counter kMarchSteps{"knn_march_steps", "k-NN march steps along rays (I)"};
+inline const Counter kMarchRuns{"knn_march_runs", "k-NN marches, one per leaf entered: the iterative runs"};
 inline const Counter kNeighbourTests{"knn_point_tests",
                                      "point distance evaluations by the k-NN method"};
 inline const Counter kFanTriangles{"fan_triangles", "triangles of k-NN fans"};
@@ -58,6 +59,7 @@ class Cai2015 final : public Method {
   bool intersect_leaf(const Ray& ray, const LeafVisit& leaf, Hit& hit,
                       OpCounters& counters) const override {
     if (leaf.items.empty()) return false;
+    counters.add(kMarchRuns);
     float t = std::max(leaf.t_enter, ray.tmin);
     const float t_end = std::min(leaf.t_exit, hit.t);
     for (int step = 0; step < max_steps_ && t <= t_end; ++step) {

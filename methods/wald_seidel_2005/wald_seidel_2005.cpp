@@ -19,6 +19,8 @@ namespace {
 
 inline const Counter kSampleRefinements{"sample_refinements",
                                         "sampling passes over an interval (I, Algorithm 5)"};
+inline const Counter kSampleRoots{"sample_roots",
+                                  "root searches (Algorithm 5 on one run of supports): the iterative runs"};
 inline const Counter kSupportTests{"support_tests", "ray-support ball tests before sampling"};
 inline const Counter kSampleEvaluations{"sample_evaluations",
                                         "implicit function samples (k per pass)"};
@@ -117,6 +119,7 @@ class WaldSeidel final : public Method {
   float first_root(const Ray& ray, std::span<const uint32_t> items, float lo, float hi, Vec3& n_hit,
                    OpCounters& counters) const {
     const TentWeight theta(radius_);
+    counters.add(kSampleRoots);
     for (int pass = 0; pass < max_refinements_; ++pass) {
       counters.add(kSampleRefinements);
       const float step = (hi - lo) / float(samples_);
