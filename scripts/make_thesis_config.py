@@ -140,7 +140,7 @@ E.append({"name": "delaunay_uniform", "kind": "reconstruct", "reconstructions": 
           "replicates": REPLICATES,
           "fits": [fit("delaunay/uniform", "N", "time"), fit("delaunay/uniform", "N", "ops_predicates")]})
 E.append({"name": "delaunay_worst", "kind": "reconstruct", "reconstructions": ["delaunay"],
-          "datasets": ["skew_lines"], "grid": {"N": geo(100, 10000, 9)},
+          "datasets": ["skew_lines"], "grid": {"N": geo(40, 4000, 9)},
           "repetitions": 3, "replicates": REPLICATES,
           "fits": [fit("delaunay/worst", "N", "time"), fit("delaunay/worst", "N", "ops_predicates")]})
 E.append({"name": "afsr", "kind": "reconstruct", "reconstructions": ["afsr"], "datasets": ["sphere", SCAN],
