@@ -615,7 +615,11 @@ json claim_json(const Claim& c) {
           {"variables", c.variables},
           {"source", c.source},
           {"tested", c.not_tested.empty()},
-          {"not_tested", c.not_tested}};
+          {"not_tested", c.not_tested},
+          {"about", claim_about_name(c.about)},
+          {"precondition", c.precondition == Precondition::kUniformVolume
+                               ? "a uniformly distributed cloud (ball or cube)"
+                               : ""}};
 }
 
 // Everything registered: methods, structures, generators, reconstructions, mesh engines, claims

@@ -163,8 +163,12 @@ Lsq relative_lsq(const std::vector<std::vector<double>>& columns, const std::vec
   r.coef = qr.solve(b);
   r.rss = std::max((a * r.coef - b).squaredNorm(), 1e-300);
   r.dof = size_t(n - p);
-  r.cov = (a.transpose() * a).inverse() * (r.rss / double(r.dof));
-  r.ok = r.coef.allFinite() && r.cov.allFinite();
+  // Exact data (deterministic counts that the model describes exactly) leave rounding as the
+  // residual: the variance is floored at a relative residual of 1e-9, so that no sign of a
+  // coefficient comes from rounding alone.
+  const double variance = std::max(r.rss / double(r.dof), 1e-18);
+  r.cov = (a.transpose() * a).ldlt().solve(Eigen::MatrixXd::Identity(p, p)) * variance;
+  r.ok = r.coef.allFinite() && r.cov.allFinite() && (r.cov.diagonal().array() >= 0).all();
   return r;
 }
 
@@ -174,7 +178,7 @@ double aicc(double rss, size_t n, int coefficients) {
          2 * params * (params + 1) / (double(n) - params - 1);
 }
 
-// ---- Model selection (the report's best model, and one exceeds witness) ----
+// ---- Model selection (the report's best model; a slower best joins the claimed model) ----
 
 std::vector<double> growth_column(Growth m, const std::vector<double>& x) {
   const double xmin = *std::min_element(x.begin(), x.end());
@@ -204,11 +208,8 @@ void select_models(const std::vector<double>& x, const std::vector<double>& y, G
   double total = 0;
   for (size_t m = 0; m < kModels; ++m) total += f.weight[m] = std::exp(-0.5 * (f.aicc[m] - best));
   for (double& w : f.weight) w /= total;
-  double inv = 0;
-  for (double v : y) inv += 1.0 / v;
-  double tss = 0;
-  for (double v : y) tss += std::pow((v - double(y.size()) / inv) / v, 2);
-  f.r2 = tss > 0 ? 1.0 - rss[size_t(rank(f.best))] / tss : 1.0;
+  // Against the weighted least-squares constant (the constant model's residuals).
+  f.r2 = rss[0] > 0 ? 1.0 - rss[size_t(rank(f.best))] / rss[0] : 1.0;
   // Pairwise: the best faster model against the best at or below the claim (summing over every
   // faster model would count one extra coefficient several times).
   const int c = rank(expected);
@@ -271,7 +272,22 @@ std::vector<Term> faster_terms(Growth m, const std::vector<double>& x) {
 struct Data {
   std::vector<double> x, y, covariate;
   std::string covariate_name;
+  double xmin = 0, xmax = 0;
 };
+
+// The data of a fit. A covariate that moves by under 1% is no term of its own: it would be
+// collinear with the intercept.
+Data make_data(std::vector<double> x, std::vector<double> y, std::vector<double> covariate,
+               std::string covariate_name) {
+  Data d{std::move(x), std::move(y), std::move(covariate), std::move(covariate_name)};
+  d.xmin = *std::min_element(d.x.begin(), d.x.end());
+  d.xmax = *std::max_element(d.x.begin(), d.x.end());
+  if (!d.covariate.empty()) {
+    const auto [lo, hi] = std::minmax_element(d.covariate.begin(), d.covariate.end());
+    if (!(*hi > *lo * 1.01)) d.covariate.clear();
+  }
+  return d;
+}
 
 // The lower-order term O(g) allows beside its intercept: x beside x log x and x^2, x^2 beside
 // x^3; none beside x, x^0.5, log x and 1 (their intercept is their lower-order term).
@@ -313,26 +329,33 @@ Lsq fit_terms(const std::vector<Term>& terms, const std::vector<double>& y) {
   return relative_lsq(cols, y);
 }
 
-// The share of y at x_max that term `j` of `terms` carries, with its one-sided bounds.
+// The share of y at x_max that term `j` of `terms` carries, s = c_j / yhat(x_max), with its
+// one-sided bounds; its variance by the delta method, the uncertainty of yhat included.
 FasterTerm share_of(const Data& d, const std::vector<Term>& terms, size_t j) {
   const Lsq fit = fit_terms(terms, d.y);
   FasterTerm s{terms[j].name};
-  if (!fit.ok) {  // collinear: the data cannot tell this term apart
-    s.low95 = s.low99 = -kInf, s.high95 = kInf;
-    return s;
-  }
-  const double xmax = *std::max_element(d.x.begin(), d.x.end());
-  double top = 0;
+  s.low95 = s.low99 = -kInf, s.high95 = kInf;  // unidentifiable unless shown otherwise
+  if (!fit.ok) return s;  // collinear: the data cannot tell this term apart
+  // The columns' mean value over the points at x_max (a covariate differs between replicates).
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(Eigen::Index(terms.size()));
   int at = 0;
   for (size_t i = 0; i < d.x.size(); ++i) {
-    if (d.x[i] != xmax) continue;
-    for (size_t k = 0; k < terms.size(); ++k) top += fit.coef[Eigen::Index(k)] * terms[k].column[i];
+    if (d.x[i] != d.xmax) continue;
+    for (size_t k = 0; k < terms.size(); ++k) v[Eigen::Index(k)] += terms[k].column[i];
     ++at;
   }
-  top /= at;
-  const double se = std::sqrt(fit.cov(Eigen::Index(j), Eigen::Index(j))) / top;
-  // Columns are 1 at x_max, so the coefficient is the term's value there.
-  s.share = fit.coef[Eigen::Index(j)] / top;
+  v /= double(at);
+  const double top = v.dot(fit.coef);
+  const Eigen::Index jj = Eigen::Index(j);
+  s.share = fit.coef[jj] / top;
+  const double var = (fit.cov(jj, jj) - 2 * s.share * (fit.cov.row(jj) * v)(0) +
+                      s.share * s.share * v.dot(fit.cov * v)) /
+                     (top * top);
+  if (!(top > 0) || !std::isfinite(s.share) || !(var >= 0)) {
+    s.share = std::numeric_limits<double>::quiet_NaN();
+    return s;
+  }
+  const double se = std::sqrt(var);
   s.low95 = s.share - t_quantile(0.95, fit.dof) * se;
   s.high95 = s.share + t_quantile(0.95, fit.dof) * se;
   s.low99 = s.share - t_quantile(0.99, fit.dof) * se;
@@ -343,17 +366,24 @@ FasterTerm share_of(const Data& d, const std::vector<Term>& terms, size_t j) {
 // relative scale. Not tested without replicates that differ.
 void lack_of_fit(const Data& d, const std::vector<Term>& terms, GrowthFit& f) {
   std::map<double, std::vector<double>> groups;
-  for (size_t i = 0; i < d.x.size(); ++i) groups[d.x[i]].push_back(std::log(d.y[i]));
+  for (size_t i = 0; i < d.x.size(); ++i) groups[d.x[i]].push_back(d.y[i]);
+  // On the fit's own scale: each group's weighted least-squares constant c = sum(1/y) /
+  // sum(1/y^2), and the relative residuals c / y - 1 about it.
   double pure = 0;
-  for (const auto& [x, logs] : groups) {
-    double mean = 0;
-    for (double v : logs) mean += v / double(logs.size());
-    for (double v : logs) pure += (v - mean) * (v - mean);
+  for (const auto& [x, ys] : groups) {
+    double inv = 0, inv2 = 0;
+    for (double y : ys) inv += 1 / y, inv2 += 1 / (y * y);
+    for (double y : ys) pure += std::pow(inv / inv2 / y - 1, 2);
   }
   const size_t df_pure = d.x.size() - groups.size();
   const Lsq fit = fit_terms(terms, d.y);
   f.lof_tested = false, f.lack_of_fit = false;
-  if (df_pure < 2 || !(pure > 0) || !fit.ok || groups.size() <= terms.size()) return;
+  // A covariate differs between replicates, so it would explain part of their scatter.
+  if (!d.covariate.empty()) return;
+  // Replicates that agree to rounding (1e-9 relative, the variance floor) carry no pure error.
+  if (df_pure < 2 || !(pure / double(df_pure) > 1e-18) || !fit.ok ||
+      groups.size() <= terms.size())
+    return;
   const size_t df_lof = groups.size() - terms.size();
   f.lof_tested = true;
   f.pure_noise = std::sqrt(pure / double(df_pure));
@@ -392,7 +422,8 @@ std::optional<Growth> choose_lower(const Data& d, Growth m, const std::vector<Te
   GrowthFit probe;
   lack_of_fit(d, lower, probe);
   if (probe.lack_of_fit || rss_of(lower, d.y) > best_faster) return std::nullopt;
-  f.lof_f = probe.lof_f, f.lof_critical = probe.lof_critical, f.lack_of_fit = false;
+  f.lof_tested = probe.lof_tested, f.lof_f = probe.lof_f, f.lof_critical = probe.lof_critical;
+  f.lack_of_fit = false;
   return lower_order(m);
 }
 
@@ -415,13 +446,15 @@ FasterTerm test_faster(const Data& d, Growth m, const std::vector<Term>& claimed
   return t;
 }
 
+// The faster term with the largest upper bound; a NaN bound counts as unbounded.
 const FasterTerm& largest_bound(const GrowthFit& f) {
-  return *std::max_element(f.faster.begin(), f.faster.end(), [](auto& a, auto& b) {
-    return a.high95 < b.high95;
-  });
+  auto bound = [](const FasterTerm& t) { return std::isnan(t.high95) ? kInf : t.high95; };
+  return *std::max_element(f.faster.begin(), f.faster.end(),
+                           [&](auto& a, auto& b) { return bound(a) < bound(b); });
 }
 
 std::string percent(double v) {
+  if (std::isnan(v)) return "an unknown part";
   if (!std::isfinite(v)) return v > 0 ? "any part" : "none";
   return fmt::format("{:.0f}%", 100 * v);
 }
@@ -430,14 +463,17 @@ std::string percent(double v) {
 
 void decide(const Data& d, Growth expected, GrowthFit& f) {
   const std::string claimed = growth_name(expected);
-  const double xmax = *std::max_element(d.x.begin(), d.x.end());
+  const double xmax = d.xmax;
   const auto strongest = std::max_element(f.faster.begin(), f.faster.end(),
                                           [](auto& a, auto& b) { return a.low99 < b.low99; });
-  // The raw exponent cannot see a covariate, so with one the faster term speaks alone.
+  // Required with a covariate too: the covariate model alone can credit N with what a K that
+  // moves the other way took away (collinear terms), and a false exceeds costs more than a
+  // missed one.
   // A constant has no lower-order term to move its exponent: no slack there.
   const double slack = expected == Growth::kConstant ? 0 : kExponentSlack;
-  const bool exponent_witness = !d.covariate.empty() || f.ci_low > f.claimed_exponent + slack;
-  if (exponent_witness && strongest->low99 > 0) {
+  const bool exponent_witness = f.ci_low > f.claimed_exponent + slack;
+  // A share under 10^-6 of y is no faster term, whatever its sign: numerical zero.
+  if (exponent_witness && strongest->low99 > 1e-6) {
     f.verdict = ClaimVerdict::kExceeds;
     f.reason = fmt::format(
         "{} carries {} of y at x = {:g} (99% lower bound {}), and the exponent CI [{:.3f}, "
@@ -451,8 +487,9 @@ void decide(const Data& d, Growth expected, GrowthFit& f) {
     f.verdict = ClaimVerdict::kInconclusive;
     f.reason = fmt::format(
         "{} does not fit its replicates (lack of fit F = {:.1f} > {:.1f} at 1%), with or "
-        "without the class below: no basis for a bound",
-        claimed, f.lof_f, f.lof_critical);
+        "without its lower-order term: no basis for a bound (were it one, faster growth could "
+        "carry up to {} of y at x = {:g})",
+        claimed, f.lof_f, f.lof_critical, percent(std::max(0.0, open.high95)), xmax);
     return;
   }
   f.hidden = std::max(0.0, open.high95);  // a share's bound under 0: nothing faster can hide
@@ -508,30 +545,39 @@ GrowthFit analyse(const Data& d, Growth expected, const std::optional<Growth>* f
 }
 
 Data without_x(const Data& d, double x) {
-  Data out{{}, {}, {}, d.covariate_name};
+  std::vector<double> xs, ys, cs;
   for (size_t i = 0; i < d.x.size(); ++i) {
     if (d.x[i] == x) continue;
-    out.x.push_back(d.x[i]);
-    out.y.push_back(d.y[i]);
-    if (!d.covariate.empty()) out.covariate.push_back(d.covariate[i]);
+    xs.push_back(d.x[i]);
+    ys.push_back(d.y[i]);
+    if (!d.covariate.empty()) cs.push_back(d.covariate[i]);
   }
-  return out;
+  return make_data(xs, ys, cs, d.covariate_name);
+}
+
+bool is_judged(const GrowthFit& f) {
+  return f.verdict == ClaimVerdict::kHolds || f.verdict == ClaimVerdict::kExceeds;
+}
+
+// A holds or exceeds that a design rule does not allow becomes inconclusive, saying why.
+void withdraw(GrowthFit& f, Growth expected, const std::string& why) {
+  f.reason = fmt::format("{} would be {}, but {}", growth_name(expected), verdict_name(f.verdict), why);
+  f.verdict = ClaimVerdict::kInconclusive;
+  f.tightness = Tightness::kNotTested;
 }
 
 // A holds or exceeds (or a tight) that changes when the points at any one x are left out is not
-// one the data carry.
+// one the data carry. With 5 distinct x no point can be left out, and none is.
 void leave_one_out(const Data& d, Growth expected, GrowthFit& f) {
-  const bool judged = f.verdict == ClaimVerdict::kHolds || f.verdict == ClaimVerdict::kExceeds;
-  if (!judged || f.distinct_x < 6) return;
+  if (!is_judged(f) || f.distinct_x < 6) return;
   for (double x : std::set<double>(d.x.begin(), d.x.end())) {
     // The claimed model's form stays the full data's: the check is on the bounds, and a 1% lack
     // of fit test asked once per x would fail somewhere by chance.
     const GrowthFit l = analyse(without_x(d, x), expected, &f.lower);
     if (l.verdict != f.verdict) {
-      f.flip = fmt::format("leaving out x = {:g} makes it {} ({})", x, verdict_name(l.verdict), l.reason);
-      f.reason = fmt::format("{} would be {}, but {}", growth_name(expected), verdict_name(f.verdict), f.flip);
-      f.verdict = ClaimVerdict::kInconclusive;
-      f.tightness = Tightness::kNotTested;
+      f.flip = fmt::format("leaving out x = {:g} makes it {} ({})", x, verdict_name(l.verdict),
+                           l.reason);
+      withdraw(f, expected, f.flip);
       return;
     }
     if (f.tightness == Tightness::kTight && l.tightness != Tightness::kTight)
@@ -542,10 +588,12 @@ void leave_one_out(const Data& d, Growth expected, GrowthFit& f) {
 // y / x the same at every x (exactly, or within 10% over 30x for a linear claim): the metric
 // counts its own loop.
 bool loop_check(const Data& d, Growth expected, GrowthFit& f) {
+  // Only a linear claim can be its own loop; y proportional to x under a slower claim is growth.
+  if (expected != Growth::kLinear) return false;
   double lo = kInf, hi = 0;
   for (size_t i = 0; i < d.x.size(); ++i)
     lo = std::min(lo, d.y[i] / d.x[i]), hi = std::max(hi, d.y[i] / d.x[i]);
-  const double range = *std::max_element(d.x.begin(), d.x.end()) / *std::min_element(d.x.begin(), d.x.end());
+  const double range = d.xmax / d.xmin;
   if (hi - lo <= 1e-9 * lo) {
     f.verdict = ClaimVerdict::kLoopCheck;
     f.reason = fmt::format(
@@ -554,7 +602,7 @@ bool loop_check(const Data& d, Growth expected, GrowthFit& f) {
         lo);
     return true;
   }
-  if (expected != Growth::kLinear || range < kLoopRange || hi >= lo * (1 + kLoopFlatness)) return false;
+  if (range < kLoopRange || hi >= lo * (1 + kLoopFlatness)) return false;
   f.verdict = ClaimVerdict::kLoopCheck;
   f.reason = fmt::format(
       "y / x moves by {:.1f}% while x grows {:.0f}x: any tracer that does the same work per unit "
@@ -566,6 +614,10 @@ bool loop_check(const Data& d, Growth expected, GrowthFit& f) {
 }  // namespace
 
 std::optional<Growth> lower_order_term(Growth m) { return lower_order(m); }
+
+double min_decades(const std::string& variable) {
+  return variable == "N" || variable == "M" ? 2.0 : 1.0;
+}
 
 const char* verdict_name(ClaimVerdict v) {
   switch (v) {
@@ -627,19 +679,15 @@ Growth next_growth(Growth g) {
 GrowthFit fit_growth(const std::vector<double>& x, const std::vector<double>& y, Growth expected,
                      const std::string& what, const FitRules& rules) {
   check_input(x, y, rules, what);
-  const Data d{x, y, rules.covariate, rules.covariate_name};
+  const Data d = make_data(x, y, rules.covariate, rules.covariate_name);
   GrowthFit f = analyse(d, expected);
-  f.decades = std::log10(*std::max_element(x.begin(), x.end()) / *std::min_element(x.begin(), x.end()));
+  f.decades = std::log10(d.xmax / d.xmin);
   if (loop_check(d, expected, f)) return f;
   if (rules.leave_one_out) leave_one_out(d, expected, f);
-  const bool judged = f.verdict == ClaimVerdict::kHolds || f.verdict == ClaimVerdict::kExceeds;
-  if (judged && rules.range_waiver.empty() && f.decades < rules.min_decades - 1e-9) {
-    f.reason = fmt::format("{} would be {}, but x spans {:.2f} decades, under the {:g} its "
-                           "variable needs",
-                           growth_name(expected), verdict_name(f.verdict), f.decades, rules.min_decades);
-    f.verdict = ClaimVerdict::kInconclusive;
-    f.tightness = Tightness::kNotTested;
-  }
+  if (is_judged(f) && rules.range_waiver.empty() && f.decades < rules.min_decades - 1e-9)
+    withdraw(f, expected,
+             fmt::format("x spans {:.2f} decades, under the {:g} its variable needs", f.decades,
+                         rules.min_decades));
   return f;
 }
 

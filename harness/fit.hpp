@@ -6,17 +6,19 @@
 // misfits: lower-order terms are inside O(g)). Against it stand two explicit faster terms c h(x),
 // one class up (h = the next class), between classes (h = g x^0.25) and two classes up. For each, the share of
 // y at x_max that c h carries, with one-sided bounds from the fit's covariance:
-//   exceeds       a faster term's share is above 0 at 99% (either term; or a faster model
-//                 decisively preferred by AICc), and the log-log exponent's CI lies above the
-//                 claimed model's own exponent over this x (a second, independent witness);
+//   exceeds       a faster term's share is above 0 at 99% (with and without the claim's
+//                 lower-order term), and the log-log exponent's CI lies above the claimed
+//                 model's own exponent over this x (a second, independent witness);
 //   holds         every faster term's 95% upper bound is under the tolerance (25%), the claimed
 //                 model fits its replicates, x spans the variable's minimum range;
 //   inconclusive  otherwise, naming the faster term it could not exclude and how much of y it
 //                 could carry.
-// A verdict that changes when the points at any one x are left out is inconclusive. Whether the
+// A verdict that changes when the points at any one x are left out (with 6 or more distinct x) is
+// inconclusive. Whether the
 // bound is also tight is a secondary statement with the same machinery one class down.
 // Model selection by AICc among {1, log x, x^0.5, x, x log x, x^2, x^3} stays for the report (the
-// best model) and as one witness; Google Benchmark's BigO has no intercept and no penalty.
+// best model; a slower best joins the claimed model); no verdict rests on it alone. Google
+// Benchmark's BigO has no intercept and no penalty.
 #pragma once
 
 #include <array>
@@ -114,6 +116,9 @@ Growth next_growth(Growth g);
 // The lower-order term O(m) is allowed beside its intercept when the replicates ask for one: x
 // beside x log x and x^2, x^2 beside x^3; none beside x, x^0.5, log x and 1.
 std::optional<Growth> lower_order_term(Growth m);
+// The smallest range of x, in decades, a growth verdict in `variable` rests on: 2 in N and M, 1 in
+// K, k, S, B and I.
+double min_decades(const std::string& variable);
 // A class's pure form over a design whose smallest x is `xmin`, positive everywhere.
 double pure_growth(Growth m, double x, double xmin);
 

@@ -183,8 +183,7 @@ std::vector<Design> thesis_designs() {
       claim = fill(claim, e, "{structure}", "structures", "kd_tree");
       Design d{fmt::format("{} {} in {}", e["name"].get<std::string>(), claim, var), {},
                expected_growth(find_claim(claim).complexity, var),
-               timed(fit["metric"]),
-               var == "N" || var == "M" ? 2.0 : 1.0};
+               timed(fit["metric"]), min_decades(var)};
       for (double v : e["grid"][key].get<std::vector<double>>())
         for (int r = 0; r < e.value("replicates", 1); ++r) d.x.push_back(v);
       out.push_back(d);

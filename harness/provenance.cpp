@@ -63,6 +63,11 @@ std::pair<std::string, json> source_revision() {
 
 }  // namespace
 
+json source_context() {
+  const auto [commit, dirty] = source_revision();
+  return {{"git_commit", commit}, {"git_dirty", dirty}};
+}
+
 json machine_context(const json& config) {
   const auto [commit, dirty] = source_revision();
   return {{"machine",

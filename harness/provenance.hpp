@@ -9,5 +9,8 @@ namespace pcrt {
 using nlohmann::json;
 
 json machine_context(const json& config);
+// The source tree's commit and whether tracked files differ from it, as {git_commit, git_dirty}:
+// what `pcrt fit` records of the fitter that judged runs made earlier (DIR/fit_context.json).
+json source_context();
 
 }  // namespace pcrt

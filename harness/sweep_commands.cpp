@@ -101,6 +101,8 @@ std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& d
 
 void write_fits(const std::string& dir, const std::vector<json>& fits) {
   write_json(dir + "/fits.json", json(fits));
+  // The runs keep their own commit (context.json); this is the fitter's, which may be later.
+  write_json(dir + "/fit_context.json", source_context());
   const std::vector<std::string> cols = {
       "claim",          "about",        "method",         "structure",    "dataset",
       "variable",       "x",            "metric",         "points",       "distinct_x",

@@ -27,11 +27,11 @@ bool is_identity_column(const std::string& column) {
 namespace {
 
 double column(const json& row, const std::string& name) {
-  if (name == "time") return row.value("time_median_s", 0.0);
-  if (name == "fps") {
-    const double t = row.value("time_median_s", 0.0);
-    return t > 0 ? 1.0 / t : 0.0;
-  }
+  constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
+  // A run without a time (measured in operations only) has no time: missing, never zero.
+  const json t = row.value("time_median_s", json(nullptr));
+  if (name == "time") return t.is_number() ? t.get<double>() : kMissing;
+  if (name == "fps") return t.is_number() && t.get<double>() > 0 ? 1.0 / t.get<double>() : kMissing;
   const json v = row.value(name, json(nullptr));
   if (v.is_number()) return v.get<double>();
   // A counter a run never touched is zero (a method that does no rasterization, say).
@@ -91,15 +91,18 @@ std::string drift_of(const std::vector<FitPoint>& pts, const FitSpec& f, const C
     if (f.variable == v || (f.variable == "I" && v == "I_run") || f.covariate == v) continue;
     if (std::find(f.free.begin(), f.free.end(), v) != f.free.end()) continue;
     if (!claim_names(claim, v)) continue;
+    // M, S and B touch neither the cloud nor the structure: K and k are held by construction
+    // there, and the measured items per visited leaf moves only with which leaves rays reach.
+    if (v != "I_run" && (f.variable == "M" || f.variable == "S" || f.variable == "B")) continue;
     std::vector<double> values;
     for (const FitPoint& p : pts)
       if (std::isfinite(p.held[i])) values.push_back(p.held[i]);
     if (values.size() < 2) continue;
     const auto [lo, hi] = robust_range(values);
     if (hi > 0 && lo < hi && (hi - lo) > 0.2 * lo)
-      return fmt::format("{} moved from {:.3g} to {:.3g} (+{:.0f}%, one outlier left out) while "
-                         "it should be fixed",
-                         v == "I_run" ? "I (iterations per run)" : v, lo, hi, 100 * (hi - lo) / lo);
+      return fmt::format("{} moved from {:.3g} to {:.3g} (+{:.0f}%{}) while it should be fixed",
+                         v == "I_run" ? "I (iterations per run)" : v, lo, hi, 100 * (hi - lo) / lo,
+                         values.size() >= 4 ? ", the run farthest from the median left out" : "");
   }
   return {};
 }
@@ -115,8 +118,11 @@ ClaimVerdict fit_threshold(const FitSpec& f, const std::vector<FitPoint>& pts, j
       out["measured"] = nullptr;
       return ClaimVerdict::kError;
     }
-  if (pts.empty()) {
-    out["error"] = "no successful run";
+  if (pts.empty() || out.value("failed_runs", 0) > 0) {
+    out["error"] = pts.empty() ? "no successful run"
+                               : fmt::format("{} of its runs failed or timed out: no verdict "
+                                             "without their data",
+                                             out.value("failed_runs", 0));
     out["measured"] = nullptr;
     return ClaimVerdict::kError;
   }
@@ -179,14 +185,14 @@ void write_growth_fit(const GrowthFit& g, json& out) {
   if (!g.flip.empty()) out["leave_one_out"] = g.flip;
 }
 
-// The smallest range of x, in decades, a growth verdict in each variable rests on.
-double min_decades(const std::string& variable) {
-  return variable == "N" || variable == "M" ? 2.0 : 1.0;
-}
-
 // Fits one group and writes its numbers and reason into `out`; returns its verdict.
 ClaimVerdict fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<FitPoint> pts,
                               json& out) {
+  // Before any sort: a NaN breaks the ordering distinct() relies on.
+  for (const FitPoint& p : pts)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      input_error("{}: a run has no value for x or the metric (x = {}, y = {})",
+                  out["claim"].get<std::string>(), p.x, p.y);
   pts = distinct(std::move(pts));
   std::vector<double> xs, ys;
   FitRules rules;
@@ -203,7 +209,14 @@ ClaimVerdict fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<
   if (!f.short_range.empty()) out["short_range"] = f.short_range;
   const Growth expected = expected_growth(claim.complexity, f.variable);
   out["expected_model"] = growth_name(expected);
-  const GrowthFit g = fit_growth(xs, ys, expected, out["claim"].get<std::string>(), rules);
+  GrowthFit g = fit_growth(xs, ys, expected, out["claim"].get<std::string>(), rules);
+  const size_t failed = out.value("failed_runs", size_t(0));
+  if (g.verdict == ClaimVerdict::kHolds && failed > 0) {  // a bound cannot hold over missing data
+    g.verdict = ClaimVerdict::kInconclusive;
+    g.tightness = Tightness::kNotTested;
+    g.reason = fmt::format("it would hold ({}), but {} of its runs failed or timed out", g.reason,
+                           failed);
+  }
   write_growth_fit(g, out);
   out["reason"] = g.reason;
   return g.verdict;

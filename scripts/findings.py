@@ -58,8 +58,14 @@ def section(d):
     out = [BEGIN, ""]
     root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
     name = os.path.relpath(os.path.abspath(d), os.path.abspath(root))
-    out.append(f"`{name}` ({len(fits)} fits, commit `{str(ctx.get('git_commit', '?'))[:12]}`"
-               f"{', uncommitted changes' if ctx.get('git_dirty') else ''}). {tally_text(fits)}")
+    fitted = os.path.join(d, "fit_context.json")
+    fit_ctx = json.load(open(fitted)) if os.path.exists(fitted) else ctx
+    refit = fit_ctx.get("git_commit") != ctx.get("git_commit")
+    out.append(f"`{name}` ({len(fits)} fits; runs at commit `{str(ctx.get('git_commit', '?'))[:12]}`"
+               f"{', uncommitted changes' if ctx.get('git_dirty') else ''}"
+               + (f", fitted at `{str(fit_ctx.get('git_commit', '?'))[:12]}`"
+                  f"{', uncommitted changes' if fit_ctx.get('git_dirty') else ''}" if refit else "")
+               + f"). {tally_text(fits)}")
     out.append("")
     out.append("| claims | fits | " + " | ".join(ORDER) + " | holds: faster growth at most (median, worst) |")
     out.append("|---|---|" + "---|" * len(ORDER) + "---|")
