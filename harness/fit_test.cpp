@@ -299,3 +299,35 @@ TEST_CASE("fit input errors", "[fit]") {
   REQUIRE_THROWS_AS(fit_growth({1, 2, 3, 4, 5}, {1, NAN, 3, 4, 5}, Growth::kLinear, "nan"),
                     InputError);
 }
+
+// The cases the earlier rule got wrong (issue 27), on the thesis's build design (N 2500-640000,
+// 3 replicates, 2%) and query design (N 1000-512000): what each is called now.
+TEST_CASE("verdicts on the departures the earlier rule missed", "[fit][power]") {
+  auto design = [](double lo, double hi, int n) {
+    std::vector<double> x;
+    for (int i = 0; i < n; ++i)
+      for (int r = 0; r < 3; ++r) x.push_back(std::round(lo * std::pow(hi / lo, i / double(n - 1))));
+    return x;
+  };
+  const std::vector<double> build = design(2500, 640000, 9), query = design(1000, 512000, 10);
+  FitRules rules;
+  rules.min_decades = 2;
+  auto rate = [&](const std::vector<double>& x, std::function<double(double)> truth, Growth g) {
+    return simulate_verdicts(x, truth, g, 0.02, 200, 21, rules);
+  };
+  const auto nlogn = [](double n) { return n * std::log(n); };
+  // N^1.25 and N^1.5 against N log N: never holds; N^1.5 exceeds.
+  CHECK(rate(build, [](double n) { return std::pow(n, 1.25); }, Growth::kLinearLog).holds <= 0.05);
+  CHECK(rate(build, [](double n) { return std::pow(n, 1.5); }, Growth::kLinearLog).exceeds >= 0.9);
+  // The true build plus an N^2 or N^1.5 term that doubles y at the largest N.
+  const double top = 640000;
+  CHECK(rate(build, [&](double n) { return nlogn(n) + nlogn(top) * n * n / (top * top); },
+             Growth::kLinearLog).exceeds >= 0.9);
+  CHECK(rate(build, [&](double n) { return nlogn(n) + nlogn(top) * std::pow(n / top, 1.5); },
+             Growth::kLinearLog).holds <= 0.05);
+  // N^0.25 against a claimed log N: never holds.
+  CHECK(rate(query, [](double n) { return std::pow(n, 0.25); }, Growth::kLog).holds <= 0.05);
+  // A true N log N with a large linear term, N (ln N + 30): never exceeds.
+  CHECK(rate(build, [](double n) { return n * (std::log(n) + 30); }, Growth::kLinearLog).exceeds <=
+        0.05);
+}
