@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The README's findings section, generated from a sweep's fits.json, so that every number the
-README quotes is in the committed results.
+"""The findings section of docs/findings.md, generated from a sweep's fits.json, so that every
+number it quotes is in the committed results.
 Usage: scripts/findings.py DIR            print the section
        scripts/findings.py DIR --check F  exit 1 unless F holds it between the markers
        scripts/findings.py DIR --write F  replace the section between the markers in F"""
