@@ -2,7 +2,9 @@
 """Contradictions between two sweeps' verdicts on the same claim and data: one says the bound holds
 where the other says it fails (exceeds), or meets against misses. Inconclusive, loop checks,
 drifted, not judged and error contradict nothing. Time fits are left out (they depend on the machine).
-Usage: scripts/compare_verdicts.py DIR_A DIR_B   (exit 1 on any contradiction)"""
+Usage: scripts/compare_verdicts.py DIR_A DIR_B   (exit 1 on any contradiction)
+       scripts/compare_verdicts.py --changes OLD_FITS_JSON NEW_FITS_JSON
+                                      (every fit whose verdict moved, as a markdown table)"""
 import json
 import os
 import sys
@@ -19,7 +21,33 @@ def verdicts(d):
     return out
 
 
+def changes(old_path, new_path):
+    key = lambda f: (f["claim"], os.path.basename(f.get("dataset") or ""), f.get("variable", ""), f["metric"])
+    old = {key(f): f for f in json.load(open(old_path))}
+    new = {key(f): f for f in json.load(open(new_path))}
+    moved = {}
+    for k in sorted(set(old) | set(new)):
+        a = old.get(k, {}).get("verdict", "(absent)")
+        b = new.get(k, {}).get("verdict", "(absent)")
+        moved.setdefault((a, b), []).append(k)
+    print("| was | now | fits |")
+    print("|---|---|---|")
+    for (a, b), ks in sorted(moved.items(), key=lambda m: -len(m[1])):
+        print(f"| {a} | {b} | {len(ks)} |")
+    print("\n| claim | data | variable | metric | was | now | why now |")
+    print("|---|---|---|---|---|---|---|")
+    for (a, b), ks in sorted(moved.items()):
+        if a == b:
+            continue
+        for k in ks:
+            why = (new.get(k) or {}).get("reason") or (new.get(k) or {}).get("error") or "not in the new config"
+            print(f"| {k[0]} | {k[1]} | {k[2]} | {k[3][:50]} | {a} | {b} | {why.replace('|', '/')} |")
+    return 0
+
+
 def main():
+    if sys.argv[1] == "--changes":
+        return changes(sys.argv[2], sys.argv[3])
     a, b = verdicts(sys.argv[1]), verdicts(sys.argv[2])
     shared = sorted(set(a) & set(b))
     bad = [(k, a[k], b[k]) for k in shared

@@ -21,6 +21,7 @@ skipped=(
   "structures return brute force's closest hits on real scans"
   "every method meets the accuracy bounds or misses exactly its documented ones"
   "degenerate clouds build bounded structures that still agree with brute force"
+  "verdict power on the thesis designs"
   cluster_slurm verdicts_readme_and_quick mesh_accuracy_gate
   # Not slow: a downstream project built without the sanitizer runtime cannot link these
   # instrumented libraries; the release build runs it.
