@@ -39,6 +39,20 @@ RunResult result(double n, const std::map<std::string, double>& counters) {
   return r;
 }
 
+// Frames whose items per leaf K grow by `factor` at each doubling of N, from 8.
+std::vector<RunResult> drifting_k_runs(double factor) {
+  std::vector<RunResult> runs;
+  double k = 8;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
+    runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
+                              {"items_visited", 100 * k},
+                              {"leaves_visited", 100},
+                              {"weighted_plane_terms", 500 * k}}));
+    k *= factor;
+  }
+  return runs;
+}
+
 }  // namespace
 
 TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit]") {
@@ -63,15 +77,7 @@ TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit
 TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
   const SweepConfig c =
       config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
-  std::vector<RunResult> runs;
-  double k = 8;
-  for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
-    runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
-                              {"items_visited", 100 * k},
-                              {"leaves_visited", 100},
-                              {"weighted_plane_terms", 500 * k}}));
-    k *= 1.5;
-  }
+  const std::vector<RunResult> runs = drifting_k_runs(1.5);
   const json f = fit_runs(c, runs)[0];
   REQUIRE(f["verdict"] == "drifted");
   REQUIRE(f["reason"].get<std::string>().find("K moved from 8 to") != std::string::npos);
@@ -81,20 +87,17 @@ TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
 TEST_CASE("fit_runs: a drifting K declared a covariate is fitted, not held", "[sweep][fit]") {
   const SweepConfig c = config(
       {{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}, {"covariate", "K"}});
-  std::vector<RunResult> runs;
-  double k = 8;
-  for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
-    runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
-                              {"items_visited", 100 * k},
-                              {"leaves_visited", 100},
-                              {"weighted_plane_terms", 500 * k}}));
-    k *= 1.5;
-  }
+  const std::vector<RunResult> runs = drifting_k_runs(1.5);
   const json f = fit_runs(c, runs)[0];
   INFO(f.dump());
   REQUIRE(f["verdict"] != "drifted");
   REQUIRE(f["verdict"] != "exceeds");  // the K term carries the growth, not N
   REQUIRE(f["covariate_values"].size() == 6);
+  // A K that does not move is no term of its own (it would be the intercept again): the faster
+  // terms stay identifiable.
+  const json fixed = fit_runs(c, drifting_k_runs(1.0))[0];
+  INFO(fixed.dump());
+  for (const json& t : fixed["faster_terms"]) REQUIRE(t["high95"].is_number());
 }
 
 TEST_CASE("fit_runs: a threshold without its measure is an error, never a pass", "[sweep][fit]") {
