@@ -61,13 +61,20 @@ struct RunDefaults {
   double time_limit_s = 300;  // per run, in its child process
 };
 
+// A count read from a config: a whole number in [lo, hi], else an error naming where it was.
+double whole_number(const json& raw, const char* key, double fallback, double lo, double hi,
+                    const std::string& where) {
+  const double v = raw.value(key, fallback);
+  if (!(v >= lo && v <= hi && v == std::floor(v)))
+    input_error("{}: {} = {} is impossible (a whole number from {} to {})", where, key, v, lo, hi);
+  return v;
+}
+
 RunDefaults parse_defaults(const json& raw, const std::string& origin) {
-  const double threads = raw.value("threads", 2.0), reps = raw.value("repetitions", 1.0),
-               warmup = raw.value("warmup", 0.0), seed = raw.value("seed", 1.0);
-  if (!(threads >= 1 && threads <= 1024))
-    input_error("{}: threads = {} is impossible", origin, threads);
-  if (!(reps >= 1 && reps <= 1000)) input_error("{}: repetitions = {} is impossible", origin, reps);
-  if (!(warmup >= 0 && warmup <= 100)) input_error("{}: warmup = {} is impossible", origin, warmup);
+  const double threads = whole_number(raw, "threads", 2, 1, 1024, origin),
+               reps = whole_number(raw, "repetitions", 1, 1, 1000, origin),
+               warmup = whole_number(raw, "warmup", 0, 0, 100, origin),
+               seed = whole_number(raw, "seed", 1, 0, 1e15, origin);
   RunDefaults d;
   d.time_limit_s = raw.value("time_limit_s", 300.0);
   if (!(d.time_limit_s > 0)) input_error("{}: time_limit_s must be positive", origin);
@@ -353,7 +360,7 @@ RunSpec experiment_base(const Experiment& x, const RunDefaults& d) {
   RunSpec s;
   s.experiment = x.name;
   s.kind = x.kind;
-  s.reps = int(x.e.value("repetitions", double(d.reps)));
+  s.reps = int(whole_number(x.e, "repetitions", double(d.reps), 1, 1000, x.where));
   s.warmup = d.warmup;
   s.threads = d.threads;
   s.seed = d.seed;
@@ -487,11 +494,7 @@ void parse_experiment(const json& e, const std::string& where, size_t index, con
                check};
   if (!names.insert(x.name).second) input_error("{}: name '{}' used twice", where, x.name);
   x.kind = parse_kind(e, where);
-  const double replicates = e.value("replicates", 1.0);
-  if (!(replicates >= 1 && replicates <= 100 && replicates == std::floor(replicates)))
-    input_error("{}: replicates = {} is impossible (a whole number from 1 to 100)", where,
-                replicates);
-  x.replicates = int(replicates);
+  x.replicates = int(whole_number(e, "replicates", 1, 1, 100, where));
   check_set_values(x);
   x.points = grid_points(e, where);
   for (const GridPoint& p : x.points) check_point_values(p, x.kind, where);
