@@ -586,6 +586,12 @@ int command_compare(const CompareOptions& o) {
 
 namespace {
 
+json iteration_json(const IterationCounters& it) {
+  if (!it.steps || !it.runs) return nullptr;
+  return {{"steps", registered_counters()[it.steps->id()].name},
+          {"runs", registered_counters()[it.runs->id()].name}};
+}
+
 json method_json(const MethodInfo& m) {
   json claims = json::array();
   for (const auto& c : m.claims)
@@ -604,7 +610,11 @@ json method_json(const MethodInfo& m) {
           {"needs", m.needs},
           {"parameters", params_json(m.params)},
           {"claims", claims},
-          {"work_counters", work}};
+          {"work_counters", work},
+          {"real_time_claim", m.real_time_claim},
+          {"iterative_claim", m.iterative_claim},
+          {"iteration_counters", iteration_json(m.iterations)},
+          {"own_items", m.own_items}};
 }
 
 json claim_json(const Claim& c) {

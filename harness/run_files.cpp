@@ -64,7 +64,7 @@ std::optional<double> method_k_parameter(const std::string& method) {
   return std::nullopt;
 }
 
-double count(const std::map<std::string, uint64_t>& counters, const char* name) {
+double count(const std::map<std::string, uint64_t>& counters, const std::string& name) {
   const auto it = counters.find(name);
   return it == counters.end() ? 0.0 : double(it->second);
 }
@@ -79,17 +79,16 @@ json k_of(const RunResult& r) {
   return nullptr;
 }
 
-// I as measured: iterations per iterative run (Newton, MLS, height difference, Algorithm 5's
-// sampling passes, k-NN march steps), whatever the cap; what the drift check and iteration fits
-// look at.
+// I as measured: the method's declared iteration steps per iterative run (MethodInfo::
+// iterations: Newton steps per Newton run, MLS fits per MLS run, ...), whatever the cap; what the
+// drift check and iteration fits look at. Null for a method without an iterative kernel.
 json iterations_per_run(const RunResult& r) {
-  const double steps = count(r.counters, "newton_steps") + count(r.counters, "mls_fits") +
-                       count(r.counters, "height_steps") + count(r.counters, "sample_refinements") +
-                       count(r.counters, "knn_march_steps");
-  const double runs = count(r.counters, "newton_runs") + count(r.counters, "mls_runs") +
-                      count(r.counters, "height_starts") + count(r.counters, "sample_roots") +
-                      count(r.counters, "knn_march_runs");
-  return runs > 0 ? json(steps / runs) : json(nullptr);
+  if (!MethodRegistry::instance().contains(r.spec.method)) return nullptr;
+  const IterationCounters& it = MethodRegistry::instance().get(r.spec.method, "method").iterations;
+  if (!it.steps || !it.runs) return nullptr;
+  const double runs = count(r.counters, registered_counters()[it.runs->id()].name);
+  return runs > 0 ? json(count(r.counters, registered_counters()[it.steps->id()].name) / runs)
+                  : json(nullptr);
 }
 
 json optional_set(const RunResult& r, const char* name) {

@@ -89,6 +89,13 @@ struct MethodClaim {
   std::string source;                  // "Table 5.5", "Table 6.1", ...
 };
 
+// What a method's I counts: `steps` per iterative run (`runs`), so that I_run = steps / runs
+// (Newton steps per Newton run, MLS fits per MLS run, ...). Both null: no iterative kernel.
+struct IterationCounters {
+  const Counter* steps = nullptr;
+  const Counter* runs = nullptr;
+};
+
 struct MethodInfo {
   std::string id;
   std::string paper;       // citation
@@ -111,6 +118,15 @@ struct MethodInfo {
   // Bytes per point a method keeps besides the estimate's splats and structure (its own copies of
   // the splats it makes, fields per splat): an upper bound, one splat per point.
   size_t own_data_bytes_per_point = 0;
+  // Table 5.1's columns as the thesis marks this method, each with its source (empty: not
+  // marked): real time (at least 1 frame/s) and iterative (iterations few enough not to matter,
+  // chapter 6). The claims registry makes their claims from these.
+  std::string real_time_claim = {};
+  std::string iterative_claim = {};
+  IterationCounters iterations = {};
+  // Its structure is built over items of its own making (implicit cells, patches, fitted or
+  // reduced splats: Table 5.4's "other preprocessing"), so its build is a claim of its own.
+  bool own_items = false;
 
   // One of the thesis's surveyed methods (it has a reference number), not a reference oracle.
   [[nodiscard]] bool surveyed() const { return thesis_ref != "-"; }

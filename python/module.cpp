@@ -226,6 +226,9 @@ py::list methods() {
     }
     d["params"] = params;
     d["claims"] = claims;
+    d["real_time_claim"] = m->real_time_claim;
+    d["iterative_claim"] = m->iterative_claim;
+    d["own_items"] = m->own_items;
     out.append(d);
   }
   return out;

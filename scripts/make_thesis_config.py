@@ -4,8 +4,19 @@
 the time, a violation a class up at least 90%, a between-class one `holds` at most 5%).
 Growth designs span 2 decades in N and M and at least 1 in K, k, S, B; op-count experiments run
 REPLICATES dataset seeds per grid point, whose scatter is the pure error the claimed model's lack
-of fit is tested against. Run it after changing the design; the config is committed."""
-import json, sys
+of fit is tested against. Which methods are real-time, iterative or build over their own items
+is read from the registry (`pcrt list --json`: what each method declares), never listed here.
+Run it after changing the design or a method's declaration; the config is committed.
+Usage: make_thesis_config.py [--pcrt PCRT] [OUT | --check CONFIG]"""
+import argparse, json, subprocess, sys
+
+ARGS = argparse.ArgumentParser()
+ARGS.add_argument("--pcrt", default="build/bin/pcrt")
+ARGS.add_argument("--check", help="exit 1 unless CONFIG is what this script writes")
+ARGS.add_argument("out", nargs="?", default="configs/thesis.json")
+ARGS = ARGS.parse_args()
+METHODS = json.loads(subprocess.run([ARGS.pcrt, "list", "--json"], check=True, capture_output=True,
+                                    text=True).stdout)["methods"]
 
 SCAN = "../data/cgal/points_3/building.ply"  # relative to the config's folder
 def geo(lo, hi, n):
@@ -15,10 +26,9 @@ N_SCAN = geo(1000, 100000, 9)  # the whole scan at the top: its replicates are o
 N_BUILD = geo(2500, 640000, 9)
 WORK = "work"
 REPLICATES = 3
-ITERATIVE = ["adamson_alexa_2003", "adams_2005", "wald_seidel_2005", "tejada_2006", "hubo_2006",
-             "cai_2011", "cai_2015"]
-REAL_TIME = ["wald_seidel_2005", "tejada_2006", "hubo_2007", "tejada_2007", "kashyap_2010_splat",
-             "goradia_2010", "kashyap_2010_implicit", "goradia_2011", "cai_2011"]
+ITERATIVE = [m["id"] for m in METHODS if m["iterative_claim"]]
+REAL_TIME = [m["id"] for m in METHODS if m["real_time_claim"]]
+OWN_ITEMS = [m["id"] for m in METHODS if m["own_items"]]
 
 def fit(claim, variable=None, metric=WORK, per=None, **kw):
     f = {"claim": claim, "metric": metric}
@@ -36,7 +46,7 @@ for name, ds, ns in [("build_sphere", "sphere", N_BUILD), ("build_scan", SCAN, N
                        fit("{structure}/build", "N", "time")]})
 E.append({"name": "build_own_items", "kind": "build",
           "description": "structures over the methods' own items (implicit cells, patches, fitted and reduced splats)",
-          "methods": ["kashyap_2010_implicit", "goradia_2011", "hubo_2007", "kashyap_2010_splat", "linsen_2007"],
+          "methods": OWN_ITEMS,
           "datasets": ["sphere"], "grid": {"N": geo(2500, 250000, 7)}, "replicates": REPLICATES,
           "fits": [fit("{method}/build", "N", "ops_prep_build_item_visits")]})
 N_QUERY = geo(1000, 512000, 10)  # to 512000: below 10^5 a sphere hierarchy's log N is marginal
@@ -167,4 +177,10 @@ E.append({"name": "real_time", "kind": "render", "methods": [m for m in REAL_TIM
 cfg = {"name": "thesis",
        "description": "Every claim of the registry pcrt can judge (Tables 5.1, 5.4, 5.5, 6.1, sections 5.1.1, 5.4, 5.5.1, 5.5.2, chapters 6 and 7), on a synthetic sphere (and torus, cube, ball) and a real scan (CGAL's building.ply, subsampled). Written by scripts/make_thesis_config.py. Frame claims are judged on each method's declared work, never on rays.",
        "threads": 2, "repetitions": 1, "time_limit_s": 180, "experiments": E}
-json.dump(cfg, open(sys.argv[1] if len(sys.argv) > 1 else "configs/thesis.json", "w"), indent=1)
+if ARGS.check:
+    if json.load(open(ARGS.check)) != cfg:
+        print(f"{ARGS.check}: not what scripts/make_thesis_config.py writes from the registry "
+              f"(run it to regenerate)", file=sys.stderr)
+        sys.exit(1)
+else:
+    json.dump(cfg, open(ARGS.out, "w"), indent=1)

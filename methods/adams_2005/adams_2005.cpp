@@ -91,20 +91,23 @@ class Adams2005 final : public Method {
 
 void register_adams_2005(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "adams_2005",
-      "B. Adams, R. Keiser, M. Pauly, L. Guibas, M. Gross and P. Dutre, Efficient raytracing of "
-      "deforming point-sampled surfaces, Computer Graphics Forum 24(3) (Eurographics 2005)",
-      "[1]",
-      "surfels in a sphere hierarchy; Newton steps (Algorithm 6) on the weighted-average plane of "
-      "the K nearest surfels, from the ray's entry into each surfel sphere",
-      "sphere_tree",
-      {"point normals", "surfel radii"},
-      adams_2005_params().specs(),
-      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-      create_from<Adams2005>(adams_2005_params(), "adams_2005"),
-      {},
-      {&kKnnResults, &kWeightedPointTerms}});
+      .id = "adams_2005",
+      .paper =
+          "B. Adams, R. Keiser, M. Pauly, L. Guibas, M. Gross and P. Dutre, Efficient raytracing "
+          "of deforming point-sampled surfaces, Computer Graphics Forum 24(3) (Eurographics 2005)",
+      .thesis_ref = "[1]",
+      .description =
+          "surfels in a sphere hierarchy; Newton steps (Algorithm 6) on the weighted-average plane "
+          "of the K nearest surfels, from the ray's entry into each surfel sphere",
+      .structure = "sphere_tree",
+      .needs = {"point normals", "surfel radii"},
+      .params = adams_2005_params().specs(),
+      .claims = {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      .create = create_from<Adams2005>(adams_2005_params(), "adams_2005"),
+      .work = {&kKnnResults, &kWeightedPointTerms},
+      .iterative_claim = "Table 5.1",
+      .iterations = {&kNewtonSteps, &kNewtonRuns}});
 }
 
 }  // namespace pcrt

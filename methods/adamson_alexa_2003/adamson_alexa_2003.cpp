@@ -42,19 +42,22 @@ class AdamsonAlexa final : public Method {
 
 void register_adamson_alexa_2003(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "adamson_alexa_2003",
-      "A. Adamson and M. Alexa, Ray tracing point set surfaces, Shape Modeling International 2003",
-      "[2]",
-      "balls around the points in a sphere hierarchy; iterated MLS (weighted plane, bivariate "
-      "quadratic, ray-polynomial root) until the hit stops moving (Algorithm 3)",
-      "sphere_tree",
-      {"positions only"},
-      adamson_alexa_params().specs(),
-      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-      create_from<AdamsonAlexa>(adamson_alexa_params(), "adamson_alexa_2003"),
-      {},
-      {&kKnnResults, &kMlsNeighbours}});
+      .id = "adamson_alexa_2003",
+      .paper = "A. Adamson and M. Alexa, Ray tracing point set surfaces, Shape Modeling "
+               "International 2003",
+      .thesis_ref = "[2]",
+      .description =
+          "balls around the points in a sphere hierarchy; iterated MLS (weighted plane, bivariate "
+          "quadratic, ray-polynomial root) until the hit stops moving (Algorithm 3)",
+      .structure = "sphere_tree",
+      .needs = {"positions only"},
+      .params = adamson_alexa_params().specs(),
+      .claims = {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      .create = create_from<AdamsonAlexa>(adamson_alexa_params(), "adamson_alexa_2003"),
+      .work = {&kKnnResults, &kMlsNeighbours},
+      .iterative_claim = "Table 5.1",
+      .iterations = {&kMlsFits, &kMlsRuns}});
 }
 
 }  // namespace pcrt

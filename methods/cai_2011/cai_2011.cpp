@@ -93,20 +93,23 @@ class Cai2011 final : public Method {
 
 void register_cai_2011(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "cai_2011",
-      "P. Cai, D. Kong, S. Wang and B. Yin, A height-difference-based ray tracing of point models, "
-      "VRCAI 2011",
-      "[14]",
-      "bounding spheres of splats; from each crossed sphere's midpoint, Newton steps on the "
-      "leaf's weighted average height difference along the averaged normal",
-      "kd_tree",
-      {"point normals", "splat radii"},
-      cai_2011_params().specs(),
-      {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-      create_from<Cai2011>(cai_2011_params(), "cai_2011"),
-      {},
-      {&kWeightedPointTerms}});
+      .id = "cai_2011",
+      .paper = "P. Cai, D. Kong, S. Wang and B. Yin, A height-difference-based ray tracing of "
+               "point models, VRCAI 2011",
+      .thesis_ref = "[14]",
+      .description =
+          "bounding spheres of splats; from each crossed sphere's midpoint, Newton steps on the "
+          "leaf's weighted average height difference along the averaged normal",
+      .structure = "kd_tree",
+      .needs = {"point normals", "splat radii"},
+      .params = cai_2011_params().specs(),
+      .claims = {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      .create = create_from<Cai2011>(cai_2011_params(), "cai_2011"),
+      .work = {&kWeightedPointTerms},
+      .real_time_claim = "Table 5.1",
+      .iterative_claim = "Table 5.1",
+      .iterations = {&kHeightSteps, &kHeightStarts}});
 }
 
 }  // namespace pcrt

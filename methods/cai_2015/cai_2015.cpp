@@ -15,7 +15,8 @@ namespace pcrt {
 namespace {
 
 inline const Counter kMarchSteps{"knn_march_steps", "k-NN march steps along rays (I)"};
-inline const Counter kMarchRuns{"knn_march_runs", "k-NN marches, one per leaf entered: the iterative runs"};
+inline const Counter kMarchRuns{"knn_march_runs",
+                                "k-NN marches, one per leaf entered: the iterative runs"};
 inline const Counter kNeighbourTests{"knn_point_tests",
                                      "point distance evaluations by the k-NN method"};
 inline const Counter kFanTriangles{"fan_triangles", "triangles of k-NN fans"};
@@ -150,20 +151,22 @@ class Cai2015 final : public Method {
 
 void register_cai_2015(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "cai_2015",
-      "P. Cai, D. Kong, S. Wang, B. Yin and Y. Huo, A K-neighbor-based ray tracing of point "
-      "clouds, Journal of Information & Computational Science 12.13 (2015)",
-      "[15]",
-      "sphere-tracing march to the nearest point in a grid cell; fan of triangles among its K "
-      "nearest neighbours for the normal; projected-distance test on that plane",
-      "grid",
-      {"positions only"},
-      cai_2015_params().specs(),
-      {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-      create_from<Cai2015>(cai_2015_params(), "cai_2015"),
-      {},
-      {&kNeighbourTests, &kFanTriangles}});
+      .id = "cai_2015",
+      .paper = "P. Cai, D. Kong, S. Wang, B. Yin and Y. Huo, A K-neighbor-based ray tracing of "
+               "point clouds, Journal of Information & Computational Science 12.13 (2015)",
+      .thesis_ref = "[15]",
+      .description =
+          "sphere-tracing march to the nearest point in a grid cell; fan of triangles among its K "
+          "nearest neighbours for the normal; projected-distance test on that plane",
+      .structure = "grid",
+      .needs = {"positions only"},
+      .params = cai_2015_params().specs(),
+      .claims = {{"leaf intersection", "O(IK^2)", {"I", "K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + IK^2))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      .create = create_from<Cai2015>(cai_2015_params(), "cai_2015"),
+      .work = {&kNeighbourTests, &kFanTriangles},
+      .iterative_claim = "Table 5.1",
+      .iterations = {&kMarchSteps, &kMarchRuns}});
 }
 
 }  // namespace pcrt

@@ -92,18 +92,17 @@ class EmbreeOrientedDisc final : public Method {
 
 void register_embree_oriented_disc(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "embree_oriented_disc",
-      "Embree 3 (Wald et al. 2014), RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT",
-      "-",
-      "industrial reference: Embree's oriented discs (radius and normal per point) in Embree's BVH",
-      "embree_bvh",
-      {"point normals", "point radii"},
-      embree_disc_params().specs(),
-      {},
-      create_from<EmbreeOrientedDisc>(embree_disc_params(), "embree_oriented_disc"),
-      "embree_bvh",
-      {},
-      LeafFamily::kDisc});
+      .id = "embree_oriented_disc",
+      .paper = "Embree 3 (Wald et al. 2014), RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT",
+      .thesis_ref = "-",
+      .description = "industrial reference: Embree's oriented discs (radius and normal per point) "
+                     "in Embree's BVH",
+      .structure = "embree_bvh",
+      .needs = {"point normals", "point radii"},
+      .params = embree_disc_params().specs(),
+      .create = create_from<EmbreeOrientedDisc>(embree_disc_params(), "embree_oriented_disc"),
+      .own_structure = "embree_bvh",
+      .family = LeafFamily::kDisc});
 }
 
 }  // namespace pcrt

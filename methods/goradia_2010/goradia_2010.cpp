@@ -53,21 +53,21 @@ class Goradia2010 final : public Method {
 
 void register_goradia_2010(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "goradia_2010",
-      "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, GPU-based ray tracing of splats, "
-      "Pacific Graphics 2010",
-      "[24]",
-      "one splat per point (PCA normal, neighbour-distance radius) in a refined octree; the splats "
-      "hit in a leaf are blended by distance from their centres",
-      "octree",
-      {"point normals", "splat radii"},
-      goradia_2010_params().specs(),
-      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-      create_from<Goradia2010>(goradia_2010_params(), "goradia_2010"),
-      {},
-      {&kProjectionTests, &kSplatTests},
-      LeafFamily::kSplatBlend});
+      .id = "goradia_2010",
+      .paper = "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, GPU-based ray tracing of "
+               "splats, Pacific Graphics 2010",
+      .thesis_ref = "[24]",
+      .description = "one splat per point (PCA normal, neighbour-distance radius) in a refined "
+                     "octree; the splats hit in a leaf are blended by distance from their centres",
+      .structure = "octree",
+      .needs = {"point normals", "splat radii"},
+      .params = goradia_2010_params().specs(),
+      .claims = {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      .create = create_from<Goradia2010>(goradia_2010_params(), "goradia_2010"),
+      .work = {&kProjectionTests, &kSplatTests},
+      .family = LeafFamily::kSplatBlend,
+      .real_time_claim = "Table 5.1"});
 }
 
 }  // namespace pcrt

@@ -8,20 +8,21 @@ namespace pcrt {
 
 void register_goradia_2011(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "goradia_2011",
-      "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, Tracing specular light paths in "
-      "point-based scenes, The Visual Computer 27.12 (2011)",
-      "[25]",
-      "the implicit-surface octree intersection of Kashyap et al. 2010 (Algorithm 4); the "
-      "caustic sample map prepass is not implemented",
-      "octree",
-      {"point normals", "implicit octree"},
-      ImplicitCellsParams::list().specs(),
-      {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
-      create_from<ImplicitCellsMethod>(ImplicitCellsParams::list(), "goradia_2011"),
-      {},
-      {&kMarchingSteps}});
+      .id = "goradia_2011",
+      .paper = "R. Goradia, S. Kashyap, P. Chaudhuri and S. Chandran, Tracing specular light paths "
+               "in point-based scenes, The Visual Computer 27.12 (2011)",
+      .thesis_ref = "[25]",
+      .description = "the implicit-surface octree intersection of Kashyap et al. 2010 (Algorithm "
+                     "4); the caustic sample map prepass is not implemented",
+      .structure = "octree",
+      .needs = {"point normals", "implicit octree"},
+      .params = ImplicitCellsParams::list().specs(),
+      .claims = {{"leaf intersection", "O(k)", {"k"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + k))", {"S", "M", "B", "N", "k"}, "Table 6.1"}},
+      .create = create_from<ImplicitCellsMethod>(ImplicitCellsParams::list(), "goradia_2011"),
+      .work = {&kMarchingSteps},
+      .real_time_claim = "Table 5.1",
+      .own_items = true});
 }
 
 }  // namespace pcrt

@@ -162,31 +162,33 @@ class Hubo2006Quantized final : public Method {
 
 void register_hubo_2006(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "hubo_2006",
-      "E. Hubo, T. Mertens, T. Haber and P. Bekaert, The quantized kd-tree: efficient ray tracing "
-      "of compressed point clouds, IEEE Symposium on Interactive Ray Tracing 2006",
-      "[28]",
-      "Newton steps (Algorithm 6) on the Gaussian-weighted average plane of a kd-tree leaf's "
-      "points (quantized=1: over the paper's quantized kd-tree, decoded during traversal)",
-      "kd_tree",
-      {"point normals"},
-      hubo_2006_params().specs(),
-      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-      [](const ParamValues& given) -> std::unique_ptr<Method> {
+      .id = "hubo_2006",
+      .paper = "E. Hubo, T. Mertens, T. Haber and P. Bekaert, The quantized kd-tree: efficient ray "
+               "tracing of compressed point clouds, IEEE Symposium on Interactive Ray Tracing 2006",
+      .thesis_ref = "[28]",
+      .description =
+          "Newton steps (Algorithm 6) on the Gaussian-weighted average plane of a kd-tree leaf's "
+          "points (quantized=1: over the paper's quantized kd-tree, decoded during traversal)",
+      .structure = "kd_tree",
+      .needs = {"point normals"},
+      .params = hubo_2006_params().specs(),
+      .claims = {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      .create = [](const ParamValues& given) -> std::unique_ptr<Method> {
         const Hubo2006Params p = hubo_2006_params().read(given, "hubo_2006");
         if (p.quantized) return std::make_unique<Hubo2006Quantized>(p);
         return std::make_unique<Hubo2006>(p);
       },
-      {},
-      {&kWeightedPointTerms},
-      LeafFamily::kOther,
+      .work = {&kWeightedPointTerms},
+      .family = LeafFamily::kOther,
       // quantized=1: its quantized kd-tree (<= 16 B/point), no splats and no structure (21
       // B/point over the cloud measured at 10^7), and the normal estimation's graph where it runs.
-      [](const PointCloud& cloud, const ParamValues& given) -> size_t {
+      .own_bytes_per_point = [](const PointCloud& cloud, const ParamValues& given) -> size_t {
         if (!hubo_2006_params().read(given, "hubo_2006").quantized) return 0;
         return 24 + (cloud.has_normals() ? 0 : 16 * sizeof(uint32_t) + 1 + 12);
-      }});
+      },
+      .iterative_claim = "Table 5.1",
+      .iterations = {&kNewtonSteps, &kNewtonRuns}});
 }
 
 }  // namespace pcrt

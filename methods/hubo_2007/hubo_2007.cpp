@@ -233,20 +233,24 @@ class Hubo2007 final : public Method {
 
 void register_hubo_2007(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "hubo_2007",
-      "E. Hubo, T. Mertens, T. Haber and P. Bekaert, Self-similarity-based compression of point "
-      "clouds, with application to ray tracing, Symposium on Point-Based Graphics 2007",
-      "[29]",
-      "small patches (octree cells of a few points), each a Gaussian-weighted implicit surface "
-      "intersected by Newton steps (Algorithm 6); patch hits blended by distance to the centres",
-      "octree",
-      {"point normals", "implicit patches"},
-      hubo_2007_params().specs(),
-      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
-      create_from<Hubo2007>(hubo_2007_params(), "hubo_2007"),
-      {},
-      {&kWeightedPointTerms}});
+      .id = "hubo_2007",
+      .paper =
+          "E. Hubo, T. Mertens, T. Haber and P. Bekaert, Self-similarity-based compression of "
+          "point clouds, with application to ray tracing, Symposium on Point-Based Graphics 2007",
+      .thesis_ref = "[29]",
+      .description = "small patches (octree cells of a few points), each a Gaussian-weighted "
+                     "implicit surface intersected by Newton steps (Algorithm 6); patch hits "
+                     "blended by distance to the centres",
+      .structure = "octree",
+      .needs = {"point normals", "implicit patches"},
+      .params = hubo_2007_params().specs(),
+      .claims = {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + IK))", {"S", "M", "B", "N", "I", "K"}, "Table 6.1"}},
+      .create = create_from<Hubo2007>(hubo_2007_params(), "hubo_2007"),
+      .work = {&kWeightedPointTerms},
+      .real_time_claim = "Table 5.1",
+      .iterations = {&kNewtonSteps, &kNewtonRuns},
+      .own_items = true});
 }
 
 }  // namespace pcrt

@@ -153,21 +153,23 @@ class Kashyap2010Splat final : public Method {
 
 void register_kashyap_2010_splat(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "kashyap_2010_splat",
-      "S. Kashyap, R. Goradia, P. Chaudhuri and S. Chandran, Real time ray tracing of point-based "
-      "models, I3D 2010",
-      "[34]",
-      "splat octree: cells refined until their points fit one plane, one fitted splat per leaf; "
-      "the splats hit in a leaf are blended by distance from their centres",
-      "octree",
-      {"point normals", "splat radii", "splat octree"},
-      kashyap_2010_splat_params().specs(),
-      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-      create_from<Kashyap2010Splat>(kashyap_2010_splat_params(), "kashyap_2010_splat"),
-      {},
-      {&kProjectionTests, &kSplatTests},
-      LeafFamily::kSplatBlend});
+      .id = "kashyap_2010_splat",
+      .paper = "S. Kashyap, R. Goradia, P. Chaudhuri and S. Chandran, Real time ray tracing of "
+               "point-based models, I3D 2010",
+      .thesis_ref = "[34]",
+      .description =
+          "splat octree: cells refined until their points fit one plane, one fitted splat per "
+          "leaf; the splats hit in a leaf are blended by distance from their centres",
+      .structure = "octree",
+      .needs = {"point normals", "splat radii", "splat octree"},
+      .params = kashyap_2010_splat_params().specs(),
+      .claims = {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      .create = create_from<Kashyap2010Splat>(kashyap_2010_splat_params(), "kashyap_2010_splat"),
+      .work = {&kProjectionTests, &kSplatTests},
+      .family = LeafFamily::kSplatBlend,
+      .real_time_claim = "Table 5.1",
+      .own_items = true});
 }
 
 }  // namespace pcrt

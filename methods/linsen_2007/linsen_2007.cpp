@@ -202,24 +202,25 @@ class Linsen2007 final : public Method {
 
 void register_linsen_2007(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "linsen_2007",
-      "L. Linsen, K. Mueller and P. Rosenthal, Splat-based ray tracing of point clouds, Journal of "
-      "WSCG 15 (2007)",
-      "[41]",
-      "splats sized by local curvature and reduced by a greedy cover; a linear normal field per "
-      "splat; the splats hit in a leaf are blended by distance from their centres",
-      "octree",
-      {"point normals", "splat radii", "normal field"},
-      linsen_2007_params().specs(),
-      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-      create_from<Linsen2007>(linsen_2007_params(), "linsen_2007"),
-      {},
-      {&kProjectionTests, &kSplatTests},
-      LeafFamily::kSplatBlend,
-      {},
+      .id = "linsen_2007",
+      .paper = "L. Linsen, K. Mueller and P. Rosenthal, Splat-based ray tracing of point clouds, "
+               "Journal of WSCG 15 (2007)",
+      .thesis_ref = "[41]",
+      .description =
+          "splats sized by local curvature and reduced by a greedy cover; a linear normal field "
+          "per splat; the splats hit in a leaf are blended by distance from their centres",
+      .structure = "octree",
+      .needs = {"point normals", "splat radii", "normal field"},
+      .params = linsen_2007_params().specs(),
+      .claims = {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      .create = create_from<Linsen2007>(linsen_2007_params(), "linsen_2007"),
+      .work = {&kProjectionTests, &kSplatTests},
+      .family = LeafFamily::kSplatBlend,
       // Per splat: its normal field, its own centre, normal and radius, and its point index.
-      sizeof(Eigen::Matrix3f) + 2 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t)});
+      .own_data_bytes_per_point =
+          sizeof(Eigen::Matrix3f) + 2 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t),
+      .own_items = true});
 }
 
 }  // namespace pcrt

@@ -70,19 +70,19 @@ class ReferenceSplat final : public Method {
 }  // namespace
 
 void register_reference_splat(MethodRegistry& registry) {
-  registry.add(
-      MethodInfo{"reference_splat",
-                 "none (oracle): flat oriented discs, as in Zwicker et al. 2001 surface splatting",
-                 "-",
-                 "each point is a disc of its radius facing its normal; the nearest disc hit wins",
-                 "brute_force",
-                 {"point normals", "point radii"},
-                 reference_splat_params().specs(),
-                 {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
-                 create_from<ReferenceSplat>(reference_splat_params(), "reference_splat"),
-                 {},
-                 {&kSplatTests},
-                 LeafFamily::kDisc});
+  registry.add(MethodInfo{
+      .id = "reference_splat",
+      .paper = "none (oracle): flat oriented discs, as in Zwicker et al. 2001 surface splatting",
+      .thesis_ref = "-",
+      .description =
+          "each point is a disc of its radius facing its normal; the nearest disc hit wins",
+      .structure = "brute_force",
+      .needs = {"point normals", "point radii"},
+      .params = reference_splat_params().specs(),
+      .claims = {{"leaf intersection", "O(K)", {"K"}, "splat intersection, section 5.5.2"}},
+      .create = create_from<ReferenceSplat>(reference_splat_params(), "reference_splat"),
+      .work = {&kSplatTests},
+      .family = LeafFamily::kDisc});
 }
 
 }  // namespace pcrt

@@ -71,21 +71,19 @@ class SchauflerJensen final : public Method {
 
 void register_schaufler_jensen_2000(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "schaufler_jensen_2000",
-      "G. Schaufler and H. W. Jensen, Ray tracing point sampled geometry, EGWR 2000",
-      "[55]",
-      "ray cylinder of radius d; points within it projected onto the ray through their tangent "
-      "planes; "
-      "front group blended (Algorithm 7)",
-      "octree",
-      {"point normals"},
-      schaufler_jensen_params().specs(),
-      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-      create_from<SchauflerJensen>(schaufler_jensen_params(), "schaufler_jensen_2000"),
-      {},
-      {&kProjectionTests},
-      LeafFamily::kProjection});
+      .id = "schaufler_jensen_2000",
+      .paper = "G. Schaufler and H. W. Jensen, Ray tracing point sampled geometry, EGWR 2000",
+      .thesis_ref = "[55]",
+      .description = "ray cylinder of radius d; points within it projected onto the ray through "
+                     "their tangent planes; front group blended (Algorithm 7)",
+      .structure = "octree",
+      .needs = {"point normals"},
+      .params = schaufler_jensen_params().specs(),
+      .claims = {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      .create = create_from<SchauflerJensen>(schaufler_jensen_params(), "schaufler_jensen_2000"),
+      .work = {&kProjectionTests},
+      .family = LeafFamily::kProjection});
 }
 
 }  // namespace pcrt

@@ -18,20 +18,22 @@ const ParamList<RasterMlsParams>& tejada_2006_params() {
 
 void register_tejada_2006(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "tejada_2006",
-      "E. Tejada, J. Gois, L. Nonato, A. Castelo and T. Ertl, Hardware-accelerated "
-      "extraction and rendering of point set surfaces, EuroVis 2006",
-      "[58]",
-      "primary hits from a z-buffer of the points, refined by iterated MLS (Algorithm 3); "
-      "secondary rays by brute force",
-      "brute_force",
-      {"positions only"},
-      tejada_2006_params().specs(),
-      {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
-       {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
-      create_from<RasterMlsMethod>(tejada_2006_params(), "tejada_2006"),
-      {},
-      {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}});
+      .id = "tejada_2006",
+      .paper = "E. Tejada, J. Gois, L. Nonato, A. Castelo and T. Ertl, Hardware-accelerated "
+               "extraction and rendering of point set surfaces, EuroVis 2006",
+      .thesis_ref = "[58]",
+      .description = "primary hits from a z-buffer of the points, refined by iterated MLS "
+                     "(Algorithm 3); secondary rays by brute force",
+      .structure = "brute_force",
+      .needs = {"positions only"},
+      .params = tejada_2006_params().specs(),
+      .claims = {{"leaf intersection", "O(IK)", {"I", "K"}, "Table 5.5"},
+                 {"frame", "O(MNIK + SBNIK)", {"M", "N", "I", "K", "S", "B"}, "Table 6.1"}},
+      .create = create_from<RasterMlsMethod>(tejada_2006_params(), "tejada_2006"),
+      .work = {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours},
+      .real_time_claim = "Table 5.1",
+      .iterative_claim = "Table 5.1",
+      .iterations = {&kMlsFits, &kMlsRuns}});
 }
 
 }  // namespace pcrt

@@ -16,21 +16,22 @@ const ParamList<RasterMlsParams>& tejada_2007_params() {
 }  // namespace
 
 void register_tejada_2007(MethodRegistry& registry) {
-  registry.add(MethodInfo{
-      "tejada_2007",
-      "E. Tejada, T. Schafhitzel and T. Ertl, Hardware-accelerated point-based rendering of "
-      "surfaces and volumes, 2007",
-      "[59]",
-      "primary hits from a z-buffer of the points and one MLS step (no iteration); secondary rays "
-      "through a uniform grid",
-      "grid",
-      {"positions only"},
-      tejada_2007_params().specs(),
-      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-       {"frame", "O(MNK + SBNK)", {"M", "N", "K", "S", "B"}, "Table 6.1"}},
-      create_from<RasterMlsMethod>(tejada_2007_params(), "tejada_2007"),
-      {},
-      {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours}});
+  registry.add(
+      MethodInfo{.id = "tejada_2007",
+                 .paper = "E. Tejada, T. Schafhitzel and T. Ertl, Hardware-accelerated point-based "
+                          "rendering of surfaces and volumes, 2007",
+                 .thesis_ref = "[59]",
+                 .description = "primary hits from a z-buffer of the points and one MLS step (no "
+                                "iteration); secondary rays through a uniform grid",
+                 .structure = "grid",
+                 .needs = {"positions only"},
+                 .params = tejada_2007_params().specs(),
+                 .claims = {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+                            {"frame", "O(MNK + SBNK)", {"M", "N", "K", "S", "B"}, "Table 6.1"}},
+                 .create = create_from<RasterMlsMethod>(tejada_2007_params(), "tejada_2007"),
+                 .work = {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours},
+                 .real_time_claim = "Table 5.1",
+                 .iterations = {&kMlsFits, &kMlsRuns}});
 }
 
 }  // namespace pcrt

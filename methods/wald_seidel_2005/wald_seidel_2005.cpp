@@ -19,8 +19,8 @@ namespace {
 
 inline const Counter kSampleRefinements{"sample_refinements",
                                         "sampling passes over an interval (I, Algorithm 5)"};
-inline const Counter kSampleRoots{"sample_roots",
-                                  "root searches (Algorithm 5 on one run of supports): the iterative runs"};
+inline const Counter kSampleRoots{
+    "sample_roots", "root searches (Algorithm 5 on one run of supports): the iterative runs"};
 inline const Counter kSupportTests{"support_tests", "ray-support ball tests before sampling"};
 inline const Counter kSampleEvaluations{"sample_evaluations",
                                         "implicit function samples (k per pass)"};
@@ -167,20 +167,24 @@ class WaldSeidel final : public Method {
 
 void register_wald_seidel_2005(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "wald_seidel_2005",
-      "I. Wald and H.-P. Seidel, Interactive ray tracing of point-based models, Symposium on "
-      "Point-Based Graphics 2005",
-      "[63]",
-      "k regular samples of the weighted-average implicit function (theta(a) = max(1 - a, 0)) in a "
-      "kd-tree leaf, the sign-change interval resampled until |f| < epsilon (Algorithm 5)",
-      "kd_tree",
-      {"point normals"},
-      wald_seidel_params().specs(),
-      {{"leaf intersection", "O(kIK)", {"k", "I", "K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + kIK))", {"S", "M", "B", "N", "k", "I", "K"}, "Table 6.1"}},
-      create_from<WaldSeidel>(wald_seidel_params(), "wald_seidel_2005"),
-      {},
-      {&kSupportTests, &kSampleEvaluations, &kWeightedPointTerms}});
+      .id = "wald_seidel_2005",
+      .paper = "I. Wald and H.-P. Seidel, Interactive ray tracing of point-based models, Symposium "
+               "on Point-Based Graphics 2005",
+      .thesis_ref = "[63]",
+      .description =
+          "k regular samples of the weighted-average implicit function (theta(a) = max(1 - a, 0)) "
+          "in a kd-tree leaf, the sign-change interval resampled until |f| < epsilon (Algorithm 5)",
+      .structure = "kd_tree",
+      .needs = {"point normals"},
+      .params = wald_seidel_params().specs(),
+      .claims =
+          {{"leaf intersection", "O(kIK)", {"k", "I", "K"}, "Table 5.5"},
+           {"frame", "O(SMB(log N + kIK))", {"S", "M", "B", "N", "k", "I", "K"}, "Table 6.1"}},
+      .create = create_from<WaldSeidel>(wald_seidel_params(), "wald_seidel_2005"),
+      .work = {&kSupportTests, &kSampleEvaluations, &kWeightedPointTerms},
+      .real_time_claim = "Table 5.1",
+      .iterative_claim = "Table 5.1",
+      .iterations = {&kSampleRefinements, &kSampleRoots}});
 }
 
 }  // namespace pcrt

@@ -100,21 +100,20 @@ class WandStrasser final : public Method {
 
 void register_wand_strasser_2003(MethodRegistry& registry) {
   registry.add(MethodInfo{
-      "wand_strasser_2003",
-      "M. Wand and W. Strasser, Multi-resolution point-sample raytracing, Graphics Interface 2003",
-      "[64]",
-      "ray cone with two radii growing with t; Gaussian weights of the points' offsets in ray "
-      "coordinates; "
-      "tangent-plane projection and blending",
-      "octree",
-      {"point normals"},
-      wand_strasser_params().specs(),
-      {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
-       {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
-      create_from<WandStrasser>(wand_strasser_params(), "wand_strasser_2003"),
-      {},
-      {&kProjectionTests},
-      LeafFamily::kProjection});
+      .id = "wand_strasser_2003",
+      .paper = "M. Wand and W. Strasser, Multi-resolution point-sample raytracing, Graphics "
+               "Interface 2003",
+      .thesis_ref = "[64]",
+      .description = "ray cone with two radii growing with t; Gaussian weights of the points' "
+                     "offsets in ray coordinates; tangent-plane projection and blending",
+      .structure = "octree",
+      .needs = {"point normals"},
+      .params = wand_strasser_params().specs(),
+      .claims = {{"leaf intersection", "O(K)", {"K"}, "Table 5.5"},
+                 {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
+      .create = create_from<WandStrasser>(wand_strasser_params(), "wand_strasser_2003"),
+      .work = {&kProjectionTests},
+      .family = LeafFamily::kProjection});
 }
 
 }  // namespace pcrt
