@@ -320,9 +320,7 @@ const std::vector<Claim>& all_claims() {
   return claims;
 }
 
-const char* claim_about_name(ClaimAbout a) {
-  return a == ClaimAbout::kThesis ? "thesis" : "pcrt";
-}
+const char* claim_about_name(ClaimAbout a) { return a == ClaimAbout::kThesis ? "thesis" : "pcrt"; }
 
 const Claim& find_claim(const std::string& id) {
   for (const Claim& c : all_claims())

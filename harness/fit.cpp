@@ -63,8 +63,8 @@ double t_quantile(double p, size_t dof) {
   return boost::math::quantile(boost::math::students_t(double(dof)), p);
 }
 
-void check_input(const std::vector<double>& x, const std::vector<double>& y,
-                 const FitRules& rules, const std::string& what) {
+void check_input(const std::vector<double>& x, const std::vector<double>& y, const FitRules& rules,
+                 const std::string& what) {
   if (x.size() != y.size()) input_error("{}: x and y differ in length", what);
   for (size_t i = 0; i < x.size(); ++i)
     if (!(x[i] > 0) || !(y[i] > 0) || !std::isfinite(x[i]) || !std::isfinite(y[i]))
@@ -73,7 +73,8 @@ void check_input(const std::vector<double>& x, const std::vector<double>& y,
     input_error("{}: the covariate {} has {} values for {} points", what, rules.covariate_name,
                 rules.covariate.size(), x.size());
   for (double c : rules.covariate)
-    if (!std::isfinite(c)) input_error("{}: the covariate {} is not finite", what, rules.covariate_name);
+    if (!std::isfinite(c))
+      input_error("{}: the covariate {} is not finite", what, rules.covariate_name);
   // Three coefficients and a variance need n > 4; fewer distinct x than 5 cannot tell a growth
   // class from its neighbour however many replicates there are.
   const std::set<double> distinct(x.begin(), x.end());
@@ -262,10 +263,11 @@ std::vector<Term> faster_terms(Growth m, const std::vector<double>& x) {
   const std::string between = m == Growth::kConstant
                                   ? fmt::format("x^{}", kBetweenPower)
                                   : fmt::format("{} * x^{}", growth_name(m), kBetweenPower);
-  return {class_up(m, 1, x),
-          power_term(between, x,
-                     [=](double v) { return pure_growth(m, v, xmin) * std::pow(v, kBetweenPower); }),
-          class_up(m, 2, x)};
+  return {
+      class_up(m, 1, x),
+      power_term(between, x,
+                 [=](double v) { return pure_growth(m, v, xmin) * std::pow(v, kBetweenPower); }),
+      class_up(m, 2, x)};
 }
 
 // The data of one fit.
@@ -335,7 +337,7 @@ FasterTerm share_of(const Data& d, const std::vector<Term>& terms, size_t j) {
   const Lsq fit = fit_terms(terms, d.y);
   FasterTerm s{terms[j].name};
   s.low95 = s.low99 = -kInf, s.high95 = kInf;  // unidentifiable unless shown otherwise
-  if (!fit.ok) return s;  // collinear: the data cannot tell this term apart
+  if (!fit.ok) return s;                       // collinear: the data cannot tell this term apart
   // The columns' mean value over the points at x_max (a covariate differs between replicates).
   Eigen::VectorXd v = Eigen::VectorXd::Zero(Eigen::Index(terms.size()));
   int at = 0;
@@ -381,8 +383,7 @@ void lack_of_fit(const Data& d, const std::vector<Term>& terms, GrowthFit& f) {
   // A covariate differs between replicates, so it would explain part of their scatter.
   if (!d.covariate.empty()) return;
   // Replicates that agree to rounding (1e-9 relative, the variance floor) carry no pure error.
-  if (df_pure < 2 || !(pure / double(df_pure) > 1e-18) || !fit.ok ||
-      groups.size() <= terms.size())
+  if (df_pure < 2 || !(pure / double(df_pure) > 1e-18) || !fit.ok || groups.size() <= terms.size())
     return;
   const size_t df_lof = groups.size() - terms.size();
   f.lof_tested = true;
@@ -525,7 +526,8 @@ void judge_tightness(const Data& d, Growth expected, GrowthFit& f) {
 
 // Everything but the design rules and the leave-one-out check; `fixed_lower` imposes the
 // claimed model's extra term instead of choosing it.
-GrowthFit analyse(const Data& d, Growth expected, const std::optional<Growth>* fixed_lower = nullptr) {
+GrowthFit analyse(const Data& d, Growth expected,
+                  const std::optional<Growth>* fixed_lower = nullptr) {
   GrowthFit f;
   f.points = d.x.size();
   f.distinct_x = std::set<double>(d.x.begin(), d.x.end()).size();
@@ -561,7 +563,8 @@ bool is_judged(const GrowthFit& f) {
 
 // A holds or exceeds that a design rule does not allow becomes inconclusive, saying why.
 void withdraw(GrowthFit& f, Growth expected, const std::string& why) {
-  f.reason = fmt::format("{} would be {}, but {}", growth_name(expected), verdict_name(f.verdict), why);
+  f.reason =
+      fmt::format("{} would be {}, but {}", growth_name(expected), verdict_name(f.verdict), why);
   f.verdict = ClaimVerdict::kInconclusive;
   f.tightness = Tightness::kNotTested;
 }

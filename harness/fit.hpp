@@ -4,8 +4,8 @@
 //
 // The claimed model is a + b g(x) (plus the class below g when the replicates show the pure form
 // misfits: lower-order terms are inside O(g)). Against it stand two explicit faster terms c h(x),
-// one class up (h = the next class), between classes (h = g x^0.25) and two classes up. For each, the share of
-// y at x_max that c h carries, with one-sided bounds from the fit's covariance:
+// one class up (h = the next class), between classes (h = g x^0.25) and two classes up. For each,
+// the share of y at x_max that c h carries, with one-sided bounds from the fit's covariance:
 //   exceeds       a faster term's share is above 0 at 99% (with and without the claim's
 //                 lower-order term), and the log-log exponent's CI lies above the claimed
 //                 model's own exponent over this x (a second, independent witness);
@@ -38,15 +38,15 @@ enum class ClaimVerdict {
   kInconclusive,  // growth: the data can neither exclude nor establish a faster term
   kMeets,         // threshold claim met by every run
   kMisses,        // threshold claim missed by a run
-  kLoopCheck,     // y / x constant by construction (or within 10% over 30x): the loops, not the claim
-  kDrifted,       // a variable that should be fixed moved, and the claim cannot absorb it
-  kNotJudged,     // the input does not meet the claim's stated precondition
-  kError,         // a missing measure, too few distinct points, no runs, an unknown claim
+  kLoopCheck,  // y / x constant by construction (or within 10% over 30x): the loops, not the claim
+  kDrifted,    // a variable that should be fixed moved, and the claim cannot absorb it
+  kNotJudged,  // the input does not meet the claim's stated precondition
+  kError,      // a missing measure, too few distinct points, no runs, an unknown claim
 };
 inline constexpr ClaimVerdict kAllVerdicts[] = {
-    ClaimVerdict::kHolds,     ClaimVerdict::kExceeds, ClaimVerdict::kInconclusive,
-    ClaimVerdict::kMeets,     ClaimVerdict::kMisses,  ClaimVerdict::kLoopCheck,
-    ClaimVerdict::kDrifted,   ClaimVerdict::kNotJudged, ClaimVerdict::kError};
+    ClaimVerdict::kHolds,   ClaimVerdict::kExceeds,   ClaimVerdict::kInconclusive,
+    ClaimVerdict::kMeets,   ClaimVerdict::kMisses,    ClaimVerdict::kLoopCheck,
+    ClaimVerdict::kDrifted, ClaimVerdict::kNotJudged, ClaimVerdict::kError};
 const char* verdict_name(ClaimVerdict v);  // "holds", "exceeds", ...
 // Growth verdicts and threshold verdicts are tallied apart; the rest are not tallied as verdicts.
 enum class VerdictKind { kGrowth, kThreshold, kNotJudged };
@@ -62,8 +62,8 @@ inline constexpr double kHoldsTolerance = 0.25;
 
 // The claimed model plus c h(x): how much of y at x_max the faster term h carries.
 struct FasterTerm {
-  std::string model;                     // h, e.g. "x^2" or "x log x * x^0.25"
-  double share = 0;                      // c h(x_max) / y(x_max), fitted
+  std::string model;                        // h, e.g. "x^2" or "x log x * x^0.25"
+  double share = 0;                         // c h(x_max) / y(x_max), fitted
   double low95 = 0, high95 = 0, low99 = 0;  // one-sided bounds of the share
 };
 
@@ -80,7 +80,7 @@ struct FitRules {
 
 struct GrowthFit {
   size_t points = 0, distinct_x = 0;
-  double decades = 0;  // log10(x_max / x_min)
+  double decades = 0;                            // log10(x_max / x_min)
   double exponent = 0, ci_low = 0, ci_high = 0;  // log-log slope and its 95% CI
   double claimed_exponent = 0;      // the log-log slope of the pure claimed model over the same x
   Growth best = Growth::kConstant;  // the lowest-AICc model (the constant when within 2)

@@ -51,7 +51,8 @@ TEST_CASE("fit_growth picks the generating model, and a true bound holds", "[fit
     for (double noise : {0.0, 0.02}) {
       const std::vector<double> x = powers_of_two(6, 18, 3);
       std::vector<double> y;
-      for (double v : x) y.push_back(model(truth, v) * (1 + noise * (2 * rng.uniform_double() - 1)));
+      for (double v : x)
+        y.push_back(model(truth, v) * (1 + noise * (2 * rng.uniform_double() - 1)));
       const GrowthFit f = fit_growth(x, y, truth, "synthetic");
       INFO(growth_name(truth) << " noise " << noise << " -> " << growth_name(f.best) << ": "
                               << verdict_name(f.verdict) << ", " << f.reason);
@@ -109,7 +110,8 @@ TEST_CASE("design rules: range, leave-one-out, lack of fit, loop checks", "[fit]
     REQUIRE(f.verdict == ClaimVerdict::kInconclusive);
     REQUIRE(f.reason.find("decades") != std::string::npos);
     rules.range_waiver = "the scan has no more points";
-    REQUIRE(fit_growth(x, y, Growth::kLinearLog, "short", rules).verdict != ClaimVerdict::kInconclusive);
+    REQUIRE(fit_growth(x, y, Growth::kLinearLog, "short", rules).verdict !=
+            ClaimVerdict::kInconclusive);
   }
   SECTION("one point carrying the whole departure does not make a verdict") {
     std::vector<double> x = powers_of_two(10, 17), y;
@@ -181,9 +183,11 @@ std::vector<Design> thesis_designs() {
       if (!e["grid"].contains(key)) continue;  // x measured (points per leaf): no design
       std::string claim = fill(fit["claim"], e, "{method}", "methods", "hubo_2006");
       claim = fill(claim, e, "{structure}", "structures", "kd_tree");
-      Design d{fmt::format("{} {} in {}", e["name"].get<std::string>(), claim, var), {},
+      Design d{fmt::format("{} {} in {}", e["name"].get<std::string>(), claim, var),
+               {},
                expected_growth(find_claim(claim).complexity, var),
-               timed(fit["metric"]), min_decades(var)};
+               timed(fit["metric"]),
+               min_decades(var)};
       for (double v : e["grid"][key].get<std::vector<double>>())
         for (int r = 0; r < e.value("replicates", 1); ++r) d.x.push_back(v);
       out.push_back(d);
@@ -245,23 +249,23 @@ TEST_CASE("verdict power on the thesis designs", "[fit][power]") {
     }
     const double up_pure = simulate_verdicts(d.x, up, d.claimed, noise, trials, 12, rules).exceeds;
     const double up_added =
-        simulate_verdicts(d.x, [&](double v) { return g(v) + up(v); }, d.claimed, noise, trials,
-                          13, rules)
+        simulate_verdicts(
+            d.x, [&](double v) { return g(v) + up(v); }, d.claimed, noise, trials, 13, rules)
             .exceeds;
     const double between_pure =
         simulate_verdicts(d.x, between, d.claimed, noise, trials, 14, rules).holds;
     const double between_added =
-        simulate_verdicts(d.x, [&](double v) { return g(v) + between(v); }, d.claimed, noise,
-                          trials, 15, rules)
+        simulate_verdicts(
+            d.x, [&](double v) { return g(v) + between(v); }, d.claimed, noise, trials, 15, rules)
             .holds;
     const double true_holds = simulate_verdicts(d.x, g, d.claimed, noise, trials, 16, rules).holds;
     if (line++ == 0)
-      std::printf("power | design | claimed | noise | false exceeds (worst of 4) | class up "
-                  "pure / added | between holds pure / added | true holds\n");
+      std::printf(
+          "power | design | claimed | noise | false exceeds (worst of 4) | class up "
+          "pure / added | between holds pure / added | true holds\n");
     std::printf("power | %s | %s | %.0f%% | %.3f (%s) | %.3f / %.3f | %.3f / %.3f | %.2f\n",
                 d.name.c_str(), growth_name(d.claimed), 100 * noise, worst_false,
-                worst_truth.c_str(), up_pure,
-                up_added, between_pure, between_added, true_holds);
+                worst_truth.c_str(), up_pure, up_added, between_pure, between_added, true_holds);
     INFO(d.name);
     CHECK(worst_false <= 0.05);
     CHECK(up_pure >= 0.90);
@@ -306,7 +310,8 @@ TEST_CASE("verdicts on the departures the earlier rule missed", "[fit][power]") 
   auto design = [](double lo, double hi, int n) {
     std::vector<double> x;
     for (int i = 0; i < n; ++i)
-      for (int r = 0; r < 3; ++r) x.push_back(std::round(lo * std::pow(hi / lo, i / double(n - 1))));
+      for (int r = 0; r < 3; ++r)
+        x.push_back(std::round(lo * std::pow(hi / lo, i / double(n - 1))));
     return x;
   };
   const std::vector<double> build = design(2500, 640000, 9), query = design(1000, 512000, 10);
@@ -317,17 +322,28 @@ TEST_CASE("verdicts on the departures the earlier rule missed", "[fit][power]") 
   };
   const auto nlogn = [](double n) { return n * std::log(n); };
   // N^1.25 and N^1.5 against N log N: never holds; N^1.5 exceeds.
-  CHECK(rate(build, [](double n) { return std::pow(n, 1.25); }, Growth::kLinearLog).holds <= 0.05);
-  CHECK(rate(build, [](double n) { return std::pow(n, 1.5); }, Growth::kLinearLog).exceeds >= 0.9);
+  CHECK(rate(
+            build, [](double n) { return std::pow(n, 1.25); }, Growth::kLinearLog)
+            .holds <= 0.05);
+  CHECK(rate(
+            build, [](double n) { return std::pow(n, 1.5); }, Growth::kLinearLog)
+            .exceeds >= 0.9);
   // The true build plus an N^2 or N^1.5 term that doubles y at the largest N.
   const double top = 640000;
-  CHECK(rate(build, [&](double n) { return nlogn(n) + nlogn(top) * n * n / (top * top); },
-             Growth::kLinearLog).exceeds >= 0.9);
-  CHECK(rate(build, [&](double n) { return nlogn(n) + nlogn(top) * std::pow(n / top, 1.5); },
-             Growth::kLinearLog).holds <= 0.05);
+  CHECK(rate(
+            build, [&](double n) { return nlogn(n) + nlogn(top) * n * n / (top * top); },
+            Growth::kLinearLog)
+            .exceeds >= 0.9);
+  CHECK(rate(
+            build, [&](double n) { return nlogn(n) + nlogn(top) * std::pow(n / top, 1.5); },
+            Growth::kLinearLog)
+            .holds <= 0.05);
   // N^0.25 against a claimed log N: never holds.
-  CHECK(rate(query, [](double n) { return std::pow(n, 0.25); }, Growth::kLog).holds <= 0.05);
+  CHECK(rate(
+            query, [](double n) { return std::pow(n, 0.25); }, Growth::kLog)
+            .holds <= 0.05);
   // A true N log N with a large linear term, N (ln N + 30): never exceeds.
-  CHECK(rate(build, [](double n) { return n * (std::log(n) + 30); }, Growth::kLinearLog).exceeds <=
-        0.05);
+  CHECK(rate(
+            build, [](double n) { return n * (std::log(n) + 30); }, Growth::kLinearLog)
+            .exceeds <= 0.05);
 }

@@ -103,14 +103,41 @@ void write_fits(const std::string& dir, const std::vector<json>& fits) {
   write_json(dir + "/fits.json", json(fits));
   // The runs keep their own commit (context.json); this is the fitter's, which may be later.
   write_json(dir + "/fit_context.json", source_context());
-  const std::vector<std::string> cols = {
-      "claim",          "about",        "method",         "structure",    "dataset",
-      "variable",       "x",            "metric",         "points",       "distinct_x",
-      "decades",        "exponent",     "ci_low",         "ci_high",      "claimed_exponent",
-      "best_model",     "expected_model", "r2",           "noise",        "pure_noise",
-      "weight_faster",  "hidden_at_most", "tolerance",    "lower_term",   "tightness",
-      "claimed",        "measured",     "threshold",      "verdict",      "verdict_if_fixed",
-      "reason",         "leave_one_out", "source",        "failed_runs",  "error"};
+  const std::vector<std::string> cols = {"claim",
+                                         "about",
+                                         "method",
+                                         "structure",
+                                         "dataset",
+                                         "variable",
+                                         "x",
+                                         "metric",
+                                         "points",
+                                         "distinct_x",
+                                         "decades",
+                                         "exponent",
+                                         "ci_low",
+                                         "ci_high",
+                                         "claimed_exponent",
+                                         "best_model",
+                                         "expected_model",
+                                         "r2",
+                                         "noise",
+                                         "pure_noise",
+                                         "weight_faster",
+                                         "hidden_at_most",
+                                         "tolerance",
+                                         "lower_term",
+                                         "tightness",
+                                         "claimed",
+                                         "measured",
+                                         "threshold",
+                                         "verdict",
+                                         "verdict_if_fixed",
+                                         "reason",
+                                         "leave_one_out",
+                                         "source",
+                                         "failed_runs",
+                                         "error"};
   write_csv(dir + "/fits.csv", cols, fits);
 }
 

@@ -478,11 +478,11 @@ void add_runs(const Experiment& x, std::vector<RunSpec> specs, SweepConfig& c) {
 void parse_experiment(const json& e, const std::string& where, size_t index, const RunDefaults& d,
                       const std::string& dataset_dir, DatasetCheck check,
                       std::set<std::string>& names, SweepConfig& c) {
-  check_keys(e,
-             {"name", "description", "kind", "methods", "structures", "datasets", "grid", "points",
-              "reconstructions", "engine", "workloads", "fits", "repetitions", "camera",
-              "replicates"},
-             where);
+  check_keys(
+      e,
+      {"name", "description", "kind", "methods", "structures", "datasets", "grid", "points",
+       "reconstructions", "engine", "workloads", "fits", "repetitions", "camera", "replicates"},
+      where);
   Experiment x{e,
                where,
                e.value("name", fmt::format("experiment{}", index)),

@@ -85,8 +85,10 @@ TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
 }
 
 TEST_CASE("fit_runs: a drifting K declared a covariate is fitted, not held", "[sweep][fit]") {
-  const SweepConfig c = config(
-      {{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}, {"covariate", "K"}});
+  const SweepConfig c = config({{"claim", "{method}/frame_reduced"},
+                                {"variable", "N"},
+                                {"metric", "work"},
+                                {"covariate", "K"}});
   const std::vector<RunResult> runs = drifting_k_runs(1.5);
   const json f = fit_runs(c, runs)[0];
   INFO(f.dump());

@@ -6,8 +6,8 @@
 #include <limits>
 #include <map>
 
-#include "core/error.hpp"
 #include "core/dataset.hpp"
+#include "core/error.hpp"
 #include "harness/claims.hpp"
 #include "harness/fit.hpp"
 #include "harness/run_files.hpp"
@@ -112,17 +112,19 @@ ClaimVerdict fit_threshold(const FitSpec& f, const std::vector<FitPoint>& pts, j
   // A run without the measure (NaN: the column is null) is missing data, never a pass.
   for (const FitPoint& p : pts)
     if (!std::isfinite(p.y)) {
-      out["error"] = fmt::format("a run has no value for {} (null or not finite): no verdict "
-                                 "without data",
-                                 out.value("metric", std::string("the metric")));
+      out["error"] = fmt::format(
+          "a run has no value for {} (null or not finite): no verdict "
+          "without data",
+          out.value("metric", std::string("the metric")));
       out["measured"] = nullptr;
       return ClaimVerdict::kError;
     }
   if (pts.empty() || out.value("failed_runs", 0) > 0) {
     out["error"] = pts.empty() ? "no successful run"
-                               : fmt::format("{} of its runs failed or timed out: no verdict "
-                                             "without their data",
-                                             out.value("failed_runs", 0));
+                               : fmt::format(
+                                     "{} of its runs failed or timed out: no verdict "
+                                     "without their data",
+                                     out.value("failed_runs", 0));
     out["measured"] = nullptr;
     return ClaimVerdict::kError;
   }
@@ -214,8 +216,8 @@ ClaimVerdict fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<
   if (g.verdict == ClaimVerdict::kHolds && failed > 0) {  // a bound cannot hold over missing data
     g.verdict = ClaimVerdict::kInconclusive;
     g.tightness = Tightness::kNotTested;
-    g.reason = fmt::format("it would hold ({}), but {} of its runs failed or timed out", g.reason,
-                           failed);
+    g.reason =
+        fmt::format("it would hold ({}), but {} of its runs failed or timed out", g.reason, failed);
   }
   write_growth_fit(g, out);
   out["reason"] = g.reason;
