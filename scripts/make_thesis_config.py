@@ -15,8 +15,11 @@ ARGS.add_argument("--pcrt", default="build/bin/pcrt")
 ARGS.add_argument("--check", help="exit 1 unless CONFIG is what this script writes")
 ARGS.add_argument("out", nargs="?", default="configs/thesis.json")
 ARGS = ARGS.parse_args()
-METHODS = json.loads(subprocess.run([ARGS.pcrt, "list", "--json"], check=True, capture_output=True,
-                                    text=True).stdout)["methods"]
+try:
+    METHODS = json.loads(subprocess.run([ARGS.pcrt, "list", "--json"], check=True,
+                                        capture_output=True, text=True).stdout)["methods"]
+except (OSError, subprocess.CalledProcessError) as e:
+    sys.exit(f"{ARGS.pcrt}: cannot list the methods ({e}); build pcrt or pass --pcrt")
 
 SCAN = "../data/cgal/points_3/building.ply"  # relative to the config's folder
 def geo(lo, hi, n):
