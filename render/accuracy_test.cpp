@@ -42,7 +42,7 @@ std::set<std::string> missed_bounds(const AccuracyReport& r) {
 }
 
 // (method, dataset) -> the bounds it is known to miss. Each entry is explained in the method's
-// README and in the README's accuracy table.
+// README and in the accuracy table of docs/methods.md.
 const std::map<std::pair<std::string, std::string>, std::set<std::string>> kKnownMisses = {
     // Flat discs carry their centre's normal across the whole disc: on the torus's tube (radius
     // 0.25) a disc of 8th-neighbour radius tilts ~3 degrees at its rim. Not surveyed methods.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's real-shape accuracy table: every registered method (and the afsr reconstruction)
+# The real-shape accuracy table of docs/accuracy.md: every registered method (and the afsr reconstruction)
 # judged against CGAL demo meshes and the npm bunny by `pcrt accuracy --truth` (10^5 points
 # sampled by area, 20 000 rays), plus one scanner-like variant (noise 0.3 h, density falling by
 # half across the object, PCA normals), and 10 000 secondary rays leaving the true surface (half

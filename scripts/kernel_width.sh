@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The kernel-width checks behind the causes in the README's "Accuracy on real shapes": each method
+# The kernel-width checks behind the causes in docs/accuracy.md ("Causes"): each method
 # whose failures at creases stay above 1% is rerun on its worst shape with a narrower and a wider
 # kernel (`--set`, defaults untouched): a rate that follows the kernel width comes from the
 # surface the method defines. Also Tejada's z-buffer disc radius against its lost frame pixels.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's method table: accuracy on the exact sphere and torus (10^5 points, 20 000 rays,
+# The method table of docs/methods.md: accuracy on the exact sphere and torus (10^5 points, 20 000 rays,
 # `pcrt accuracy`) and frames per second on a 10^6-point sphere at 512x512, 1 spp, 1 bounce,
 # 2 threads (`pcrt render`), for every registered method on its default structure, and for the
 # reconstruction baseline (advancing front, traced on our BVH) judged the same way.

@@ -12,7 +12,7 @@ build/bin/pcrt check --config configs/ci.json --baseline results/baselines/ci.js
 # ASan + UBSan (clang, -fno-sanitize-recover=undefined): every unit and CLI test again, but the
 # slowest (named below: 20-50 s each here, 10-30x that under the sanitizers, on the same code the
 # faster cases cover at smaller sizes); then the bad-input corpus replayed in process and every
-# libFuzzer target for PCRT_FUZZ_SECONDS (60) each. See the README's "Tests".
+# libFuzzer target for PCRT_FUZZ_SECONDS (60) each. See docs/tests.md.
 CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPCRT_SANITIZE=ON \
   -DPCRT_FUZZ=ON -DPCRT_PYTHON=OFF >/dev/null
 cmake --build build-asan -j "$(nproc)"
