@@ -9,68 +9,137 @@
 #include <cmath>
 
 #include "core/rng.hpp"
+#include "render/sampling.hpp"
 
 namespace pcrt {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr int kTile = 16;
 
-struct Lighting {
-  Vec3 light_pos;
-  float light_intensity;  // radiant intensity, scaled so a white surface facing it at the
-                          // scene's distance receives irradiance pi * 0.8
-  bool point_light;
-  float epsilon;
+// Two uniform numbers in the order drawn (a constructor's arguments have no evaluation order).
+Vec2 uniform2(Rng& rng) {
+  const float a = rng.uniform();
+  const float b = rng.uniform();
+  return {a, b};
+}
+
+// What every path of a frame shares.
+struct PathContext {
+  const RenderScene& scene;
+  float epsilon;  // the smallest lift of a secondary ray's origin off the surface
+  int bounces;
 };
 
-// The emitting sky: a vertical gradient, brighter towards +z.
-Vec3 sky(const Vec3& d) {
-  const float a = 0.5f * (d.z() + 1.0f);
-  return (1.0f - a) * Vec3(0.35f, 0.33f, 0.30f) + a * Vec3(0.45f, 0.55f, 0.70f);
+// The previous vertex of a path: how the ray now traced was drawn, for the MIS weight of the
+// light it may reach.
+struct Bounce {
+  Vec3 from = Vec3::Zero();
+  float pdf = 0;
+  bool specular = true;  // camera rays and delta lobes: no light strategy competes
+};
+
+// The MIS weight of a BSDF-sampled ray that reached `light`.
+float bsdf_weight(const Light& light, const Bounce& b, const Vec3& d) {
+  if (b.specular || !light.sampled) return 1.0f;
+  return power_heuristic(b.pdf, light_pdf(light, b.from, d));
 }
 
-Vec3 albedo(const PointCloud& cloud, uint32_t prim) {
-  if (!cloud.has_colours() || prim >= cloud.size()) return Vec3::Constant(0.75f);
-  const Rgb8 c = cloud.colours[prim];
-  auto lin = [](uint8_t v) { return std::pow(float(v) / 255.0f, 2.2f); };
-  return Vec3(lin(c.r), lin(c.g), lin(c.b));
+// Radiance from a sphere light in front of the hit (closest_t), or from the environments when
+// nothing was hit; true when the ray ended on a light (lights do not reflect).
+bool reach_lights(const PathContext& c, const Ray& ray, float closest_t, bool found,
+                  const Bounce& b, const Vec3& throughput, Vec3& result, OpCounters& counters) {
+  const Light* nearest = nullptr;
+  float t = closest_t;
+  for (const Light& l : c.scene.lights) {
+    const float tl = intersect_light(l, ray);
+    if (tl < t) t = tl, nearest = &l;
+  }
+  if (nearest) {
+    counters.add(kLightHits);
+    result += bsdf_weight(*nearest, b, ray.d) * throughput.cwiseProduct(nearest->power);
+    return true;
+  }
+  if (found) return false;
+  for (const Light& l : c.scene.lights)
+    if (is_environment(l))
+      result += bsdf_weight(l, b, ray.d) * throughput.cwiseProduct(light_radiance(l, ray.d));
+  return true;
 }
 
-// Algorithm 2, unrolled: radiance along `ray` whose closest hit is `hit`.
-Vec3 radiance(const SceneIntersector& scene, const PointCloud& cloud, Ray ray, Hit hit, bool found,
-              int bounces, const Lighting& lighting, Rng& rng, OpCounters& counters) {
+// Materials that receive light from both sides of the surface (non-delta ones: rough glass); they
+// sample lights from the hit itself, since the side the light lies on is not known beforehand.
+bool two_sided(const Material& m) { return m.kind == MaterialKind::kRoughDielectric; }
+
+// Next event estimation at a non-specular vertex: one shadow ray per sampled light. Point lights
+// draw no random numbers (the default frame's random sequence is Algorithm 2's).
+Vec3 direct_light(const PathContext& c, const Hit& hit, const Vec3& n, const Frame3& frame,
+                  const Material& m, const Vec3& wo, Rng& rng, OpCounters& counters) {
+  Vec3 sum = Vec3::Zero();
+  const bool both_sides = two_sided(m);
+  // Reflecting materials sample from the lifted point on their side, as the shadow ray starts.
+  const Vec3 lifted = spawn_point(hit, n, n, c.epsilon);
+  for (const Light& l : c.scene.lights) {
+    if (!l.sampled) continue;
+    const Vec2 u = l.kind == LightKind::kPoint ? Vec2::Zero() : uniform2(rng);
+    const auto ls = sample_light(l, both_sides ? hit.p : lifted, u);
+    if (!ls) continue;
+    const Vec3 wi = frame.to_local(ls->wi);
+    const float cos_i = std::abs(wi.z());
+    if (cos_i <= 0 || (!both_sides && wi.z() <= 0)) continue;  // the light is behind the surface
+    const Vec3 f = bsdf_f(m, wo, wi);
+    const Vec3 origin = both_sides ? spawn_point(hit, n, ls->wi, c.epsilon) : lifted;
+    const float dist = both_sides ? (ls->distance - (origin - hit.p).norm()) : ls->distance;
+    counters.add(kShadowRays);
+    if (c.scene.any_hit(Ray{origin, ls->wi, 0.0f, dist}, counters)) continue;
+    const float w = ls->delta ? 1.0f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
+    sum += f.cwiseProduct(ls->radiance) * (w * cos_i / ls->pdf);
+  }
+  return sum;
+}
+
+// Materials with a lobe choice draw its random number after the direction's two.
+bool draws_lobe(const Material& m) {
+  return m.kind == MaterialKind::kDielectric || m.kind == MaterialKind::kRoughDielectric;
+}
+
+// The shading normal of a hit: towards the incoming ray for one-sided materials; dielectrics keep
+// the surface's own (outward) normal, so that wo.z < 0 says the ray arrived from inside.
+Vec3 shading_normal(const Hit& hit, const Ray& ray, const Material& m) {
+  if (m.kind == MaterialKind::kDielectric || m.kind == MaterialKind::kRoughDielectric) return hit.n;
+  return hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
+}
+
+// Algorithm 2, unrolled: radiance along `ray` whose closest hit (if `found`) is `hit` on
+// `object`.
+Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool found, Rng& rng,
+              OpCounters& counters) {
   Vec3 result = Vec3::Zero();
   Vec3 throughput = Vec3::Ones();
+  Bounce bounce;
   for (int depth = 0;; ++depth) {
-    if (!found) {
-      // A camera ray that misses sees the sky; so does a bounce ray (the sky is the light source
-      // of Algorithm 2, line 7).
-      result += throughput.cwiseProduct(sky(ray.d));
+    if (reach_lights(c, ray, found ? hit.t : kInfinity, found, bounce, throughput, result,
+                     counters))
       break;
-    }
-    const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;  // shade the side the ray came from
-    const Vec3 f = albedo(cloud, hit.prim) / kPi;                // Lambertian BRDF
-    const Vec3 x = hit.p + std::max(lighting.epsilon, 0.5f * hit.footprint) * n;
-    if (lighting.point_light) {
-      const Vec3 to_light = lighting.light_pos - x;
-      const float dist = to_light.norm();
-      const Vec3 l = to_light / dist;
-      const float cos_l = n.dot(l);
-      if (cos_l > 0) {
-        const Ray shadow{x, l, 0.0f, dist};
-        counters.add(kShadowRays);
-        if (!scene.any_hit(shadow, counters))
-          result += throughput.cwiseProduct(f) * (lighting.light_intensity * cos_l / (dist * dist));
-      }
-    }
-    if (depth == bounces) break;
-    // Cosine-weighted sampling: pdf = cos/pi, so the estimator's weight is f * pi = albedo.
-    ray = Ray{x, cosine_direction(n, rng), 0.0f, kInfinity};
-    throughput = throughput.cwiseProduct(f * kPi);
+    const Material m = c.scene.material_at(object, hit.prim);
+    result += throughput.cwiseProduct(m.emission);  // emitting surfaces: reached only by rays
+    const Vec3 n = shading_normal(hit, ray, m);
+    const Frame3 frame(n);
+    const Vec3 wo = frame.to_local(-ray.d);
+    if (!is_delta(m))
+      result += throughput.cwiseProduct(direct_light(c, hit, n, frame, m, wo, rng, counters));
+    if (depth == c.bounces) break;
+    const Vec2 u = uniform2(rng);
+    const float uc = draws_lobe(m) ? rng.uniform() : 0.5f;
+    const auto bs = bsdf_sample(m, wo, uc, u);
+    if (!bs) break;
+    const Vec3 wi = frame.to_world(bs->wi).normalized();
+    throughput = throughput.cwiseProduct(bs->f * (std::abs(bs->wi.z()) / bs->pdf));
+    ray = Ray{spawn_point(hit, n, wi, c.epsilon), wi, 0.0f, kInfinity};
+    // Where NEE sampled the lights from, so that both strategies' pdfs are of the same point.
+    bounce = Bounce{two_sided(m) ? hit.p : ray.o, bs->pdf, bs->delta};
     hit = Hit{};
     counters.add(kBounceRays);
-    found = scene.closest_hit(ray, hit, counters);
+    found = c.scene.closest_hit(ray, hit, object, counters);
   }
   return result;
 }
@@ -87,30 +156,18 @@ Vec3 cosine_direction(const Vec3& n, Rng& rng) {
       .normalized();
 }
 
-namespace {
-
-// The light above and to the left of the camera, in the frame the camera's up vector defines.
-Lighting make_lighting(const Aabb& bounds, const RenderSettings& s) {
-  const float diag = std::max(bounds.diagonal(), 1e-6f);
-  Lighting lighting;
-  lighting.point_light = s.point_light;
-  const Vec3 up = s.up.normalized();
-  const Vec3 side = s.view.normalized().cross(up).normalized();
-  lighting.light_pos =
-      bounds.center() + diag * (0.9f * s.view.normalized() + 1.2f * up - 0.6f * side);
-  const float light_dist = (lighting.light_pos - bounds.center()).norm();
-  lighting.light_intensity = 0.8f * kPi * light_dist * light_dist;
-  lighting.epsilon = s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag;
-  return lighting;
+Vec3 spawn_point(const Hit& hit, const Vec3& n, const Vec3& dir, float epsilon) {
+  const float lift = std::max(epsilon, 0.5f * hit.footprint);
+  return dir.dot(n) >= 0 ? Vec3(hit.p + lift * n) : Vec3(hit.p - lift * n);
 }
+
+namespace {
 
 // What every pixel of one frame shares, and the images it writes.
 struct Frame {
-  const SceneIntersector& scene;
-  const PointCloud& cloud;
+  PathContext path;
   const RenderSettings& s;
   Camera camera;
-  Lighting lighting;
   const PrimaryPass* primary;  // the method's own primary pass, or null: camera rays are traced
   RenderResult& out;
   std::vector<float>& depth;
@@ -118,11 +175,12 @@ struct Frame {
 
 // The closest hit of a camera ray: from the method's primary pass if it has one (counted like a
 // traced ray, so that rays_cast stays comparable), else traced.
-bool primary_hit(const Frame& f, const Ray& ray, float px, float py, Hit& hit,
+bool primary_hit(const Frame& f, const Ray& ray, float px, float py, Hit& hit, uint32_t& object,
                  OpCounters& counters) {
   counters.add(kPrimaryRays);
-  if (!f.primary) return f.scene.closest_hit(ray, hit, counters);
+  if (!f.primary) return f.path.scene.closest_hit(ray, hit, object, counters);
   counters.add(kRaysCast);
+  object = 0;
   const bool found = f.primary->closest_hit(ray, px, py, hit, counters);
   if (found) counters.add(kRayHits);
   return found;
@@ -139,14 +197,15 @@ void render_pixel(const Frame& f, int x, int y, OpCounters& counters) {
     const float jx = i == 0 ? 0.5f : rng.uniform(), jy = i == 0 ? 0.5f : rng.uniform();
     const Ray ray = f.camera.ray(float(x) + jx, float(y) + jy);
     Hit hit;
-    const bool found = primary_hit(f, ray, float(x) + jx, float(y) + jy, hit, counters);
+    uint32_t object = 0;
+    const bool found = primary_hit(f, ray, float(x) + jx, float(y) + jy, hit, object, counters);
     if (i == 0 && found) {
       f.depth[pixel] = hit.t;
       const Vec3 n = hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
       f.out.normals.at(x, y) = 0.5f * (n + Vec3::Ones());
       f.out.primary_n[pixel] = n;
     }
-    sum += radiance(f.scene, f.cloud, ray, hit, found, s.bounces, f.lighting, rng, counters);
+    sum += radiance(f.path, ray, hit, object, found, rng, counters);
   }
   f.out.image.at(x, y) = sum / float(s.spp);
 }
@@ -185,11 +244,18 @@ void shade_depth(std::span<const float> depth, Image& image) {
     }
 }
 
+// A method's own primary pass stands in for camera rays only where it sees the whole frame: one
+// untransformed object.
+std::unique_ptr<PrimaryPass> scene_primary_pass(const RenderScene& scene, const Camera& camera,
+                                                OpCounters& counters) {
+  if (scene.objects.size() != 1 || !scene.objects[0].transform.identity()) return nullptr;
+  return scene.objects[0].geometry->primary_pass(camera, counters);
+}
+
 }  // namespace
 
-RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
-                    const RenderSettings& s) {
-  const Aabb bounds = cloud.bounds();
+RenderResult render(const RenderScene& scene, const RenderSettings& s) {
+  const Aabb bounds = scene.bounds();
   const Camera camera =
       s.camera ? *s.camera : Camera::framing(bounds, s.width, s.height, s.view, s.up);
   RenderResult out{
@@ -198,14 +264,21 @@ RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
   out.primary_n.assign(depth.size(), Vec3::Zero());
   const auto start = std::chrono::steady_clock::now();
   OpCounters frame_counters;
-  const std::unique_ptr<PrimaryPass> primary = scene.primary_pass(camera, frame_counters);
-  const Frame frame{scene, cloud, s, camera, make_lighting(bounds, s), primary.get(), out, depth};
+  const std::unique_ptr<PrimaryPass> primary = scene_primary_pass(scene, camera, frame_counters);
+  const float diag = std::max(bounds.diagonal(), 1e-6f);
+  const PathContext path{scene, s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag, s.bounces};
+  const Frame frame{path, s, camera, primary.get(), out, depth};
   render_tiles(frame, out.counters);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.counters.merge(frame_counters);
   shade_depth(depth, out.depth);
   out.primary_t = std::move(depth);
   return out;
+}
+
+RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
+                    const RenderSettings& s) {
+  return render(single_object_scene(scene, cloud, s.view, s.up, s.point_light), s);
 }
 
 }  // namespace pcrt

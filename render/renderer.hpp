@@ -1,7 +1,9 @@
 // The generic renderer of thesis section 5.5.1: Algorithm 1 (S samples over M pixels) and
-// Algorithm 2 (recursive rendering equation, B bounces) as an iterative path tracer, with a
-// Lambertian BRDF sampled by cosine, an emitting sky and an optional point light reached by
-// shadow rays (next event estimation, section 4.1.1).
+// Algorithm 2 (recursive rendering equation, B bounces) as an iterative path tracer over a
+// RenderScene: the objects' materials sampled by their BSDFs (render/bsdf.hpp), every sampled
+// light reached by a shadow ray at each non-specular vertex (next event estimation, section
+// 4.1.1), and both strategies weighted by the power heuristic where a sampled direction can also
+// reach a light. No Russian roulette: every path runs its B bounces unless it leaves the scene.
 #pragma once
 
 #include <optional>
@@ -12,6 +14,7 @@
 #include "core/image.hpp"
 #include "core/point_cloud.hpp"
 #include "core/rng.hpp"
+#include "render/render_scene.hpp"
 #include "render/scene.hpp"
 
 namespace pcrt {
@@ -46,7 +49,17 @@ struct RenderResult {
 // A direction around the unit normal n with density cos/pi (the renderer's bounce rays).
 Vec3 cosine_direction(const Vec3& n, Rng& rng);
 
+// Where a secondary ray leaving the hit towards `dir` starts: lifted off the surface along the
+// normal, to the side `dir` leaves on, by the larger of epsilon and half the hit's footprint
+// (neighbouring splats of a curved surface stand above the hit by up to radius^2 * curvature).
+Vec3 spawn_point(const Hit& hit, const Vec3& n, const Vec3& dir, float epsilon);
+
+// The default frame of one object (single_object_scene): what `pcrt render --method`, the sweeps
+// and the Python module render.
 RenderResult render(const SceneIntersector& scene, const PointCloud& cloud,
                     const RenderSettings& settings);
+// A frame of a whole scene; settings.camera (or framing of the scene's bounds along view/up),
+// settings.point_light is not used (the scene's lights are).
+RenderResult render(const RenderScene& scene, const RenderSettings& settings);
 
 }  // namespace pcrt

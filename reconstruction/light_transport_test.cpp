@@ -1,0 +1,164 @@
+// Analytic scenes the path tracer must render to a known radiance (pbrt-v4's integrators_test
+// design): inside a closed sphere of albedo 1/2 the radiance is 1 everywhere when the sphere is lit
+// by a point light of intensity pi at its centre (direct 1/2, and each bounce halves what it
+// carries), by four lights of pi/4, by a sphere light of the same power, or when the sphere emits
+// 1/2 itself. A convex object of albedo 1 under a uniform environment of radiance 1 renders to 1
+// (the white furnace). Run on an exact sphere and on a triangle mesh.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numeric>
+
+#include "reconstruction/mesh_engine.hpp"
+#include "render/renderer.hpp"
+
+using namespace pcrt;
+
+namespace {
+
+// The exact unit sphere about the origin, normals outward.
+class ExactSphere final : public SceneIntersector {
+ public:
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
+    counters.add(kRaysCast);
+    const float b = ray.o.dot(ray.d), c = ray.o.squaredNorm() - 1.0f;
+    const float disc = b * b - c;
+    if (disc < 0) return false;
+    const float h = std::sqrt(disc);
+    float t = -b - h;
+    if (t < ray.tmin || t >= std::min(ray.tmax, hit.t)) t = -b + h;
+    if (t < ray.tmin || t >= std::min(ray.tmax, hit.t)) return false;
+    hit.t = t, hit.p = ray.at(t), hit.n = hit.p.normalized(), hit.prim = 0;
+    return true;
+  }
+};
+
+// An icosahedron subdivided `levels` times, its vertices on the unit sphere.
+TriangleMesh icosphere(int levels) {
+  const float g = (1.0f + std::sqrt(5.0f)) / 2.0f;
+  TriangleMesh m;
+  for (const Vec3& v : {Vec3(-1, g, 0), Vec3(1, g, 0), Vec3(-1, -g, 0), Vec3(1, -g, 0),
+                        Vec3(0, -1, g), Vec3(0, 1, g), Vec3(0, -1, -g), Vec3(0, 1, -g),
+                        Vec3(g, 0, -1), Vec3(g, 0, 1), Vec3(-g, 0, -1), Vec3(-g, 0, 1)})
+    m.vertices.push_back(v.normalized());
+  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::vector<std::array<uint32_t, 3>> next;
+    for (const auto& t : m.triangles) {
+      uint32_t mid[3];
+      for (int e = 0; e < 3; ++e) {
+        m.vertices.push_back((m.vertices[t[e]] + m.vertices[t[(e + 1) % 3]]).normalized());
+        mid[e] = uint32_t(m.vertices.size() - 1);
+      }
+      next.push_back({t[0], mid[0], mid[2]});
+      next.push_back({mid[0], t[1], mid[1]});
+      next.push_back({mid[2], mid[1], t[2]});
+      next.push_back({mid[0], mid[1], mid[2]});
+    }
+    m.triangles = std::move(next);
+  }
+  return m;
+}
+
+Light point_light(float intensity) {
+  Light l;
+  l.power = Vec3::Constant(intensity);
+  return l;
+}
+
+// The mean radiance of a small frame seen from inside the sphere, looking away from its centre
+// (where the lights are): the wall's radiance does not depend on where it is seen from.
+float mean_inside(const SceneIntersector& geometry, Material material, std::vector<Light> lights,
+                  int spp = 16) {
+  RenderScene scene;
+  Aabb box;
+  box.extend(Vec3::Constant(-1)), box.extend(Vec3::Constant(1));
+  scene.objects.push_back(SceneObject{&geometry, nullptr, material, Transform{}, box, "sphere"});
+  scene.lights = std::move(lights);
+  RenderSettings s;
+  s.width = s.height = 16;
+  s.spp = spp;
+  s.bounces = 24;  // 2^-25 of the series is left out
+  s.ray_epsilon = 1e-4f;
+  s.camera = Camera(Vec3(0.5f, 0.02f, 0.03f), Vec3(2, 0.3f, 0.2f), Vec3::UnitZ(), 90, 16, 16);
+  const RenderResult r = render(scene, s);
+  double sum = 0;
+  for (const Vec3& p : r.image.pixels()) sum += p.mean();
+  return float(sum / double(r.image.pixels().size()));
+}
+
+Material diffuse(float albedo) {
+  Material m;
+  m.albedo = Vec3::Constant(albedo);
+  return m;
+}
+
+void check_analytic_scenes(const SceneIntersector& sphere) {
+  SECTION("one point light of intensity pi") {
+    CHECK(mean_inside(sphere, diffuse(0.5f), {point_light(kPi)}) == Approx(1.0f).margin(0.025));
+  }
+  SECTION("four point lights of pi/4") {
+    std::vector<Light> four(4, point_light(kPi / 4));
+    CHECK(mean_inside(sphere, diffuse(0.5f), four) == Approx(1.0f).margin(0.025));
+  }
+  SECTION("a sphere light of the same power, sampled and hit (MIS)") {
+    Light l;
+    l.kind = LightKind::kSphere;
+    l.radius = 0.1f;
+    l.power = Vec3::Constant(1.0f / (l.radius * l.radius));  // irradiance pi L (r/d)^2 = pi
+    l.position = Vec3::Zero();
+    CHECK(mean_inside(sphere, diffuse(0.5f), {l}) == Approx(1.0f).margin(0.025));
+  }
+  SECTION("the sphere itself emitting 1/2") {
+    Material m = diffuse(0.5f);
+    m.emission = Vec3::Constant(0.5f);
+    Light none;
+    none.kind = LightKind::kEnvironment;
+    none.power = Vec3::Zero();
+    CHECK(mean_inside(sphere, m, {none}) == Approx(1.0f).margin(0.025));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("analytic scenes render to radiance 1 on an exact sphere", "[light_transport]") {
+  const ExactSphere sphere;
+  check_analytic_scenes(sphere);
+}
+
+TEST_CASE("analytic scenes render to radiance 1 on a triangle mesh sphere", "[light_transport]") {
+  const TriangleMesh mesh = icosphere(4);
+  OpCounters counters;
+  Timings timings;
+  const MeshScene sphere(mesh, "bvh", counters, timings);
+  check_analytic_scenes(sphere);
+}
+
+TEST_CASE("a white convex object under a uniform environment renders to 1 (furnace)",
+          "[light_transport]") {
+  const ExactSphere sphere;
+  for (const bool sampled : {false, true}) {
+    INFO("environment sampled by next event estimation: " << sampled);
+    RenderScene scene;
+    Aabb box;
+    box.extend(Vec3::Constant(-1)), box.extend(Vec3::Constant(1));
+    scene.objects.push_back(SceneObject{&sphere, nullptr, diffuse(1), Transform{}, box, "sphere"});
+    Light env;
+    env.kind = LightKind::kEnvironment;
+    env.sampled = sampled;
+    scene.lights = {env};
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 8;
+    s.bounces = 3;
+    const RenderResult r = render(scene, s);
+    double sum = 0;
+    for (const Vec3& p : r.image.pixels()) sum += p.mean();
+    const double mean = sum / double(r.image.pixels().size());
+    CHECK(mean == Approx(1.0).margin(sampled ? 0.02 : 1e-5));
+    if (!sampled)  // every path escapes with weight exactly albedo = 1: no variance at all
+      for (const Vec3& p : r.image.pixels()) REQUIRE(p.minCoeff() == Approx(1.0f).margin(1e-5));
+  }
+}
