@@ -200,6 +200,8 @@ void bind(CLI::App& c, InfoOptions& o) {
 
 void bind(CLI::App& c, RenderOptions& o) {
   bind_scene(c, o.scene, kMeshEngineHelp);
+  text(c, "--scene", o.scene_file, "FILE.json",
+       "a scene file (materials, objects, lights, camera) instead of one method or mesh");
   text(c, "--out", o.out, "FILE.png", "image to write (.exr: 32-bit float radiance)")->required();
   bind_frame(c, o.settings);
   integer(c, "--seed", o.settings.seed, "N", "random seed", 0, 1ll << 62);
@@ -237,6 +239,19 @@ void bind_truth(CLI::App& c, TruthArgs& t) {
       ->default_str(describe(MeshSampling{}));
   text(c, "--truth-engine", t.engine, "ID", "triangle engine tracing --truth")
       ->default_str(kDefaultMeshEngine);
+}
+
+void bind(CLI::App& c, FurnaceOptions& o) {
+  bind_scene(c, o.scene, kMeshEngineHelp);
+  bind_truth(c, o.truth);
+  bind_frame(c, o.settings);
+  integer(c, "--seed", o.settings.seed, "N", "random seed", 0, 1ll << 62);
+  direction(c, "--view", o.settings.view, "direction from the cloud's centre to the camera");
+  direction(c, "--up", o.settings.up, "camera up vector");
+  number(c, "--ray-epsilon", o.settings.ray_epsilon, "E",
+         "offset of secondary ray origins (0: 1e-3 x scene diagonal)", 0.0);
+  text(c, "--out", o.out, "FILE.png|.exr", "also write the furnace image");
+  json_flag(c, o.json);
 }
 
 void bind(CLI::App& c, AccuracyOptions& o) {
@@ -476,6 +491,9 @@ CommandLine::Impl::Impl() {
   add(app, "info", "points, bounds, attributes, mean spacing of a dataset", o.info, command_info);
   add(app, "render", "render an image (Algorithms 1-2)", o.render, command_render);
   add(app, "trace", "closest hits of given rays", o.trace, command_trace);
+  add(app, "furnace",
+      "white furnace: albedo 1 under radiance 1; every dark pixel is a self-hit or a leak",
+      o.furnace, command_furnace);
   add(app, "accuracy",
       "holes, see-through, early and phantom hits, distance and normal error vs the exact surface",
       o.accuracy, command_accuracy);

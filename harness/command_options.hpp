@@ -39,9 +39,10 @@ struct InfoOptions {
 
 struct RenderOptions {
   static constexpr const char* usage =
-      "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID]) --out FILE.png|.exr "
-      "[options]";
+      "pcrt render (--method ID --data DATA | --mesh FILE [--engine ID] | --scene FILE.json) "
+      "--out FILE.png|.exr [options]";
   SceneArgs scene;
+  std::optional<std::string> scene_file;  // --scene FILE.json: objects, materials, lights, camera
   std::string out;
   RenderSettings settings;  // --width ... --ray-epsilon, with the renderer's own defaults
   std::optional<std::string> depth, normals, stats;
@@ -119,6 +120,22 @@ struct CrossoverOptions {
   int reps = 3;
   long long frames = 100;
   int threads = 0;
+  bool json = false;
+};
+
+struct FurnaceOptions {
+  static constexpr const char* usage =
+      "pcrt furnace (--method ID (--data DATA | --truth MESH [--sample SPEC]) | --mesh FILE "
+      "[--engine ID]) [--bounces B] [--spp S] [--json]";
+  SceneArgs scene;
+  TruthArgs truth;
+  RenderSettings settings = [] {
+    RenderSettings s;
+    s.width = s.height = 128;
+    s.spp = 4;
+    return s;
+  }();
+  std::optional<std::string> out;  // the furnace image
   bool json = false;
 };
 
@@ -212,6 +229,7 @@ struct AllOptions {
   InfoOptions info;
   RenderOptions render;
   TraceOptions trace;
+  FurnaceOptions furnace;
   AccuracyOptions accuracy;
   CompareOptions compare;
   AnchorOptions anchor;

@@ -21,12 +21,14 @@
 #include "core/ray_io.hpp"
 #include "harness/claims.hpp"
 #include "harness/command_helpers.hpp"
+#include "harness/scene_file.hpp"
 #include "preprocess/point_attributes.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/mesh_surface.hpp"
 #include "reconstruction/reconstruction.hpp"
 #include "render/accuracy.hpp"
 #include "render/compare.hpp"
+#include "render/furnace.hpp"
 #include "render/mesh_truth.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
@@ -204,6 +206,55 @@ json render_stats(const LoadedScene& loaded, const RenderSettings& rs, const Ren
 
 }  // namespace
 
+namespace {
+
+// A scene file replaces the one method or mesh: none of their options apply.
+void check_scene_file_args(const RenderOptions& o) {
+  const SceneArgs& a = o.scene;
+  for (const auto& [given, option] :
+       {std::pair{a.method.has_value(), "method"}, std::pair{a.data.has_value(), "data"},
+        std::pair{a.mesh.has_value(), "mesh"}, std::pair{a.engine.has_value(), "engine"},
+        std::pair{!a.structure.empty(), "structure"}, std::pair{!a.set.empty(), "set"},
+        std::pair{!o.settings.point_light, "no-light"}})
+    if (given)
+      input_error("pcrt render: --{} does not apply to --scene (the file says it)", option);
+}
+
+// `pcrt render --scene`: the file's objects, lights and camera at the command line's M, S, B.
+int render_scene_file(const RenderOptions& o, RenderSettings rs) {
+  check_scene_file_args(o);
+  const auto file = load_scene_file(*o.scene_file);
+  if (file->camera)
+    rs.camera = Camera(file->camera->eye, file->camera->target, file->camera->up,
+                       file->camera->fov_degrees, rs.width, rs.height);
+  RenderResult r = render(file->scene, rs);
+  file->timings["render"] = r.seconds;
+  OutputFiles outputs;  // all or none
+  stage_render_images(outputs, r, o.out, o.depth.value_or(""), o.normals.value_or(""));
+  json params = file->params;
+  params.update({{"M", rs.width * rs.height},
+                 {"width", rs.width},
+                 {"height", rs.height},
+                 {"S", rs.spp},
+                 {"B", rs.bounces},
+                 {"seed", rs.seed},
+                 {"threads", rs.threads}});
+  if (o.stats)
+    outputs.stage(*o.stats, json_writer({{"params", params},
+                                         {"counters", counters_json(r.counters)},
+                                         {"prepare_counters", counters_json(file->prepare)},
+                                         {"timings", file->timings}}));
+  outputs.commit();
+  std::printf("%s: %s, %zu objects, %dx%d, S=%d B=%d, render %.3f s\n", o.out.c_str(),
+              o.scene_file->c_str(), file->scene.objects.size(), rs.width, rs.height, rs.spp,
+              rs.bounces, r.seconds);
+  for (const auto& [name, value] : r.counters.to_map())
+    std::printf("  %-28s %llu\n", name.c_str(), (unsigned long long)value);
+  return 0;
+}
+
+}  // namespace
+
 int command_render(const RenderOptions& o) {
   auto limit = limit_threads(o.scene.threads);
   RenderSettings rs = o.settings;
@@ -214,6 +265,7 @@ int command_render(const RenderOptions& o) {
        {std::pair{&o.depth, "--depth"}, std::pair{&o.normals, "--normals"},
         std::pair{&o.stats, "--stats"}})
     if (*path) check_output_path(**path, option);
+  if (o.scene_file) return render_scene_file(o, rs);
   const auto loaded = load_scene(o.scene, "render", RenderOptions::usage);
   const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
   Timings& timings = loaded->timings;
@@ -369,6 +421,7 @@ json secondary_json(const SecondaryReport& r) {
                 {"self_hits", s.self_hits},
                 {"missed_occluders", s.missed_occluders},
                 {"false_occluders", s.false_occluders},
+                {"unprobed", s.unprobed},
                 {"self_hit_rate", s.rate(s.self_hits)},
                 {"missed_occluder_rate", s.rate(s.missed_occluders)},
                 {"false_occluder_rate", s.rate(s.false_occluders)}};
@@ -380,9 +433,9 @@ void print_secondary(const SecondaryReport& r) {
   for (const auto& [name, s] : {std::pair{"outward", &r.outward}, std::pair{"inward", &r.inward}})
     std::printf(
         "  secondary %-8s %zu rays: self-hits %.3f%%  missed occluders %.3f%%  false occluders "
-        "%.3f%%\n",
+        "%.3f%%  (%zu points unprobed)\n",
         name, s->rays, 100 * s->rate(s->self_hits), 100 * s->rate(s->missed_occluders),
-        100 * s->rate(s->false_occluders));
+        100 * s->rate(s->false_occluders), s->unprobed);
 }
 
 void print_accuracy(const std::string& label, const std::string& data, double h,
@@ -440,6 +493,59 @@ std::unique_ptr<JudgedScene> judged_scene(const AccuracyOptions& o, const PointC
 }
 
 }  // namespace
+
+namespace {
+
+// The furnace's object: a method on --data, a mesh, or a method on points sampled on --truth.
+std::unique_ptr<LoadedScene> furnace_scene(const FurnaceOptions& o) {
+  if (!o.truth.mesh) {
+    if (o.truth.sample || o.truth.engine)
+      input_error("--sample and --truth-engine apply only to --truth");
+    return load_scene(o.scene, "furnace", FurnaceOptions::usage);
+  }
+  if (o.scene.data || o.scene.mesh) input_error("pcrt furnace: give --data, --mesh or --truth");
+  auto s = std::make_unique<LoadedScene>();
+  AccuracyInput in = accuracy_input(std::nullopt, o.truth, FurnaceOptions::usage, s->prepare);
+  s->data = std::move(in.data);
+  s->points = std::make_unique<PointScene>(
+      s->data.cloud, point_scene_options(o.scene, FurnaceOptions::usage), s->prepare, s->timings);
+  s->params = scene_json(*s->points, s->data.cloud, in.describe["dataset"].get<std::string>());
+  return s;
+}
+
+}  // namespace
+
+int command_furnace(const FurnaceOptions& o) {
+  auto limit = limit_threads(o.scene.threads);
+  RenderSettings rs = o.settings;
+  rs.threads = o.scene.threads;
+  check_camera_axes(rs.view, rs.up, "furnace");
+  if (o.out) check_output_path(*o.out, "--out");
+  const auto loaded = furnace_scene(o);
+  const FurnaceResult f = white_furnace(loaded->scene(), loaded->cloud(), rs);
+  if (o.out) {
+    OutputFiles outputs;
+    stage_render_images(outputs, f.frame, *o.out, "", "");
+    outputs.commit();
+  }
+  json params = loaded->params;
+  params.update({{"M", rs.width * rs.height}, {"S", rs.spp}, {"B", rs.bounces}, {"seed", rs.seed}});
+  const json j = {
+      {"params", params},
+      {"object_pixels", f.object_pixels},
+      {"mean", f.mean},
+      {"dark_pixels", f.dark_pixels},
+      {"dark_share", f.object_pixels ? double(f.dark_pixels) / double(f.object_pixels) : 0.0},
+      {"counters", counters_json(f.frame.counters)}};
+  if (o.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("%s: furnace mean %.5f over %zu object pixels, %zu dark (%.2f%%), S=%d B=%d\n",
+                loaded->label().c_str(), f.mean, f.object_pixels, f.dark_pixels,
+                100.0 * j["dark_share"].get<double>(), rs.spp, rs.bounces);
+  }
+  return 0;
+}
 
 int command_accuracy(const AccuracyOptions& o) {
   auto limit = limit_threads(o.scene.threads);

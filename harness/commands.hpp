@@ -10,6 +10,7 @@ namespace pcrt {
 int command_info(const InfoOptions& o);
 int command_render(const RenderOptions& o);
 int command_trace(const TraceOptions& o);
+int command_furnace(const FurnaceOptions& o);
 int command_list(const ListOptions& o);
 int command_convert(const ConvertOptions& o);
 int command_accuracy(const AccuracyOptions& o);

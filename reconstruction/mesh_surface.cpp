@@ -8,17 +8,6 @@
 namespace pcrt {
 namespace {
 
-// Six times the signed volume enclosed (positive when the triangles face outward).
-double signed_volume6(const TriangleMesh& m) {
-  double v = 0;
-  for (const auto& t : m.triangles) {
-    const Vec3d a = m.vertices[t[0]].cast<double>(), b = m.vertices[t[1]].cast<double>(),
-                c = m.vertices[t[2]].cast<double>();
-    v += a.dot(b.cross(c));
-  }
-  return v;
-}
-
 double triangle_area(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
   const Vec3d a = m.vertices[t[0]].cast<double>();
   return 0.5 *
@@ -35,8 +24,7 @@ MeshSurface::MeshSurface(TriangleMesh mesh, std::string name, const std::string&
     : mesh_(std::move(mesh)), name_(std::move(name)) {
   // Sampled points take their normals from the faces: an inward-facing mesh would hand every
   // method normals pointing in.
-  if (signed_volume6(mesh_) < 0)
-    for (auto& t : mesh_.triangles) std::swap(t[1], t[2]);
+  orient_outward(mesh_);
   bounds_ = mesh_.bounds();
   cumulative_area_.reserve(mesh_.triangles.size());
   vertex_normals_.assign(mesh_.vertices.size(), Vec3::Zero());

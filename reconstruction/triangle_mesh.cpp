@@ -11,6 +11,18 @@
 
 namespace pcrt {
 
+bool orient_outward(TriangleMesh& mesh) {
+  double volume6 = 0;  // six times the signed volume enclosed
+  for (const auto& t : mesh.triangles) {
+    const Vec3d a = mesh.vertices[t[0]].cast<double>(), b = mesh.vertices[t[1]].cast<double>(),
+                c = mesh.vertices[t[2]].cast<double>();
+    volume6 += a.dot(b.cross(c));
+  }
+  if (volume6 >= 0) return false;
+  for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  return true;
+}
+
 Aabb TriangleMesh::bounds() const {
   Aabb b;
   for (const Vec3& v : vertices) b.extend(v);

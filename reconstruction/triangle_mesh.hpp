@@ -22,6 +22,10 @@ struct TriangleMesh {
   [[nodiscard]] Vec3 normal(uint32_t i) const;
 };
 
+// Flips every triangle when the mesh's signed volume is negative, so that a closed mesh's
+// normals face outward (what sampled points and dielectrics need); true when it flipped.
+bool orient_outward(TriangleMesh& mesh);
+
 // .ply (a 'face' element with vertex_indices; polygons fanned) or .off. Throws InputError naming
 // the file for anything malformed, and for a mesh without triangles.
 TriangleMesh read_mesh(const std::string& path);

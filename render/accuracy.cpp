@@ -253,7 +253,14 @@ AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& t
 
 namespace {
 
-enum class SecondaryVerdict : uint8_t { kIgnored, kRight, kSelfHit, kMissedOccluder, kFalse };
+enum class SecondaryVerdict : uint8_t {
+  kIgnored,
+  kUnprobed,
+  kRight,
+  kSelfHit,
+  kMissedOccluder,
+  kFalse
+};
 
 SecondaryVerdict judge_secondary(const Ray& ray, bool found, const Hit& hit, const Surface& truth,
                                  float h) {
@@ -268,44 +275,60 @@ SecondaryVerdict judge_secondary(const Ray& ray, bool found, const Hit& hit, con
   return hit.t < 3.0f * h ? SecondaryVerdict::kSelfHit : SecondaryVerdict::kFalse;
 }
 
+// One secondary ray, spawned from the method's own hit of a probe onto a true surface point.
+SecondaryVerdict secondary_ray(const SceneIntersector& scene, const Surface& truth, float h,
+                               float epsilon, bool outward, Rng& rng, OpCounters& counters) {
+  Vec3 n;
+  const Vec3 p = truth.sample(rng, n);
+  const Ray probe{p + 4.0f * h * n, -n, 0.0f, 8.0f * h};
+  Hit surface;
+  const bool probed = scene.closest_hit(probe, surface, counters);
+  const Vec3 facing = surface.n.dot(probe.d) > 0 ? Vec3(-surface.n) : surface.n;
+  const Vec3 d = cosine_direction(outward ? facing : Vec3(-facing), rng);
+  if (!probed) return SecondaryVerdict::kUnprobed;
+  const Ray ray{spawn_point(surface, facing, d, epsilon), d, 0.0f, kInfinity};
+  Hit hit;
+  const bool found = scene.closest_hit(ray, hit, counters);
+  return judge_secondary(ray, found, hit, truth, h);
+}
+
+void count_secondary(SecondaryVerdict v, SecondaryReport::Side& side) {
+  switch (v) {
+    case SecondaryVerdict::kIgnored:
+      return;
+    case SecondaryVerdict::kUnprobed:
+      ++side.unprobed;
+      return;
+    case SecondaryVerdict::kRight:
+      break;
+    case SecondaryVerdict::kSelfHit:
+      ++side.self_hits;
+      break;
+    case SecondaryVerdict::kMissedOccluder:
+      ++side.missed_occluders;
+      break;
+    case SecondaryVerdict::kFalse:
+      ++side.false_occluders;
+      break;
+  }
+  ++side.rays;
+}
+
 }  // namespace
 
 SecondaryReport evaluate_secondary(const SceneIntersector& scene, const Surface& truth, double h,
                                    size_t count, uint64_t seed, OpCounters& counters) {
   const auto hf = float(h);
+  const float epsilon = 1e-3f * std::max(truth.bounds().diagonal(), 1e-6f);  // render()'s default
   std::vector<SecondaryVerdict> out(count);
   tbb::combinable<OpCounters> per_thread;
   tbb::parallel_for(size_t(0), count, [&](size_t i) {
     Rng rng(seed ^ 0x5ec0d, i);
-    Vec3 n;
-    const Vec3 p = truth.sample(rng, n);
-    const Vec3 d = cosine_direction(i % 2 == 0 ? n : Vec3(-n), rng);
-    const Ray ray{p, d, hf, kInfinity};
-    Hit hit;
-    const bool found = scene.closest_hit(ray, hit, per_thread.local());
-    out[i] = judge_secondary(ray, found, hit, truth, hf);
+    out[i] = secondary_ray(scene, truth, hf, epsilon, i % 2 == 0, rng, per_thread.local());
   });
   per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
   SecondaryReport r;
-  for (size_t i = 0; i < count; ++i) {
-    SecondaryReport::Side& side = i % 2 == 0 ? r.outward : r.inward;
-    switch (out[i]) {
-      case SecondaryVerdict::kIgnored:
-        continue;
-      case SecondaryVerdict::kRight:
-        break;
-      case SecondaryVerdict::kSelfHit:
-        ++side.self_hits;
-        break;
-      case SecondaryVerdict::kMissedOccluder:
-        ++side.missed_occluders;
-        break;
-      case SecondaryVerdict::kFalse:
-        ++side.false_occluders;
-        break;
-    }
-    ++side.rays;
-  }
+  for (size_t i = 0; i < count; ++i) count_secondary(out[i], i % 2 == 0 ? r.outward : r.inward);
   return r;
 }
 

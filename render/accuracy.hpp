@@ -85,16 +85,20 @@ std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uin
 AccuracyReport evaluate_accuracy(const SceneIntersector& scene, const Surface& truth, double h,
                                  const std::vector<Ray>& rays, OpCounters& counters);
 
-// Secondary rays (shadow and bounce rays) against the truth: rays leave points drawn on the exact
-// surface in cosine-distributed directions, half around the outward normal and half around the
-// inward one, and start 1h out (about the renderer's lift). A *self-hit* is a method hit within
-// 3h of the origin where the truth's first hit is farther than 5h beyond it (or absent): the ray
-// hits the surface it leaves. A *missed occluder* is a truth hit the method passes (no hit, or a
-// hit more than 5h beyond it). A *false occluder* is any other method hit more than 5h before the
-// truth's. Rays whose exact hit is grazing (|cos| < 0.1) are not judged.
+// Secondary rays (shadow and bounce rays) against the truth, spawned as the renderer spawns them:
+// a probe ray comes down the true normal onto a point drawn on the exact surface (from 4h out);
+// where the method hits, the secondary ray leaves that hit in a cosine-distributed direction,
+// half around the hit's normal facing the probe (a reflection) and half around the opposite one
+// (a transmission), from spawn_point() with the renderer's default epsilon, 1e-3 of the truth's
+// bounding diagonal. A *self-hit* is a method hit within 3h of the origin where the truth's first
+// hit is farther than 5h beyond it (or absent): the ray hits the surface it leaves. A *missed
+// occluder* is a truth hit the method passes (no hit, or a hit more than 5h beyond it). A *false
+// occluder* is any other method hit more than 5h before the truth's. Rays whose exact hit is
+// grazing (|cos| < 0.1) are not judged; points whose probe finds no method hit within 8h are
+// counted as `unprobed` (holes; the accuracy rays judge those).
 struct SecondaryReport {
   struct Side {
-    size_t rays = 0, self_hits = 0, missed_occluders = 0, false_occluders = 0;
+    size_t rays = 0, self_hits = 0, missed_occluders = 0, false_occluders = 0, unprobed = 0;
     [[nodiscard]] double rate(size_t n) const { return rays ? double(n) / double(rays) : 0.0; }
   };
   Side outward, inward;

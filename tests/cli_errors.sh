@@ -116,6 +116,37 @@ keep_outputs "--stats $dir/statsdir: is a directory" "$dir/hits.csv" -- trace --
 keep_outputs "--out $dir/statsdir: is a directory" "$dir/keep.ply" -- convert sphere:n=10 --out "$dir/statsdir"
 keep_outputs "--images" "$dir/diff.png" -- compare --method reference_splat --truth "$dir/tri.off" --out "$dir/diff.png" --images "$dir/nonexistent/x"
 if compgen -G "$dir/*.tmp.*" >/dev/null; then echo "FAIL: temporaries left: $(ls "$dir"/*.tmp.*)"; fails=$((fails + 1)); fi
+# Scene files: every malformed value names the file and the key.
+scene() { printf '%s' "$2" >"$dir/$1.json"; }
+scene s_keys '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "point", "position": [0,0,1], "intensity": 1}], "colour": 1}'
+scene s_material '{"materials": {"m": {"type": "velvet"}}, "objects": [{"quad": {"size": 1}, "material": "m"}], "lights": [{"type": "sky"}]}'
+scene s_missing_material '{"objects": [{"quad": {"size": 1}, "material": "glass"}], "lights": [{"type": "sky"}]}'
+scene s_two_kinds '{"objects": [{"quad": {"size": 1}, "mesh": "x.off"}], "lights": [{"type": "sky"}]}'
+scene s_bad_eta '{"materials": {"g": {"type": "dielectric", "eta": -1}}, "objects": [{"quad": {"size": 1}}], "lights": [{"type": "sky"}]}'
+scene s_nan '{"objects": [{"quad": {"size": 1}, "transform": {"scale": 0}}], "lights": [{"type": "sky"}]}'
+scene s_no_lights '{"objects": [{"quad": {"size": 1}}], "lights": []}'
+scene s_light '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "laser"}]}'
+scene s_radius '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "sphere", "position": [0,0,1], "radiance": 1}]}'
+scene s_method '{"objects": [{"points": "sphere:n=100", "method": "nope"}], "lights": [{"type": "sky"}]}'
+scene s_env '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "environment", "file": "missing.exr"}]}'
+scene s_camera '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "sky"}], "camera": {"eye": [0,0,1], "target": [0,0,1]}}'
+printf '{"objects": [' >"$dir/s_trunc.json"
+sr=(render --width 8 --height 8 --out "$dir/s.png" --scene)
+expect_error "s_keys.json: colour is not a key here" "${sr[@]}" "$dir/s_keys.json"
+expect_error "s_material.json: materials.m.type (unknown material 'velvet'" "${sr[@]}" "$dir/s_material.json"
+expect_error "objects[0].material 'glass' is not in \"materials\"" "${sr[@]}" "$dir/s_missing_material.json"
+expect_error "objects[0] needs exactly one of" "${sr[@]}" "$dir/s_two_kinds.json"
+expect_error "materials.g.eta must lie in" "${sr[@]}" "$dir/s_bad_eta.json"
+expect_error "objects[0].transform.scale must lie in" "${sr[@]}" "$dir/s_nan.json"
+expect_error "lights must be a non-empty array" "${sr[@]}" "$dir/s_no_lights.json"
+expect_error "'laser' is not a light" "${sr[@]}" "$dir/s_light.json"
+expect_error "(sphere) needs \"radius\"" "${sr[@]}" "$dir/s_radius.json"
+expect_error "s_method.json: objects[0] (unknown method 'nope'" "${sr[@]}" "$dir/s_method.json"
+expect_error "missing.exr" "${sr[@]}" "$dir/s_env.json"
+expect_error "camera eye and target must differ" "${sr[@]}" "$dir/s_camera.json"
+expect_error "s_trunc.json" "${sr[@]}" "$dir/s_trunc.json"
+expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" --method reference_splat
+expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
 # Sweep and check outputs and inputs of the wrong kind.
 config="$(dirname "$0")/../configs/ci.json"
 expect_error "--out $dir/keep.png: is a file, not a directory" sweep "$config" --out "$dir/keep.png"

@@ -1,0 +1,298 @@
+#include "harness/scene_file.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "core/error.hpp"
+#include "core/json_input.hpp"
+#include "reconstruction/mesh_surface.hpp"
+#include "render/mesh_truth.hpp"
+#include "render/scene.hpp"
+
+namespace pcrt {
+namespace {
+
+using nlohmann::json;
+
+// Where a value sits, for errors: "scene.json: objects[1].transform.scale".
+struct Where {
+  const std::string& file;
+  std::string key;
+  [[nodiscard]] Where operator/(const std::string& k) const {
+    return {file, key.empty() ? k : key + "." + k};
+  }
+  [[nodiscard]] Where at(size_t i) const { return {file, fmt::format("{}[{}]", key, i)}; }
+  [[noreturn]] void fail(const std::string& what) const {
+    input_error("{}: {} {}", file, key.empty() ? std::string("scene") : key, what);
+  }
+};
+
+void only_keys(const json& j, const Where& w, std::initializer_list<const char*> keys) {
+  if (!j.is_object()) w.fail("must be an object");
+  const std::set<std::string> known(keys.begin(), keys.end());
+  for (const auto& [k, v] : j.items())
+    if (!known.count(k))
+      (w / k).fail(fmt::format("is not a key here (known: {})", fmt::join(known, ", ")));
+}
+
+float number(const json& j, const Where& w, float lo, float hi) {
+  if (!j.is_number()) w.fail("must be a number");
+  const double v = j.get<double>();
+  if (!std::isfinite(v) || v < lo || v > hi)
+    w.fail(fmt::format("must lie in [{:g}, {:g}]", lo, hi));
+  return float(v);
+}
+
+// A vector of three numbers, or one number for all three.
+Vec3 vec3(const json& j, const Where& w, float lo, float hi) {
+  if (j.is_number()) return Vec3::Constant(number(j, w, lo, hi));
+  if (!j.is_array() || j.size() != 3) w.fail("must be a number or an array of 3 numbers");
+  return Vec3(number(j[0], w.at(0), lo, hi), number(j[1], w.at(1), lo, hi),
+              number(j[2], w.at(2), lo, hi));
+}
+
+std::string text(const json& j, const Where& w) {
+  if (!j.is_string() || j.get<std::string>().empty()) w.fail("must be a non-empty string");
+  return j.get<std::string>();
+}
+
+constexpr float kBig = 1e30f;
+
+// What `make` throws for a value of the file (an unknown method or material, an unreadable
+// cloud), prefixed with the file and the key unless it names the file already.
+template <typename Make>
+auto named(const Where& w, Make make) {
+  try {
+    return make();
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    if (what.find(w.file) != std::string::npos) throw;
+    w.fail(fmt::format("({})", what));
+  }
+}
+
+Material parse_material(const json& j, const Where& w) {
+  only_keys(j, w,
+            {"type", "albedo", "eta", "roughness", "conductor_eta", "conductor_k", "emission"});
+  Material m;
+  if (!j.contains("type")) w.fail("needs a \"type\"");
+  m.kind = named(w / "type", [&] { return material_kind(text(j["type"], w / "type")); });
+  if (j.contains("albedo")) m.albedo = vec3(j["albedo"], w / "albedo", 0, 1);
+  if (j.contains("eta")) m.eta = number(j["eta"], w / "eta", 1e-2f, 100);
+  if (j.contains("roughness")) m.alpha = number(j["roughness"], w / "roughness", 1e-3f, 1);
+  if (j.contains("conductor_eta"))
+    m.conductor_eta = vec3(j["conductor_eta"], w / "conductor_eta", 1e-3f, 100);
+  if (j.contains("conductor_k")) m.conductor_k = vec3(j["conductor_k"], w / "conductor_k", 0, 100);
+  if (j.contains("emission")) m.emission = vec3(j["emission"], w / "emission", 0, kBig);
+  return m;
+}
+
+Transform parse_transform(const json& j, const Where& w) {
+  only_keys(j, w, {"translate", "scale", "rotate"});
+  Transform t;
+  if (j.contains("translate")) t.translate = vec3(j["translate"], w / "translate", -kBig, kBig);
+  if (j.contains("scale")) t.scale = number(j["scale"], w / "scale", 1e-6f, 1e6f);
+  if (j.contains("rotate")) {
+    const Where r = w / "rotate";
+    only_keys(j["rotate"], r, {"axis", "degrees"});
+    if (!j["rotate"].contains("axis") || !j["rotate"].contains("degrees"))
+      r.fail("needs \"axis\" and \"degrees\"");
+    const Vec3 axis = vec3(j["rotate"]["axis"], r / "axis", -kBig, kBig);
+    if (!(axis.norm() > 0)) (r / "axis").fail("must not be zero");
+    const float deg = number(j["rotate"]["degrees"], r / "degrees", -360, 360);
+    t.rotate = Eigen::AngleAxisf(deg * kPi / 180.0f, axis.normalized()).toRotationMatrix();
+  }
+  return t;
+}
+
+Light parse_light(const json& j, const Where& w, const std::filesystem::path& dir) {
+  only_keys(j, w, {"type", "position", "intensity", "radius", "radiance", "file", "sampled"});
+  if (!j.contains("type")) w.fail("needs a \"type\"");
+  const std::string type = text(j["type"], w / "type");
+  Light l;
+  auto need = [&](const char* key) -> const json& {
+    if (!j.contains(key)) w.fail(fmt::format("({}) needs \"{}\"", type, key));
+    return j[key];
+  };
+  if (type == "point") {
+    l.position = vec3(need("position"), w / "position", -kBig, kBig);
+    l.power = vec3(need("intensity"), w / "intensity", 0, kBig);
+  } else if (type == "sphere") {
+    l.kind = LightKind::kSphere;
+    l.position = vec3(need("position"), w / "position", -kBig, kBig);
+    l.radius = number(need("radius"), w / "radius", 1e-9f, kBig);
+    l.power = vec3(need("radiance"), w / "radiance", 0, kBig);
+  } else if (type == "environment") {
+    l.kind = LightKind::kEnvironment;
+    l.power = j.contains("radiance") ? vec3(j["radiance"], w / "radiance", 0, kBig) : Vec3::Ones();
+    if (j.contains("file"))
+      l.map = EnvironmentMap::load((dir / text(j["file"], w / "file")).string());
+  } else if (type == "sky") {
+    l.kind = LightKind::kSky;
+  } else {
+    (w / "type")
+        .fail(fmt::format("'{}' is not a light (known: point, sphere, environment, sky)", type));
+  }
+  if (j.contains("sampled")) {
+    if (!j["sampled"].is_boolean()) (w / "sampled").fail("must be true or false");
+    if (l.kind == LightKind::kPoint) (w / "sampled").fail("does not apply to a point light");
+    l.sampled = j["sampled"].get<bool>();
+  }
+  return l;
+}
+
+CameraSpec parse_camera(const json& j, const Where& w) {
+  only_keys(j, w, {"eye", "target", "up", "fov"});
+  if (!j.contains("eye") || !j.contains("target")) w.fail("needs \"eye\" and \"target\"");
+  CameraSpec c;
+  c.eye = vec3(j["eye"], w / "eye", -kBig, kBig);
+  c.target = vec3(j["target"], w / "target", -kBig, kBig);
+  if (j.contains("up")) c.up = vec3(j["up"], w / "up", -kBig, kBig);
+  if (j.contains("fov")) c.fov_degrees = number(j["fov"], w / "fov", 1, 170);
+  if (!((c.target - c.eye).norm() > 0)) w.fail("eye and target must differ");
+  if ((c.target - c.eye).cross(c.up).norm() <= 1e-6f * (c.target - c.eye).norm() * c.up.norm())
+    w.fail("up must not be parallel to the view direction");
+  return c;
+}
+
+// A path in a scene file is relative to the file's folder; a generator spec is not a path.
+std::string resolve(const std::string& value, const std::filesystem::path& dir) {
+  const std::filesystem::path p = dir / value;
+  std::error_code ec;
+  return std::filesystem::exists(p, ec) ? p.string() : value;
+}
+
+ParamValues parse_set(const json& j, const Where& w) {
+  if (!j.is_object()) w.fail("must be an object of name: number");
+  ParamValues set;
+  for (const auto& [k, v] : j.items()) set[k] = number(v, w / k, -kBig, kBig);
+  return set;
+}
+
+// Points sampled on a mesh (outward normals by default): what `pcrt accuracy --truth` traces.
+Dataset sampled_dataset(const json& j, const Where& w, const std::string& mesh_file,
+                        OpCounters& counters) {
+  const MeshSampling sampling = parse_mesh_sampling(
+      j.contains("sampling") ? text(j["sampling"], w / "sampling") : std::string());
+  auto truth = std::make_shared<MeshSurface>(read_mesh(mesh_file), mesh_file, "bvh");
+  SampledCloud sampled = sample_cloud(*truth, sampling, mesh_file, counters);
+  return Dataset{std::move(sampled.cloud), truth};
+}
+
+// An object's geometry: a point method over a dataset, a mesh file on an engine, or the quad.
+void add_geometry(SceneFile& s, const json& j, const Where& w, const std::filesystem::path& dir,
+                  SceneObject& o, json& record) {
+  const int kinds = int(j.contains("points")) + int(j.contains("sample")) +
+                    int(j.contains("mesh")) + int(j.contains("quad"));
+  if (kinds != 1) w.fail("needs exactly one of \"points\", \"sample\", \"mesh\" or \"quad\"");
+  if (j.contains("sampling") && !j.contains("sample"))
+    (w / "sampling").fail("applies only to \"sample\"");
+  if (j.contains("points") || j.contains("sample")) {
+    if (!j.contains("method")) w.fail("(a point cloud) needs \"method\"");
+    const std::string data = j.contains("points") ? resolve(text(j["points"], w / "points"), dir)
+                                                  : resolve(text(j["sample"], w / "sample"), dir);
+    s.clouds.push_back(j.contains("points") ? load_dataset(data)
+                                            : sampled_dataset(j, w, data, s.prepare));
+    const PointCloud& cloud = s.clouds.back().cloud;
+    SceneOptions so{text(j["method"], w / "method"),
+                    j.contains("structure") ? text(j["structure"], w / "structure") : "",
+                    j.contains("set") ? parse_set(j["set"], w / "set") : ParamValues{}};
+    auto scene = std::make_unique<PointScene>(cloud, so, s.prepare, s.timings);
+    record = {{j.contains("points") ? "points" : "sample", data},
+              {"method", so.method},
+              {"structure", scene->structure_id()},
+              {"N", cloud.size()}};
+    o.points = &cloud;
+    o.bounds = cloud.bounds();
+    s.geometry.push_back(std::move(scene));
+    return;
+  }
+  if (j.contains("mesh")) {
+    const std::string file = resolve(text(j["mesh"], w / "mesh"), dir);
+    s.meshes.push_back(read_mesh(file));
+    orient_outward(s.meshes.back());  // dielectrics tell inside from outside by the normal
+    record = {{"mesh", file}};
+  } else {
+    only_keys(j["quad"], w / "quad", {"size"});
+    if (!j["quad"].contains("size")) (w / "quad").fail("needs \"size\"");
+    s.meshes.push_back(quad_mesh(number(j["quad"]["size"], w / "quad" / "size", 1e-6f, kBig)));
+    record = {{"quad", j["quad"]["size"]}};
+  }
+  const std::string engine = j.contains("engine") ? text(j["engine"], w / "engine") : "bvh";
+  record["engine"] = engine;
+  record["triangles"] = s.meshes.back().triangles.size();
+  o.bounds = s.meshes.back().bounds();
+  s.geometry.push_back(std::make_unique<MeshScene>(s.meshes.back(), engine, s.prepare, s.timings));
+}
+
+void add_object(SceneFile& s, const json& j, const Where& w, const std::filesystem::path& dir,
+                const std::map<std::string, Material>& materials) {
+  only_keys(j, w,
+            {"name", "points", "sample", "sampling", "method", "structure", "set", "mesh", "engine",
+             "quad", "material", "transform"});
+  const bool cloud = j.contains("points") || j.contains("sample");
+  if (!cloud)
+    for (const char* key : {"method", "structure", "set"})
+      if (j.contains(key)) (w / key).fail("applies only to point clouds");
+  if (j.contains("engine") && cloud) (w / "engine").fail("applies only to meshes");
+  SceneObject o;
+  json record;
+  add_geometry(s, j, w, dir, o, record);
+  o.geometry = s.geometry.back().get();
+  if (j.contains("material")) {
+    const std::string name = text(j["material"], w / "material");
+    const auto it = materials.find(name);
+    if (it == materials.end())
+      (w / "material").fail(fmt::format("'{}' is not in \"materials\"", name));
+    o.material = it->second;
+    record["material"] = name;
+  }
+  if (j.contains("transform")) o.transform = parse_transform(j["transform"], w / "transform");
+  o.bounds = o.transform.to_world(o.bounds);
+  o.name = j.contains("name") ? text(j["name"], w / "name") : w.key;
+  record["name"] = o.name;
+  s.params["objects"].push_back(record);
+  s.scene.objects.push_back(o);
+}
+
+}  // namespace
+
+TriangleMesh quad_mesh(float size) {
+  const float h = 0.5f * size;
+  TriangleMesh m;
+  m.vertices = {Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+std::unique_ptr<SceneFile> load_scene_file(const std::string& path) {
+  const json j = read_json_file(path);
+  const Where root{path, ""};
+  only_keys(j, root, {"materials", "objects", "lights", "camera"});
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  std::map<std::string, Material> materials;
+  if (j.contains("materials")) {
+    if (!j["materials"].is_object())
+      (root / "materials").fail("must be an object of name: material");
+    for (const auto& [name, m] : j["materials"].items())
+      materials[name] = parse_material(m, Where{path, "materials." + name});
+  }
+  auto s = std::make_unique<SceneFile>();
+  s->params = {{"scene", path}, {"objects", json::array()}};
+  const Where objects{path, "objects"};
+  if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
+    objects.fail("must be a non-empty array");
+  for (size_t i = 0; i < j["objects"].size(); ++i)
+    named(objects.at(i), [&] { add_object(*s, j["objects"][i], objects.at(i), dir, materials); });
+  const Where lights{path, "lights"};
+  if (!j.contains("lights") || !j["lights"].is_array() || j["lights"].empty())
+    lights.fail("must be a non-empty array");
+  for (size_t i = 0; i < j["lights"].size(); ++i)
+    s->scene.lights.push_back(parse_light(j["lights"][i], lights.at(i), dir));
+  if (j.contains("camera")) s->camera = parse_camera(j["camera"], root / "camera");
+  return s;
+}
+
+}  // namespace pcrt

@@ -1,0 +1,46 @@
+// Scene files (JSON, in Tungsten's layout): named materials, objects (point clouds traced by any
+// method on any structure, triangle meshes, a built-in quad) each with a transform and a
+// material, lights and an optional camera. The image size, S and B stay the command line's, as
+// for every render, so that sweeps set them the same way with or without a scene. Every
+// malformed value is an InputError naming the file and the key.
+#pragma once
+
+#include <deque>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera.hpp"
+#include "core/counters.hpp"
+#include "core/dataset.hpp"
+#include "reconstruction/mesh_engine.hpp"
+#include "reconstruction/triangle_mesh.hpp"
+#include "render/render_scene.hpp"
+
+namespace pcrt {
+
+struct CameraSpec {
+  Vec3 eye, target, up = Vec3::UnitZ();
+  float fov_degrees = 40;
+};
+
+// Everything a scene file's frame needs, kept alive together (objects point into the members).
+struct SceneFile {
+  std::deque<Dataset> clouds;
+  std::deque<TriangleMesh> meshes;
+  std::vector<std::unique_ptr<SceneIntersector>> geometry;
+  OpCounters prepare;
+  Timings timings;
+  RenderScene scene;
+  std::optional<CameraSpec> camera;
+  nlohmann::json params;  // what --stats records: the file and each object's method or engine
+};
+
+std::unique_ptr<SceneFile> load_scene_file(const std::string& path);
+
+// Two triangles: the square of side `size` in the z = 0 plane about the origin, normal +z.
+TriangleMesh quad_mesh(float size);
+
+}  // namespace pcrt

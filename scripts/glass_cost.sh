@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# What a glass frame costs against a diffuse one, per method: the same scene (a point-cloud
+# bunny on a mesh floor under a sphere light and a dim sampled sky) rendered with the bunny as
+# smooth glass (eta 1.5) and as diffuse grey, alternated in one process order (glass, diffuse,
+# glass, ...), REPS each. Glass paths refract through the cloud, so they cast more rays into it
+# per path and lose fewer to the sky; the ratio of rays cast into the scene and of render
+# seconds is what a user pays for the material. One JSON per (method, material, rep) under OUT,
+# then scripts/glass_cost.py writes OUT/glass_cost.md.
+# Usage: scripts/glass_cost.sh [build/bin/pcrt] [OUT=results/light_transport] [REPS=3]
+set -euo pipefail
+pcrt=${1:-build/bin/pcrt}
+out=${2:-results/light_transport}
+reps=${3:-3}
+threads=${PCRT_THREADS:-2}
+root=$(cd "$(dirname "$0")/.." && pwd)
+methods=$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')
+mkdir -p "$out/glass_cost"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+scene() {  # scene METHOD MATERIAL -> a scene file on stdout
+  local structure=""
+  # The oracle's default is brute force (O(N) per ray); the kd-tree gives it the same hits.
+  [ "$1" = reference_splat ] && structure='"structure": "kd_tree",'
+  cat <<JSON
+{"materials": {"glass": {"type": "dielectric", "eta": 1.5},
+               "diffuse": {"type": "diffuse", "albedo": 0.75},
+               "floor": {"type": "diffuse", "albedo": [0.7, 0.68, 0.62]}},
+ "objects": [{"sample": "$root/data/bunny/bunny.off", "sampling": "n=20000,seed=1",
+              "method": "$1", $structure "material": "$2",
+              "transform": {"rotate": {"axis": [1, 0, 0], "degrees": 90}}},
+             {"quad": {"size": 60}, "material": "floor"}],
+ "lights": [{"type": "sphere", "position": [-8, -10, 22], "radius": 3, "radiance": 25},
+            {"type": "environment", "radiance": [0.06, 0.07, 0.09]}],
+ "camera": {"eye": [6, -26, 11], "target": [0, 0, 4], "fov": 34}}
+JSON
+}
+for m in $methods; do
+  for material in glass diffuse; do scene "$m" "$material" >"$tmp/$m.$material.json"; done
+  for r in $(seq 1 "$reps"); do
+    for material in glass diffuse; do
+      "$pcrt" render --scene "$tmp/$m.$material.json" --out "$tmp/frame.exr" --width 96 \
+        --height 72 --spp 2 --bounces 6 --threads "$threads" \
+        --stats "$out/glass_cost/$m.$material.$r.json" >/dev/null
+    done
+  done
+done
+python3 "$root/scripts/glass_cost.py" "$out/glass_cost" "$reps" >"$out/glass_cost.md"
+echo "glass cost: $out/glass_cost.md"
