@@ -2,7 +2,8 @@
 # with CMAKE_PREFIX_PATH=P says find_package(pcrt) and links pcrt::methods (or any other layer,
 # each bringing those below it). Tested by tests/consumer.sh.
 include(CMakePackageConfigHelpers)
-set(PCRT_LAYERS pcrt_core pcrt_structures pcrt_methods pcrt_render pcrt_reconstruction pcrt_harness)
+set(PCRT_LAYERS pcrt_core pcrt_structures pcrt_methods pcrt_render pcrt_reconstruction pcrt_harness
+                pcrt_cli)
 install(TARGETS ${PCRT_LAYERS} EXPORT pcrtTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pcrt)
@@ -10,7 +11,7 @@ install(TARGETS pcrt RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(FILES ${CMAKE_SOURCE_DIR}/scripts/report.py DESTINATION ${CMAKE_INSTALL_DATADIR}/pcrt)
 foreach(layer core structures preprocess methods render reconstruction harness)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/${layer} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pcrt
-          FILES_MATCHING PATTERN "*.hpp" PATTERN "cli.hpp" EXCLUDE)  # pcrt_cli is not installed
+          FILES_MATCHING PATTERN "*.hpp")
 endforeach()
 set(PCRT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/pcrt)
 install(EXPORT pcrtTargets NAMESPACE pcrt:: DESTINATION ${PCRT_CMAKE_DIR})

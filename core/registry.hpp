@@ -24,7 +24,9 @@ class Registry {
     }();
     return r;
   }
+  // Throws InputError when the id is taken (a method of one's own named like a built-in one).
   void add(Info info) {
+    if (contains(info.id)) input_error("'{}' is registered twice", info.id);
     entries_.push_back(std::move(info));
     std::sort(entries_.begin(), entries_.end(),
               [](const Info& a, const Info& b) { return a.id < b.id; });

@@ -30,7 +30,8 @@ inline Vec3 uniform_sphere(const Vec2& u) {
   return Vec3(r * std::cos(phi), r * std::sin(phi), z);
 }
 
-// Uniform direction in the cone of half-angle acos(cos_max) about +z; pdf = 1 / (2 pi (1 - cos_max)).
+// Uniform direction in the cone of half-angle acos(cos_max) about +z; pdf = 1 / (2 pi (1 -
+// cos_max)).
 inline Vec3 uniform_cone(const Vec2& u, float cos_max) {
   const float cos_t = 1.0f - u.x() * (1.0f - cos_max);
   const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
