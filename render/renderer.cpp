@@ -66,31 +66,36 @@ bool reach_lights(const PathContext& c, const Ray& ray, float closest_t, bool fo
   return true;
 }
 
-// Materials that receive light from both sides of the surface (non-delta ones: rough glass); they
-// sample lights from the hit itself, since the side the light lies on is not known beforehand.
-bool two_sided(const Material& m) { return m.kind == MaterialKind::kRoughDielectric; }
+// The shadow ray from a hit to a sampled light point: it starts lifted off the surface (on the
+// side the light lies) and ends at that point, or runs to infinity for an environment.
+Ray shadow_ray(const PathContext& c, const Hit& hit, const Vec3& n, const LightSample& ls) {
+  const Vec3 origin = spawn_point(hit, n, ls.wi, c.epsilon);
+  if (!std::isfinite(ls.distance)) return Ray{origin, ls.wi, 0.0f, kInfinity};
+  const Vec3 to = hit.p + ls.distance * ls.wi - origin;
+  const float dist = to.norm();
+  return Ray{origin, to / dist, 0.0f, dist};
+}
 
-// Next event estimation at a non-specular vertex: one shadow ray per sampled light. Point lights
-// draw no random numbers (the default frame's random sequence is Algorithm 2's).
+// Next event estimation at a non-specular vertex: one shadow ray per sampled light. The light is
+// sampled from the hit itself, so that its distance and cosine are the shading point's (from the
+// lifted origin a light at distance d would be brighter by (d / (d - lift))^2); only the shadow
+// ray starts lifted. Point lights draw no random numbers (the default frame's random sequence is
+// Algorithm 2's).
 Vec3 direct_light(const PathContext& c, const Hit& hit, const Vec3& n, const Frame3& frame,
                   const Material& m, const Vec3& wo, Rng& rng, OpCounters& counters) {
   Vec3 sum = Vec3::Zero();
-  const bool both_sides = two_sided(m);
-  // Reflecting materials sample from the lifted point on their side, as the shadow ray starts.
-  const Vec3 lifted = spawn_point(hit, n, n, c.epsilon);
+  const bool transmits = m.kind == MaterialKind::kRoughDielectric;  // lit from both sides
   for (const Light& l : c.scene.lights) {
     if (!l.sampled) continue;
     const Vec2 u = l.kind == LightKind::kPoint ? Vec2::Zero() : uniform2(rng);
-    const auto ls = sample_light(l, both_sides ? hit.p : lifted, u);
+    const auto ls = sample_light(l, hit.p, u);
     if (!ls) continue;
     const Vec3 wi = frame.to_local(ls->wi);
     const float cos_i = std::abs(wi.z());
-    if (cos_i <= 0 || (!both_sides && wi.z() <= 0)) continue;  // the light is behind the surface
+    if (cos_i <= 0 || (!transmits && wi.z() <= 0)) continue;  // the light is behind the surface
     const Vec3 f = bsdf_f(m, wo, wi);
-    const Vec3 origin = both_sides ? spawn_point(hit, n, ls->wi, c.epsilon) : lifted;
-    const float dist = both_sides ? (ls->distance - (origin - hit.p).norm()) : ls->distance;
     counters.add(kShadowRays);
-    if (c.scene.any_hit(Ray{origin, ls->wi, 0.0f, dist}, counters)) continue;
+    if (c.scene.any_hit(shadow_ray(c, hit, n, *ls), counters)) continue;
     const float w = ls->delta ? 1.0f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
     sum += f.cwiseProduct(ls->radiance) * (w * cos_i / ls->pdf);
   }
@@ -135,8 +140,9 @@ Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool foun
     const Vec3 wi = frame.to_world(bs->wi).normalized();
     throughput = throughput.cwiseProduct(bs->f * (std::abs(bs->wi.z()) / bs->pdf));
     ray = Ray{spawn_point(hit, n, wi, c.epsilon), wi, 0.0f, kInfinity};
-    // Where NEE sampled the lights from, so that both strategies' pdfs are of the same point.
-    bounce = Bounce{two_sided(m) ? hit.p : ray.o, bs->pdf, bs->delta};
+    // The light pdf of the point the ray starts from: from the hit, a ray that grazes a sphere
+    // light's rim from the lifted origin may miss it, and would then weigh 1 (a firefly).
+    bounce = Bounce{ray.o, bs->pdf, bs->delta};
     hit = Hit{};
     counters.add(kBounceRays);
     found = c.scene.closest_hit(ray, hit, object, counters);
