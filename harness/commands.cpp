@@ -220,6 +220,30 @@ void check_scene_file_args(const RenderOptions& o) {
       input_error("pcrt render: --{} does not apply to --scene (the file says it)", option);
 }
 
+// The mean radiance per channel over the image: what analytic scenes are judged on.
+json image_mean(const Image& image) {
+  Vec3d sum = Vec3d::Zero();
+  for (const Vec3& p : image.pixels()) sum += p.cast<double>();
+  sum /= double(std::max<size_t>(image.pixels().size(), 1));
+  return {sum.x(), sum.y(), sum.z()};
+}
+
+json scene_file_stats(const SceneFile& file, const RenderSettings& rs, const RenderResult& r) {
+  json params = file.params;
+  params.update({{"M", rs.width * rs.height},
+                 {"width", rs.width},
+                 {"height", rs.height},
+                 {"S", rs.spp},
+                 {"B", rs.bounces},
+                 {"seed", rs.seed},
+                 {"threads", rs.threads}});
+  return {{"params", params},
+          {"image_mean", image_mean(r.image)},
+          {"counters", counters_json(r.counters)},
+          {"prepare_counters", counters_json(file.prepare)},
+          {"timings", file.timings}};
+}
+
 // `pcrt render --scene`: the file's objects, lights and camera at the command line's M, S, B.
 int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   check_scene_file_args(o);
@@ -231,19 +255,7 @@ int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   file->timings["render"] = r.seconds;
   OutputFiles outputs;  // all or none
   stage_render_images(outputs, r, o.out, o.depth.value_or(""), o.normals.value_or(""));
-  json params = file->params;
-  params.update({{"M", rs.width * rs.height},
-                 {"width", rs.width},
-                 {"height", rs.height},
-                 {"S", rs.spp},
-                 {"B", rs.bounces},
-                 {"seed", rs.seed},
-                 {"threads", rs.threads}});
-  if (o.stats)
-    outputs.stage(*o.stats, json_writer({{"params", params},
-                                         {"counters", counters_json(r.counters)},
-                                         {"prepare_counters", counters_json(file->prepare)},
-                                         {"timings", file->timings}}));
+  if (o.stats) outputs.stage(*o.stats, json_writer(scene_file_stats(*file, rs, r)));
   outputs.commit();
   std::printf("%s: %s, %zu objects, %dx%d, S=%d B=%d, render %.3f s\n", o.out.c_str(),
               o.scene_file->c_str(), file->scene.objects.size(), rs.width, rs.height, rs.spp,
