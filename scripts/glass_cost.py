@@ -22,9 +22,9 @@ def main():
     methods = sorted({f.name.split(".")[0] for f in folder.glob("*.json")})
     if not methods:
         sys.exit(f"glass_cost: {folder}: no stats")
-    print("| method | rays cast, glass / diffuse | ratio | render s, glass / diffuse (median) "
-          "| ratio |")
-    print("|---|---|---|---|---|")
+    print("| method | rays cast, glass / diffuse | ratio | shadow rays, ratio | bounce rays, ratio "
+          "| items visited, ratio | render s, glass / diffuse (median) | ratio |")
+    print("|---|---|---|---|---|---|---|---|")
     for m in methods:
         runs = {mat: [load(folder / f"{m}.{mat}.{r}.json") for r in range(1, reps + 1)]
                 for mat in ("glass", "diffuse")}
@@ -33,8 +33,13 @@ def main():
             if any(j["counters"]["rays_cast"] != rays[mat] for j in runs[mat]):
                 sys.exit(f"glass_cost: {m} {mat}: rays_cast differs between reps")
         secs = {mat: statistics.median(j["timings"]["render"] for j in runs[mat]) for mat in runs}
+        def ratio_of(k):  # "-" where the method does not count it (its own structure)
+            g, d = (runs[mat][0]["counters"].get(k, 0) for mat in ("glass", "diffuse"))
+            return f"{g / d:.2f}" if d else "-"
+        ratio = {k: ratio_of(k) for k in ("shadow_rays", "bounce_rays", "items_visited")}
         print(f"| {m} | {rays['glass']} / {rays['diffuse']} | {rays['glass'] / rays['diffuse']:.2f}"
-              f" | {secs['glass']:.3f} / {secs['diffuse']:.3f} | "
+              f" | {ratio['shadow_rays']} | {ratio['bounce_rays']} | "
+              f"{ratio['items_visited']} | {secs['glass']:.3f} / {secs['diffuse']:.3f} | "
               f"{secs['glass'] / secs['diffuse']:.2f} |")
     p = load(folder / f"{methods[0]}.glass.1.json")["params"]
     print(f"\n{p['width']}x{p['height']} pixels, S = {p['S']}, B = {p['B']}, {reps} reps "
