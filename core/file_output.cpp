@@ -17,10 +17,38 @@ namespace pcrt {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A device, FIFO or socket is never replaced by a file (a rename onto /dev/null would delete the
+// node); pcrt writes regular files only.
+void check_replaceable(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st) || fs::is_regular_file(st) || fs::is_directory(st)) return;
+  input_error(
+      "{}: is a device, FIFO or socket, not a regular file (pcrt writes regular files only)", what);
+}
+
+// Where an output lands: through symbolic links (dangling ones too) to their target, so that a
+// link stays a link.
+std::string landing(const std::string& path) {
+  std::error_code ec;
+  fs::path p = path;
+  for (int hops = 0; hops < 40 && fs::is_symlink(p, ec); ++hops) {
+    const fs::path target = fs::read_symlink(p, ec);
+    if (ec) return path;
+    p = target.is_absolute() ? target : p.parent_path() / target;
+  }
+  return p.string();
+}
+
+}  // namespace
+
 void check_output_path(const std::string& path, const std::string& option) {
   if (path.empty()) input_error("{}: an empty file name", option);
   std::error_code ec;
   if (fs::is_directory(path, ec)) input_error("{} {}: is a directory, not a file", option, path);
+  check_replaceable(path, option + " " + path);
   const fs::path folder = fs::path(path).parent_path();
   if (!folder.empty() && !fs::is_directory(folder, ec))
     input_error("{} {}: folder {} does not exist", option, path, folder.string());
@@ -39,7 +67,19 @@ OutputFiles::~OutputFiles() {
   for (const Staged& s : staged_) std::remove(s.temporary.c_str());
 }
 
-void OutputFiles::stage(const std::string& path, const StreamWriter& write, bool binary) {
+void check_not_an_input(const std::string& path, const std::string& option,
+                        const std::vector<std::pair<std::string, std::string>>& inputs) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return;
+  for (const auto& [input, input_option] : inputs)
+    if (!input.empty() && fs::equivalent(path, input, ec) && !ec)
+      input_error("{} {}: is also the input {} {}; refusing to overwrite it", option, path,
+                  input_option, input);
+}
+
+void OutputFiles::stage(const std::string& given, const StreamWriter& write, bool binary) {
+  check_replaceable(given, given);
+  const std::string path = landing(given);
   static std::atomic<unsigned> serial{0};
   const std::string tmp =
       fmt::format("{}.tmp.{}.{}", path, static_cast<long>(getpid()), serial.fetch_add(1));

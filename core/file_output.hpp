@@ -7,6 +7,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pcrt {
@@ -15,7 +16,14 @@ using StreamWriter = std::function<void(std::ostream&)>;
 
 // Throws InputError naming `option` and `path` unless `path` can be written: not empty, not a
 // directory, and its folder exists. Commands call it for every output before any work.
+// Also refuses an existing device, FIFO or socket (never replaced by a file); a symbolic link is
+// written through, onto its target.
 void check_output_path(const std::string& path, const std::string& option);
+
+// Throws InputError when the output `path` is the same file (by device and inode, through links)
+// as one of the command's inputs (path, option): `render --data in.ply --out in.ply`.
+void check_not_an_input(const std::string& path, const std::string& option,
+                        const std::vector<std::pair<std::string, std::string>>& inputs);
 
 // Creates the output directory `dir` (and its parents) or throws InputError naming `option`.
 void make_output_directory(const std::string& dir, const std::string& option);

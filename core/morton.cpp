@@ -26,10 +26,16 @@ Vec3 key_scale(const Aabb& b) {
       .select(Vec3::Constant(2097151.0f).cwiseQuotient(b.extent()), 0.0f);
 }
 
+// A cell index in [0, 2^21): a cloud a few 1e-38 across makes the scale infinite, so q may be
+// inf (or NaN, 0 x inf), which no integer conversion may see.
+uint64_t cell(float q) {
+  if (!(q > 0)) return 0;
+  return q < 2097151.0f ? uint64_t(q) : 2097151u;
+}
+
 uint64_t key_of(const Vec3& p, const Aabb& b, const Vec3& scale) {
   const Vec3 q = (p - b.lo).cwiseProduct(scale);
-  return spread_bits(uint64_t(q.x())) | spread_bits(uint64_t(q.y())) << 1 |
-         spread_bits(uint64_t(q.z())) << 2;
+  return spread_bits(cell(q.x())) | spread_bits(cell(q.y())) << 1 | spread_bits(cell(q.z())) << 2;
 }
 
 struct Keyed {

@@ -56,4 +56,21 @@ TEST_CASE("load_dataset returns the cloud in Morton order") {
   CHECK(again.normals == sorted.normals);
 }
 
+TEST_CASE("morton_order of clouds 1e-38 across and of one repeated point is defined") {
+  // The scale 2^21 / extent overflows to +inf for extents below about 1e-32: cells are clamped,
+  // never converted from inf or NaN (UBSan's float-cast-overflow caught it before).
+  const std::vector<Vec3> tiny = {Vec3(0, 0, 0), Vec3(1e-38f, 0, 0), Vec3(0, 2e-38f, 0),
+                                  Vec3(3e-39f, 1e-38f, 1e-38f)};
+  const std::vector<uint32_t> order = morton_order(tiny);
+  REQUIRE(order.size() == tiny.size());
+  std::vector<uint32_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  CHECK(sorted == std::vector<uint32_t>{0, 1, 2, 3});
+  Aabb box;
+  for (const Vec3& p : tiny) box.extend(p);
+  CHECK(morton_key(tiny[3], box) <= morton_key(Vec3(1e-38f, 2e-38f, 1e-38f), box));
+  const std::vector<Vec3> same(5, Vec3(1, 2, 3));
+  CHECK(morton_order(same) == std::vector<uint32_t>{0, 1, 2, 3, 4});
+}
+
 }  // namespace pcrt

@@ -329,7 +329,10 @@ void bind(CLI::App& c, ConvertOptions& o) {
 void bind(CLI::App& c, SweepOptions& o) {
   c.add_option("CONFIG", o.config, "sweep configuration (JSON)")->required();
   text(c, "--out", o.out, "DIR", "output directory")->default_str("results/<config name>");
-  flag(c, "--resume", o.resume, "skip the runs already in DIR/runs.jsonl");
+  CLI::Option* resume = flag(c, "--resume", o.resume, "skip the runs already in DIR/runs.jsonl");
+  flag(c, "--overwrite", o.overwrite,
+       "start again in a DIR holding runs: its files are moved to DIR/previous.N first")
+      ->excludes(resume);
   once(c.add_option_function<std::string>(
            "--shard", [&o](const std::string& v) { o.shard = parse_shard(v); },
            "run only shard i (0-based) of n, shards balanced on estimated run time"),

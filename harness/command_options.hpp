@@ -157,11 +157,12 @@ struct ShardIndex {
 
 struct SweepOptions {
   static constexpr const char* usage =
-      "pcrt sweep CONFIG.json [--out DIR] [--resume] [--shard i/n [--costs DIR | --plan FILE]] "
-      "[--fit]";
+      "pcrt sweep CONFIG.json [--out DIR] [--resume | --overwrite] [--shard i/n [--costs DIR | "
+      "--plan FILE]] [--fit]";
   std::string config;
   std::optional<std::string> out;  // default results/<config name>
   bool resume = false;
+  bool overwrite = false;  // an earlier sweep's files in DIR are moved to DIR/previous.N
   std::optional<ShardIndex> shard;
   std::optional<std::string> costs, plan;
   bool fit = false;

@@ -265,6 +265,11 @@ int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   return 0;
 }
 
+// The files a render or trace reads, which none of its outputs may be.
+std::vector<std::pair<std::string, std::string>> scene_inputs(const SceneArgs& a) {
+  return {{a.data.value_or(""), "--data"}, {a.mesh.value_or(""), "--mesh"}};
+}
+
 }  // namespace
 
 int command_render(const RenderOptions& o) {
@@ -272,11 +277,14 @@ int command_render(const RenderOptions& o) {
   RenderSettings rs = o.settings;
   rs.threads = o.scene.threads;
   check_camera_axes(rs.view, rs.up, "render");
-  check_output_path(o.out, "--out");
+  auto inputs = scene_inputs(o.scene);
+  inputs.emplace_back(o.scene_file.value_or(""), "--scene");
   for (const auto& [path, option] :
        {std::pair{&o.depth, "--depth"}, std::pair{&o.normals, "--normals"},
         std::pair{&o.stats, "--stats"}})
-    if (*path) check_output_path(**path, option);
+    if (*path) check_output_path(**path, option), check_not_an_input(**path, option, inputs);
+  check_output_path(o.out, "--out");
+  check_not_an_input(o.out, "--out", inputs);
   if (o.scene_file) return render_scene_file(o, rs);
   const auto loaded = load_scene(o.scene, "render", RenderOptions::usage);
   const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
@@ -298,8 +306,12 @@ int command_render(const RenderOptions& o) {
 
 int command_trace(const TraceOptions& o) {
   auto limit = limit_threads(o.scene.threads);
+  auto inputs = scene_inputs(o.scene);
+  inputs.emplace_back(o.rays, "--rays");
   check_output_path(o.out, "--out");
-  if (o.stats) check_output_path(*o.stats, "--stats");
+  check_not_an_input(o.out, "--out", inputs);
+  if (o.stats)
+    check_output_path(*o.stats, "--stats"), check_not_an_input(*o.stats, "--stats", inputs);
   const std::vector<Ray> rays = read_rays_csv(o.rays);
   const auto loaded = load_scene(o.scene, "trace", TraceOptions::usage);
   Timings& timings = loaded->timings;
@@ -810,6 +822,7 @@ int command_list(const ListOptions& o) {
 
 int command_convert(const ConvertOptions& o) {
   check_output_path(o.out, "--out");
+  check_not_an_input(o.out, "--out", {{o.data, "DATA"}});
   const Dataset d = load_dataset_in_input_order(o.data);  // a file keeps its order
   write_ply(o.out, d.cloud, o.ascii ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", o.out.c_str(), d.cloud.size(),

@@ -1,12 +1,17 @@
 // The sweep side of the CLI: sweep, merge, fit, report, calibrate, check, and the hidden _run
 // that executes one run in a child process.
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -62,11 +67,74 @@ std::set<std::string> resume_from(const std::string& jsonl) {
   return done;
 }
 
+// A sweep owns its results folder while it runs: an exclusive flock on DIR/.lock, which the
+// kernel releases however the sweep ends, with the holder's pid inside for the refusal.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::string& dir) : path_(dir + "/.lock") {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) input_error("{}: cannot lock the results folder: {}", path_, std::strerror(errno));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      char pid[32] = {};
+      const ssize_t n = ::pread(fd_, pid, sizeof pid - 1, 0);
+      ::close(fd_);
+      std::string holder = n > 0 ? std::string(pid, size_t(n)) : std::string();
+      holder.erase(
+          std::find_if(holder.begin(), holder.end(), [](char c) { return !std::isdigit(c); }),
+          holder.end());
+      input_error("--out {}: another sweep (pid {}) is writing it", dir,
+                  holder.empty() ? std::string("unknown") : holder);
+    }
+    const std::string mine = std::to_string(getpid());
+    if (::ftruncate(fd_, 0) == 0) (void)!::pwrite(fd_, mine.data(), mine.size(), 0);
+  }
+  ~FolderLock() {
+    ::unlink(path_.c_str());
+    ::close(fd_);
+  }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
+// Moves every entry of DIR but its lock and earlier copies into DIR/previous.N (N the first free).
+void move_aside(const std::string& dir) {
+  fs::path aside;
+  for (int n = 1;; ++n)
+    if (!fs::exists(aside = fs::path(dir) / fmt::format("previous.{}", n))) break;
+  fs::create_directory(aside);
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name == ".lock" || name.rfind("previous.", 0) == 0) continue;
+    fs::rename(e.path(), aside / name);
+  }
+  std::printf("%s: the earlier sweep's files are now in %s\n", dir.c_str(), aside.c_str());
+}
+
+// Without --resume a folder holding an earlier sweep's runs is never emptied: refused, or moved
+// aside with --overwrite.
+void claim_folder(const std::string& dir, bool resume, bool overwrite) {
+  const std::string jsonl = dir + "/runs.jsonl";
+  std::error_code ec;
+  if (resume || !fs::exists(jsonl, ec) || fs::file_size(jsonl, ec) == 0) return;
+  if (!overwrite)
+    input_error(
+        "--out {} holds the runs of an earlier sweep: give --resume to continue it, or "
+        "--overwrite to start again (its files are moved to {}/previous.N)",
+        dir, dir);
+  move_aside(dir);
+}
+
 // Runs the `selected` runs of `config` not yet in DIR/runs.jsonl (with --resume); returns all
 // results in DIR afterwards.
 std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
-                                 const std::vector<size_t>& selected, bool quiet) {
+                                 bool overwrite, const std::vector<size_t>& selected, bool quiet) {
   make_output_directory(dir, "--out");
+  const FolderLock lock(dir);
+  claim_folder(dir, resume, overwrite);
   const std::string jsonl = dir + "/runs.jsonl";
   const bool resuming = resume && fs::exists(jsonl);
   const std::set<std::string> done = resuming ? resume_from(jsonl) : std::set<std::string>{};
@@ -224,7 +292,7 @@ int command_sweep(const SweepOptions& o) {
   const SweepConfig config = load_sweep_config(o.config);
   const std::string dir = o.out.value_or("results/" + config.name);
   const std::vector<RunResult> results =
-      run_sweep(config, dir, o.resume, shard_runs(config, o), false);
+      run_sweep(config, dir, o.resume, o.overwrite, shard_runs(config, o), false);
   if (o.fit) write_fits(dir, fit_runs(config, results));
   return 0;
 }
@@ -336,7 +404,8 @@ std::string sweep_dir(const std::optional<std::string>& out, const std::string& 
 int command_calibrate(const CalibrateOptions& o) {
   const SweepConfig config = parse_sweep_config(calibration_config(), "calibrate");
   const std::string dir = sweep_dir(o.out, "calibrate");
-  const std::vector<RunResult> results = run_sweep(config, dir, false, all_runs(config), true);
+  const std::vector<RunResult> results =
+      run_sweep(config, dir, false, true, all_runs(config), true);
   const std::vector<json> fits = fit_runs(config, results);
   if (o.out)
     write_fits(dir, fits);
@@ -445,7 +514,8 @@ int command_check(const CheckOptions& o) {
   if (o.update) check_output_path(o.baseline, "--baseline");
   const json base = o.update ? json() : read_baseline(o.baseline);
   const std::string dir = sweep_dir(o.out, "check");
-  const std::vector<RunResult> results = run_sweep(config, dir, false, all_runs(config), true);
+  const std::vector<RunResult> results =
+      run_sweep(config, dir, false, true, all_runs(config), true);
   const json now = gate_record(results, fit_runs(config, results));
   if (!o.out) fs::remove_all(dir);
   if (o.update) {

@@ -89,6 +89,7 @@ class Scene {
   Scene(std::shared_ptr<const PointCloud> cloud, const std::string& method,
         const std::string& structure, const py::kwargs& params)
       : cloud_(std::move(cloud)) {
+    if (!cloud_) input_error("Scene: cloud is None (give a cloud from pcrt.load or from_arrays)");
     SceneOptions options{method, structure, {}};
     for (const auto& [k, v] : params) {
       const auto name = py::cast<std::string>(k);
@@ -312,6 +313,36 @@ void bind_cloud(py::module_& m) {
 
 }  // namespace
 
+namespace {
+
+// The Scene a bound member is called on, checked: an object whose __init__ never ran
+// (Scene.__new__(Scene)) has no C++ Scene behind it, and pybind11 would call through garbage.
+Scene& initialised(const py::handle& self) {
+  if (!py::isinstance<Scene>(self))
+    throw py::type_error("pcrt.Scene method called on another type");
+  auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
+  const py::detail::value_and_holder vh = inst->get_value_and_holder();
+  if (!vh.holder_constructed() || !vh.value_ptr())
+    throw py::type_error(
+        "pcrt.Scene is not initialised: make it with pcrt.Scene(cloud, method=...)");
+  return *vh.value_ptr<Scene>();
+}
+
+template <typename R, typename... A>
+auto on_scene(R (Scene::*f)(A...)) {
+  return [f](const py::handle& self, A... a) -> R {
+    return (initialised(self).*f)(std::forward<A>(a)...);
+  };
+}
+template <typename R, typename... A>
+auto on_scene(R (Scene::*f)(A...) const) {
+  return [f](const py::handle& self, A... a) -> R {
+    return (initialised(self).*f)(std::forward<A>(a)...);
+  };
+}
+
+}  // namespace
+
 PYBIND11_MODULE(_pcrt, m) {
   m.doc() = "pcrt: ray tracing point clouds with the methods of the 2019 survey";
   bind_errors(m);
@@ -334,18 +365,18 @@ PYBIND11_MODULE(_pcrt, m) {
            py::arg("cloud"), py::arg("method"), py::arg("structure") = "",
            "A method on a structure (default: its paper's) over a cloud; keyword arguments set "
            "method or structure parameters")
-      .def("trace", &Scene::trace, py::arg("origins"), py::arg("directions"),
+      .def("trace", on_scene(&Scene::trace), py::arg("origins"), py::arg("directions"),
            py::arg("threads") = 0,
            "Closest hits: a dict of numpy arrays hit, t, position, normal, primitive (-1: none)")
-      .def("render", &Scene::render, py::arg("width") = 512, py::arg("height") = 512,
+      .def("render", on_scene(&Scene::render), py::arg("width") = 512, py::arg("height") = 512,
            py::arg("spp") = 1, py::arg("bounces") = 1, py::arg("seed") = 1,
            py::arg("point_light") = true, py::arg("threads") = 0,
            "A frame as an (height, width, 3) float32 array of linear radiance")
-      .def_property_readonly("method", &Scene::method)
-      .def_property_readonly("structure", &Scene::structure)
-      .def_property_readonly("structure_bytes", &Scene::structure_bytes)
-      .def_property_readonly("prepare_counters", &Scene::prepare_counters)
-      .def_property_readonly("counters", &Scene::counters,
+      .def_property_readonly("method", on_scene(&Scene::method))
+      .def_property_readonly("structure", on_scene(&Scene::structure))
+      .def_property_readonly("structure_bytes", on_scene(&Scene::structure_bytes))
+      .def_property_readonly("prepare_counters", on_scene(&Scene::prepare_counters))
+      .def_property_readonly("counters", on_scene(&Scene::counters),
                              "operation counters of the last trace or render");
 
   m.def("methods", &methods, "every method with its parameters and the thesis's claims");

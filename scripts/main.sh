@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh build
 bash scripts/fetch_data.sh
 pcrt=build/bin/pcrt
-$pcrt sweep configs/quick.json --out results/quick
+$pcrt sweep configs/quick.json --out results/quick --overwrite
 $pcrt fit results/quick
 $pcrt report results/quick
 mkdir -p out

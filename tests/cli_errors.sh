@@ -147,6 +147,32 @@ expect_error "camera eye and target must differ" "${sr[@]}" "$dir/s_camera.json"
 expect_error "s_trunc.json" "${sr[@]}" "$dir/s_trunc.json"
 expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" --method reference_splat
 expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
+# Outputs: a device or FIFO is refused and left as it was, never replaced by a file; a symbolic
+# link is written through to its target and stays a link; an output that is an input is refused.
+mkfifo "$dir/fifo"
+expect_error "--out $dir/fifo: is a device, FIFO or socket" "${render[@]}" --out "$dir/fifo"
+[ -p "$dir/fifo" ] || { echo "FAIL: the FIFO was replaced"; fails=$((fails + 1)); }
+expect_error "--stats /dev/null: is a device, FIFO or socket" "${render[@]}" --out "$dir/dev.png" --stats /dev/null
+[ -c /dev/null ] || { echo "FAIL: /dev/null is no longer a device"; fails=$((fails + 1)); }
+[ -e "$dir/dev.png" ] && { echo "FAIL: an output was written before the refusal"; fails=$((fails + 1)); }
+ln -s "$dir/target.png" "$dir/link.png"
+if "$pcrt" "${render[@]}" --out "$dir/link.png" >/dev/null 2>&1 && [ -L "$dir/link.png" ] &&
+  head -c 8 "$dir/target.png" | od -An -c | grep -q 'P   N   G'; then
+  echo "ok: an output through a symbolic link lands on its target, the link stays"
+else
+  echo "FAIL: an output through a symbolic link"; fails=$((fails + 1))
+fi
+"$pcrt" convert sphere:n=100 --out "$dir/in.ply" >/dev/null
+cp "$dir/in.ply" "$dir/in.copy"
+ln -s "$dir/in.ply" "$dir/in_link.ply"
+expect_error "--out $dir/in.ply: is also the input --data" render --method reference_splat --data "$dir/in.ply" --out "$dir/in.ply"
+expect_error "--stats $dir/in_link.ply: is also the input --data" render --method reference_splat --data "$dir/in.ply" --out "$dir/x.png" --stats "$dir/in_link.ply"
+expect_error "--out $dir/rays.csv: is also the input --rays" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/rays.csv"
+expect_error "is also the input DATA" convert "$dir/in.ply" --out "$dir/in_link.ply"
+cmp -s "$dir/in.ply" "$dir/in.copy" || { echo "FAIL: an input was overwritten"; fails=$((fails + 1)); }
+# A cloud a few 1e-38 across: Morton order at load must not convert infinities (UB under UBSan).
+printf '0 0 0\n1e-38 0 0\n0 2e-38 0\n3e-39 1e-38 1e-38\n' >"$dir/tiny.xyz"
+if "$pcrt" info "$dir/tiny.xyz" >/dev/null 2>"$dir/err"; then echo "ok: pcrt info on a cloud 1e-38 across"; else echo "FAIL: pcrt info on a tiny cloud: $(cat "$dir/err")"; fails=$((fails + 1)); fi
 # Sweep and check outputs and inputs of the wrong kind.
 config="$(dirname "$0")/../configs/ci.json"
 expect_error "--out $dir/keep.png: is a file, not a directory" sweep "$config" --out "$dir/keep.png"

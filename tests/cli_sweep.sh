@@ -171,4 +171,21 @@ grep -q "sbatch was not found" "$dir/err" && test "$(wc -l <"$dir/err")" -eq 1
 # A runs.jsonl without end (a link to /dev/zero) is read up to a bound (issue 14).
 mkdir -p "$dir/zero" && ln -s /dev/zero "$dir/zero/runs.jsonl"
 expect_error "runs.jsonl: more than 268435456 bytes" sweep "$dir/tiny.json" --out "$dir/zero" --resume
+# A results folder is owned: without --resume an earlier sweep's runs are refused, not emptied;
+# --overwrite moves them to previous.N first; a folder another sweep holds (its flock) is refused.
+cp "$dir/a/runs.jsonl" "$dir/a_runs.before"
+expect_error "holds the runs of an earlier sweep" sweep "$dir/tiny.json" --out "$dir/a"
+cmp -s "$dir/a/runs.jsonl" "$dir/a_runs.before" || { echo "FAIL: runs.jsonl changed"; exit 1; }
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --overwrite >/dev/null
+cmp -s "$dir/a/previous.1/runs.jsonl" "$dir/a_runs.before"
+test "$(wc -l <"$dir/a/runs.jsonl")" -eq 18
+expect_error "--resume" sweep "$dir/tiny.json" --out "$dir/a" --resume --overwrite
+mkdir -p "$dir/held"
+(flock -x 9; echo 4242 >&9; sleep 30) 9>"$dir/held/.lock" &
+holder=$!
+for _ in $(seq 200); do flock -n "$dir/held/.lock" true 2>/dev/null || break; sleep 0.02; done
+expect_error "another sweep (pid 4242" sweep "$dir/tiny.json" --out "$dir/held" --resume
+kill "$holder" 2>/dev/null || true
+wait "$holder" 2>/dev/null || true
+test ! -e "$dir/a/.lock"  # released and removed when the sweep ends
 echo "sweep harness ok"

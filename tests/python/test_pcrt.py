@@ -170,3 +170,13 @@ def test_read_sweep(tmp_path):
         assert [int(r["N"]) for r in runs] == [1000, 2000, 4000]
     with pytest.raises(pcrt.Error, match="a sweep directory"):
         pcrt.read_sweep(str(tmp_path))
+
+
+def test_half_made_objects_raise_instead_of_crashing():
+    with pytest.raises(pcrt.Error, match="cloud is None"):
+        pcrt.Scene(None, method="reference_splat")
+    half = pcrt.Scene.__new__(pcrt.Scene)
+    with pytest.raises(TypeError, match="not initialised"):
+        half.method
+    with pytest.raises(TypeError, match="not initialised"):
+        half.render(width=4, height=4)
