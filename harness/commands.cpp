@@ -180,18 +180,18 @@ void check_camera_axes(const Vec3& view, const Vec3& up, const char* command) {
     input_error("pcrt {}: --view and --up must not be parallel", command);
 }
 
+// The frame's settings as --stats records them.
+json frame_params(const RenderSettings& rs) {
+  return {{"M", rs.width * rs.height}, {"width", rs.width}, {"height", rs.height},  {"S", rs.spp},
+          {"B", rs.bounces},           {"seed", rs.seed},   {"threads", rs.threads}};
+}
+
 // --stats: the settings, counters, timings and the process's cost.
 json render_stats(const LoadedScene& loaded, const RenderSettings& rs, const RenderResult& r,
                   double setup_cpu) {
   json params = loaded.params;
-  params.update({{"M", rs.width * rs.height},
-                 {"width", rs.width},
-                 {"height", rs.height},
-                 {"S", rs.spp},
-                 {"B", rs.bounces},
-                 {"seed", rs.seed},
-                 {"point_light", rs.point_light},
-                 {"threads", rs.threads}});
+  params.update(frame_params(rs));
+  params["point_light"] = rs.point_light;
   return {{"params", params},
           {"counters", counters_json(r.counters)},
           {"prepare_counters", counters_json(loaded.prepare)},
@@ -230,13 +230,7 @@ json image_mean(const Image& image) {
 
 json scene_file_stats(const SceneFile& file, const RenderSettings& rs, const RenderResult& r) {
   json params = file.params;
-  params.update({{"M", rs.width * rs.height},
-                 {"width", rs.width},
-                 {"height", rs.height},
-                 {"S", rs.spp},
-                 {"B", rs.bounces},
-                 {"seed", rs.seed},
-                 {"threads", rs.threads}});
+  params.update(frame_params(rs));
   return {{"params", params},
           {"image_mean", image_mean(r.image)},
           {"counters", counters_json(r.counters)},
