@@ -39,6 +39,7 @@ std::string landing(const std::string& path) {
     if (ec) return path;
     p = target.is_absolute() ? target : p.parent_path() / target;
   }
+  if (fs::is_symlink(p, ec)) input_error("{}: a loop of symbolic links", path);
   return p.string();
 }
 
@@ -49,6 +50,7 @@ void check_output_path(const std::string& path, const std::string& option) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) input_error("{} {}: is a directory, not a file", option, path);
   check_replaceable(path, option + " " + path);
+  (void)landing(path);  // a loop of links is refused before any work
   const fs::path folder = fs::path(path).parent_path();
   if (!folder.empty() && !fs::is_directory(folder, ec))
     input_error("{} {}: folder {} does not exist", option, path, folder.string());

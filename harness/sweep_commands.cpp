@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -72,19 +73,19 @@ std::set<std::string> resume_from(const std::string& jsonl) {
 class FolderLock {
  public:
   explicit FolderLock(const std::string& dir) : path_(dir + "/.lock") {
-    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) input_error("{}: cannot lock the results folder: {}", path_, std::strerror(errno));
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      char pid[32] = {};
-      const ssize_t n = ::pread(fd_, pid, sizeof pid - 1, 0);
+    // The lock file is removed when its holder ends: a lock taken on a file already unlinked is
+    // retried on the one now at the path, so two sweeps never both hold one.
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      take(dir);
+      struct stat held {
+      }, now{};
+      if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &now) == 0 &&
+          held.st_ino == now.st_ino && held.st_dev == now.st_dev)
+        break;
       ::close(fd_);
-      std::string holder = n > 0 ? std::string(pid, size_t(n)) : std::string();
-      holder.erase(
-          std::find_if(holder.begin(), holder.end(), [](char c) { return !std::isdigit(c); }),
-          holder.end());
-      input_error("--out {}: another sweep (pid {}) is writing it", dir,
-                  holder.empty() ? std::string("unknown") : holder);
+      fd_ = -1;
     }
+    if (fd_ < 0) input_error("{}: cannot lock the results folder: it keeps changing", path_);
     const std::string mine = std::to_string(getpid());
     if (::ftruncate(fd_, 0) == 0) (void)!::pwrite(fd_, mine.data(), mine.size(), 0);
   }
@@ -96,6 +97,27 @@ class FolderLock {
   FolderLock& operator=(const FolderLock&) = delete;
 
  private:
+  // Opens the lock file and takes its flock, or throws: held by another sweep, or not lockable.
+  void take(const std::string& dir) {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) input_error("{}: cannot lock the results folder: {}", path_, std::strerror(errno));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+    const int error = errno;
+    if (error != EWOULDBLOCK) {
+      ::close(fd_);
+      input_error("{}: cannot lock the results folder: {}", path_, std::strerror(error));
+    }
+    char pid[32] = {};
+    const ssize_t n = ::pread(fd_, pid, sizeof pid - 1, 0);
+    ::close(fd_);
+    std::string holder = n > 0 ? std::string(pid, size_t(n)) : std::string();
+    holder.erase(
+        std::find_if(holder.begin(), holder.end(), [](char c) { return !std::isdigit(c); }),
+        holder.end());
+    input_error("--out {}: another sweep (pid {}) is writing it", dir,
+                holder.empty() ? std::string("unknown") : holder);
+  }
+
   std::string path_;
   int fd_ = -1;
 };

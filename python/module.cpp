@@ -321,7 +321,8 @@ Scene& initialised(const py::handle& self) {
   if (!py::isinstance<Scene>(self))
     throw py::type_error("pcrt.Scene method called on another type");
   auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
-  const py::detail::value_and_holder vh = inst->get_value_and_holder();
+  const py::detail::value_and_holder vh =
+      inst->get_value_and_holder(py::detail::get_type_info(typeid(Scene)));
   if (!vh.holder_constructed() || !vh.value_ptr())
     throw py::type_error(
         "pcrt.Scene is not initialised: make it with pcrt.Scene(cloud, method=...)");

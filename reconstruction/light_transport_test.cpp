@@ -224,3 +224,29 @@ TEST_CASE("a mirror shows the scene a mirrored camera sees, pixel for pixel", "[
   CHECK(lit > 50);  // 83 here
   CHECK(differ == 0);
 }
+
+TEST_CASE("a sphere light blocks the shadow rays of other lights, as it ends bounce rays",
+          "[light_transport]") {
+  // A dark sphere light around the whole scene: a bounce ray ends on it (radiance 0), so a
+  // shadow ray to the environment beyond it must be blocked too, or NEE adds light that BSDF
+  // sampling can never see.
+  const ExactSphere sphere;
+  RenderScene scene;
+  Aabb box;
+  box.extend(Vec3::Constant(-1)), box.extend(Vec3::Constant(1));
+  scene.objects.push_back(SceneObject{&sphere, nullptr, diffuse(0.8f), Transform{}, box, "ball"});
+  Light shell;
+  shell.kind = LightKind::kSphere;
+  shell.radius = 10;
+  shell.power = Vec3::Zero();
+  Light environment;
+  environment.kind = LightKind::kEnvironment;
+  scene.lights = {shell, environment};
+  RenderSettings s;
+  s.width = s.height = 16;
+  s.spp = 4;
+  s.bounces = 2;
+  s.camera = Camera(Vec3(0, -3, 0), Vec3::Zero(), Vec3::UnitZ(), 40, 16, 16);
+  const RenderResult r = render(scene, s);
+  for (const Vec3& p : r.image.pixels()) REQUIRE(p.maxCoeff() == 0.0f);
+}

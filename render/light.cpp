@@ -68,6 +68,7 @@ std::optional<LightSample> sample_sphere(const Light& l, const Vec3& p, const Ve
   const float dc = to_c.norm();
   if (dc <= l.radius) return sample_sphere_inside(l, p, u);
   const float one_minus = cone_one_minus_cos(dc, l.radius);
+  if (!(one_minus > 0)) return std::nullopt;  // too far (or too small) to subtend a float angle
   const float cos_t = 1.0f - u.x() * one_minus;
   const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
   const float phi = 2.0f * kPi * u.y();
@@ -129,6 +130,7 @@ std::shared_ptr<const EnvironmentMap> EnvironmentMap::load(const std::string& pa
 }
 
 int EnvironmentMap::texel_of(const Vec3& d) const {
+  if (!d.allFinite()) return 0;  // a NaN normal upstream must not index out of the map
   const float theta = std::acos(std::clamp(d.z(), -1.0f, 1.0f));
   float phi = std::atan2(d.y(), d.x());
   if (phi < 0) phi += 2.0f * kPi;
@@ -201,7 +203,10 @@ float light_pdf(const Light& l, const Vec3& p, const Vec3& wi) {
       float t0, t1;
       if (!sphere_roots(p, wi, l.position, l.radius, t0, t1) || t1 <= 0) return 0;
       const float dc = (l.position - p).norm();
-      if (dc > l.radius) return 1.0f / (2.0f * kPi * cone_one_minus_cos(dc, l.radius));
+      if (dc > l.radius) {
+        const float one_minus = cone_one_minus_cos(dc, l.radius);
+        return one_minus > 0 ? 1.0f / (2.0f * kPi * one_minus) : 0.0f;
+      }
       const Vec3 q = p + t1 * wi;  // from inside, the far root is the surface seen
       const float cos_q = std::abs((q - l.position).normalized().dot(wi));
       return cos_q > 0 ? t1 * t1 / (4.0f * kPi * l.radius * l.radius * cos_q) : 0;

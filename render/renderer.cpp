@@ -76,6 +76,14 @@ Ray shadow_ray(const PathContext& c, const Hit& hit, const Vec3& n, const LightS
   return Ray{origin, to / dist, 0.0f, dist};
 }
 
+// Whether a shadow ray towards `target` is blocked: by an object, or by another sphere light, which
+// a bounce ray in the same direction would end on (lights do not pass light through them).
+bool blocked(const PathContext& c, const Ray& shadow, const Light& target, OpCounters& counters) {
+  for (const Light& other : c.scene.lights)
+    if (&other != &target && intersect_light(other, shadow) < shadow.tmax) return true;
+  return c.scene.any_hit(shadow, counters);
+}
+
 // Next event estimation at a non-specular vertex: one shadow ray per sampled light. The light is
 // sampled from the hit itself, so that its distance and cosine are the shading point's (from the
 // lifted origin a light at distance d would be brighter by (d / (d - lift))^2); only the shadow
@@ -95,7 +103,7 @@ Vec3 direct_light(const PathContext& c, const Hit& hit, const Vec3& n, const Fra
     if (cos_i <= 0 || (!transmits && wi.z() <= 0)) continue;  // the light is behind the surface
     const Vec3 f = bsdf_f(m, wo, wi);
     counters.add(kShadowRays);
-    if (c.scene.any_hit(shadow_ray(c, hit, n, *ls), counters)) continue;
+    if (blocked(c, shadow_ray(c, hit, n, *ls), l, counters)) continue;
     const float w = ls->delta ? 1.0f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
     sum += f.cwiseProduct(ls->radiance) * (w * cos_i / ls->pdf);
   }

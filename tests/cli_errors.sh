@@ -162,6 +162,8 @@ if "$pcrt" "${render[@]}" --out "$dir/link.png" >/dev/null 2>&1 && [ -L "$dir/li
 else
   echo "FAIL: an output through a symbolic link"; fails=$((fails + 1))
 fi
+ln -s "$dir/loop_b" "$dir/loop_a" && ln -s "$dir/loop_a" "$dir/loop_b"
+expect_error "loop_a: a loop of symbolic links" "${render[@]}" --out "$dir/loop_a"
 "$pcrt" convert sphere:n=100 --out "$dir/in.ply" >/dev/null
 cp "$dir/in.ply" "$dir/in.copy"
 ln -s "$dir/in.ply" "$dir/in_link.ply"
