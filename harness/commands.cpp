@@ -186,6 +186,13 @@ json frame_params(const RenderSettings& rs) {
           {"B", rs.bounces},           {"seed", rs.seed},   {"threads", rs.threads}};
 }
 
+// The command line's frame settings on its threads, with camera axes that span a plane.
+RenderSettings frame_settings(RenderSettings rs, int threads, const char* command) {
+  rs.threads = threads;
+  check_camera_axes(rs.view, rs.up, command);
+  return rs;
+}
+
 // --stats: the settings, counters, timings and the process's cost.
 json render_stats(const LoadedScene& loaded, const RenderSettings& rs, const RenderResult& r,
                   double setup_cpu) {
@@ -268,9 +275,7 @@ std::vector<std::pair<std::string, std::string>> scene_inputs(const SceneArgs& a
 
 int command_render(const RenderOptions& o) {
   auto limit = limit_threads(o.scene.threads);
-  RenderSettings rs = o.settings;
-  rs.threads = o.scene.threads;
-  check_camera_axes(rs.view, rs.up, "render");
+  const RenderSettings rs = frame_settings(o.settings, o.scene.threads, "render");
   auto inputs = scene_inputs(o.scene);
   inputs.emplace_back(o.scene_file.value_or(""), "--scene");
   for (const auto& [path, option] :
@@ -535,9 +540,7 @@ std::unique_ptr<LoadedScene> furnace_scene(const FurnaceOptions& o) {
 
 int command_furnace(const FurnaceOptions& o) {
   auto limit = limit_threads(o.scene.threads);
-  RenderSettings rs = o.settings;
-  rs.threads = o.scene.threads;
-  check_camera_axes(rs.view, rs.up, "furnace");
+  const RenderSettings rs = frame_settings(o.settings, o.scene.threads, "furnace");
   if (o.out) check_output_path(*o.out, "--out");
   const auto loaded = furnace_scene(o);
   const FurnaceResult f = white_furnace(loaded->scene(), loaded->cloud(), rs);

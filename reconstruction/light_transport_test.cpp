@@ -250,3 +250,43 @@ TEST_CASE("a sphere light blocks the shadow rays of other lights, as it ends bou
   const RenderResult r = render(scene, s);
   for (const Vec3& p : r.image.pixels()) REQUIRE(p.maxCoeff() == 0.0f);
 }
+
+TEST_CASE("a scene of several objects renders the same at 1 and 2 threads", "[light_transport]") {
+  // Glass, a rough conductor and a diffuse floor, moved objects, a sphere light and a sampled
+  // environment: every random number belongs to its (pixel, sample), so nothing may change.
+  const ExactSphere ball;
+  const TriangleMesh floor_mesh = quad_at(Vec3(0, 0, -1), 12);
+  OpCounters prep;
+  Timings timings;
+  const MeshScene floor(floor_mesh, "bvh", prep, timings);
+  Material glass, metal;
+  glass.kind = MaterialKind::kDielectric;
+  metal.kind = MaterialKind::kRoughConductor;
+  metal.alpha = 0.3f;
+  Transform moved;
+  moved.translate = Vec3(2, 0.5f, -0.4f);
+  moved.scale = 0.6f;
+  const Aabb box;
+  RenderScene scene;
+  scene.objects = {{&ball, nullptr, glass, Transform{}, box, "glass"},
+                   {&ball, nullptr, metal, moved, box, "metal"},
+                   {&floor, nullptr, diffuse(0.7f), Transform{}, box, "floor"}};
+  Light sphere_light, environment;
+  sphere_light.kind = LightKind::kSphere;
+  sphere_light.position = Vec3(-2, -3, 5);
+  sphere_light.radius = 0.5f;
+  sphere_light.power = Vec3::Constant(30);
+  environment.kind = LightKind::kEnvironment;
+  environment.power = Vec3::Constant(0.2f);
+  scene.lights = {sphere_light, environment};
+  RenderSettings s;
+  s.width = 40, s.height = 30, s.spp = 3, s.bounces = 5;
+  s.camera = Camera(Vec3(0, -7, 2), Vec3(0.5f, 0, -0.3f), Vec3::UnitZ(), 45, 40, 30);
+  s.threads = 1;
+  const RenderResult one = render(scene, s);
+  s.threads = 2;
+  const RenderResult two = render(scene, s);
+  REQUIRE(one.image.pixels() == two.image.pixels());
+  REQUIRE(one.counters.to_map() == two.counters.to_map());
+  CHECK(one.counters.to_map().at("shadow_rays") > 0);
+}

@@ -119,6 +119,10 @@ std::shared_ptr<const EnvironmentMap> EnvironmentMap::load(const std::string& pa
     if (err) FreeEXRErrorMessage(err);
     input_error("{}: not a readable EXR environment map ({})", path, why);
   }
+  if (w <= 0 || h <= 0) {
+    std::free(rgba);
+    input_error("{}: an environment map of {}x{} texels", path, w, h);
+  }
   std::vector<Vec3> texels(size_t(w) * size_t(h));
   for (size_t i = 0; i < texels.size(); ++i)
     texels[i] = Vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);

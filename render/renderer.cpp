@@ -161,13 +161,7 @@ Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool foun
 }  // namespace
 
 Vec3 cosine_direction(const Vec3& n, Rng& rng) {
-  const float u1 = rng.uniform();
-  const float phi = 2.0f * kPi * rng.uniform();
-  const float r = std::sqrt(u1);
-  Vec3 u, v;
-  orthonormal_basis(n, u, v);
-  return (r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0f, 1.0f - u1)) * n)
-      .normalized();
+  return Frame3(n).to_world(cosine_hemisphere(uniform2(rng))).normalized();
 }
 
 Vec3 spawn_point(const Hit& hit, const Vec3& n, const Vec3& dir, float epsilon) {
