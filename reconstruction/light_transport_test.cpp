@@ -9,7 +9,9 @@
 #include <numeric>
 
 #include "reconstruction/mesh_engine.hpp"
+#include "render/furnace.hpp"
 #include "render/renderer.hpp"
+#include "render/surface_scene.hpp"
 
 using namespace pcrt;
 
@@ -161,6 +163,57 @@ TEST_CASE("a white convex object under a uniform environment renders to 1 (furna
     if (!sampled)  // every path escapes with weight exactly albedo = 1: no variance at all
       for (const Vec3& p : r.image.pixels()) REQUIRE(p.minCoeff() == Approx(1.0f).margin(1e-5));
   }
+}
+
+namespace {
+
+// The unit sphere seen through its near side: rays from outside hit where they leave it, as a
+// method's camera rays do when they pass between its splats.
+class FarSideSphere final : public SceneIntersector {
+ public:
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
+    if (ray.o.norm() <= 1.0f) return exact_.closest_hit(ray, hit, counters);
+    const float b = ray.o.dot(ray.d), disc = b * b - (ray.o.squaredNorm() - 1.0f);
+    if (disc < 0) return false;
+    const float t = -b + std::sqrt(disc);
+    hit.t = t, hit.p = ray.at(t), hit.n = hit.p.normalized(), hit.prim = 0;
+    return true;
+  }
+
+ private:
+  SphereSurface surface_;
+  SurfaceScene exact_{surface_};
+};
+
+}  // namespace
+
+TEST_CASE("the furnace tells false camera-ray hits from paths lost after a true hit",
+          "[light_transport]") {
+  SphereSurface unit;
+  PointCloud corners;
+  corners.positions = {Vec3::Constant(-1), Vec3::Constant(1)};
+  RenderSettings s;
+  s.width = s.height = 24;
+  s.spp = 1;
+  s.bounces = 1;
+  const FurnaceTruth truth{unit, 0.01};
+  const SurfaceScene exact(unit);
+  const FurnaceResult clean = white_furnace(exact, corners, s, truth);
+  REQUIRE(clean.object_pixels > 100);
+  CHECK(clean.dark_pixels == 0);
+  REQUIRE(clean.causes);
+  CHECK(clean.causes->primary == 0);
+  CHECK(clean.causes->secondary == 0);
+  // Every camera ray lands on the far wall, 2 units behind the surface it should hit; its bounce
+  // ray then leaves inside the sphere and hits it again: every object pixel is dark, and each
+  // is a false camera-ray hit.
+  const FarSideSphere leaky;
+  const FurnaceResult leaked = white_furnace(leaky, corners, s, truth);
+  CHECK(leaked.dark_pixels == leaked.object_pixels);
+  REQUIRE(leaked.causes);
+  CHECK(leaked.causes->primary == leaked.dark_pixels);
+  CHECK(leaked.causes->secondary == 0);
+  CHECK_FALSE(white_furnace(leaky, corners, s).causes);  // without a truth, no split
 }
 
 namespace {
