@@ -251,6 +251,8 @@ void bind(CLI::App& c, FurnaceOptions& o) {
   number(c, "--ray-epsilon", o.settings.ray_epsilon, "E",
          "offset of secondary ray origins (0: 1e-3 x scene diagonal)", 0.0);
   text(c, "--out", o.out, "FILE.png|.exr", "also write the furnace image");
+  flag(c, "--exact", o.exact,
+       "trace the generator's exact surface (the floor of what the shape itself loses)");
   json_flag(c, o.json);
 }
 

@@ -126,7 +126,7 @@ struct CrossoverOptions {
 struct FurnaceOptions {
   static constexpr const char* usage =
       "pcrt furnace (--method ID (--data DATA | --truth MESH [--sample SPEC]) | --mesh FILE "
-      "[--engine ID]) [--bounces B] [--spp S] [--json]";
+      "[--engine ID] | --exact --data GENERATOR_SPEC) [--bounces B] [--spp S] [--json]";
   SceneArgs scene;
   TruthArgs truth;
   RenderSettings settings = [] {
@@ -136,6 +136,7 @@ struct FurnaceOptions {
     return s;
   }();
   std::optional<std::string> out;  // the furnace image
+  bool exact = false;              // trace the generator's exact surface instead of a method
   bool json = false;
 };
 

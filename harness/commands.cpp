@@ -32,6 +32,7 @@
 #include "render/mesh_truth.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
+#include "render/surface_scene.hpp"
 #include "structures/knn_index.hpp"
 
 namespace pcrt {
@@ -62,16 +63,21 @@ struct LoadedScene {
   Timings timings;
   std::unique_ptr<PointScene> points;
   std::unique_ptr<MeshScene> triangles;
+  std::unique_ptr<SurfaceScene> exact;  // the furnace's floor: data.truth itself
   json params;
 
   [[nodiscard]] const SceneIntersector& scene() const {
+    if (exact) return *exact;
     return points ? static_cast<const SceneIntersector&>(*points) : *triangles;
   }
-  [[nodiscard]] const PointCloud& cloud() const { return points ? data.cloud : mesh_vertices; }
+  [[nodiscard]] const PointCloud& cloud() const {
+    return points || exact ? data.cloud : mesh_vertices;
+  }
   [[nodiscard]] size_t structure_bytes() const {
     return points ? points->structure_bytes() : triangles->memory_bytes();
   }
   [[nodiscard]] std::string label() const {
+    if (exact) return "exact surface";
     return points ? points->method_info().id + " on " + points->structure_id()
                   : "mesh on " + triangles->engine_id();
   }
@@ -249,9 +255,7 @@ json scene_file_stats(const SceneFile& file, const RenderSettings& rs, const Ren
 int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   check_scene_file_args(o);
   const auto file = load_scene_file(*o.scene_file);
-  if (file->camera)
-    rs.camera = Camera(file->camera->eye, file->camera->target, file->camera->up,
-                       file->camera->fov_degrees, rs.width, rs.height);
+  apply_scene_camera(*file, rs);
   RenderResult r = render(file->scene, rs);
   file->timings["render"] = r.seconds;
   OutputFiles outputs;  // all or none
@@ -519,8 +523,22 @@ std::unique_ptr<JudgedScene> judged_scene(const AccuracyOptions& o, const PointC
 
 namespace {
 
-// The furnace's object: a method on --data, a mesh, or a method on points sampled on --truth.
+// The furnace's object: a method on --data, a mesh, a method on points sampled on --truth, or
+// (--exact) the exact surface of a generator. `data.truth` holds the exact surface where the
+// object samples one (generators and --truth), for the split of the dark pixels by cause.
 std::unique_ptr<LoadedScene> furnace_scene(const FurnaceOptions& o) {
+  if (o.exact) {
+    if (o.scene.method || o.scene.mesh || o.truth.mesh)
+      input_error("pcrt furnace: --exact traces a generator's own surface: give --data only");
+    auto s = std::make_unique<LoadedScene>();
+    s->data = load_dataset(required(o.scene.data, "--data", FurnaceOptions::usage));
+    if (!s->data.truth)
+      input_error("--data {} is a file; --exact needs a generator with an exact surface",
+                  *o.scene.data);
+    s->exact = std::make_unique<SurfaceScene>(*s->data.truth);
+    s->params = {{"dataset", *o.scene.data}, {"N", s->data.cloud.size()}};
+    return s;
+  }
   if (!o.truth.mesh) {
     if (o.truth.sample || o.truth.engine)
       input_error("--sample and --truth-engine apply only to --truth");
@@ -530,10 +548,35 @@ std::unique_ptr<LoadedScene> furnace_scene(const FurnaceOptions& o) {
   auto s = std::make_unique<LoadedScene>();
   AccuracyInput in = accuracy_input(std::nullopt, o.truth, FurnaceOptions::usage, s->prepare);
   s->data = std::move(in.data);
+  s->data.truth = in.truth;
   s->points = std::make_unique<PointScene>(
       s->data.cloud, point_scene_options(o.scene, FurnaceOptions::usage), s->prepare, s->timings);
   s->params = scene_json(*s->points, s->data.cloud, in.describe["dataset"].get<std::string>());
   return s;
+}
+
+// The furnace's numbers, and where its dark pixels lost their light when there is a truth.
+json furnace_json(const FurnaceResult& f, const json& params) {
+  json j = {{"params", params},
+            {"object_pixels", f.object_pixels},
+            {"mean", f.mean},
+            {"dark_pixels", f.dark_pixels},
+            {"dark_share", f.object_pixels ? double(f.dark_pixels) / double(f.object_pixels) : 0.0},
+            {"dark_primary", nullptr},
+            {"dark_secondary", nullptr},
+            {"counters", counters_json(f.frame.counters)}};
+  if (f.causes) j["dark_primary"] = f.causes->primary, j["dark_secondary"] = f.causes->secondary;
+  return j;
+}
+
+void print_furnace(const std::string& label, const FurnaceResult& f, const json& j,
+                   const RenderSettings& rs) {
+  std::printf("%s: furnace mean %.5f over %zu object pixels, %zu dark (%.2f%%), S=%d B=%d\n",
+              label.c_str(), f.mean, f.object_pixels, f.dark_pixels,
+              100.0 * j["dark_share"].get<double>(), rs.spp, rs.bounces);
+  if (f.causes)
+    std::printf("  by centre sample: %zu with a false camera-ray hit, %zu lost after a true one\n",
+                f.causes->primary, f.causes->secondary);
 }
 
 }  // namespace
@@ -543,7 +586,13 @@ int command_furnace(const FurnaceOptions& o) {
   const RenderSettings rs = frame_settings(o.settings, o.scene.threads, "furnace");
   if (o.out) check_output_path(*o.out, "--out");
   const auto loaded = furnace_scene(o);
-  const FurnaceResult f = white_furnace(loaded->scene(), loaded->cloud(), rs);
+  std::optional<FurnaceTruth> truth;
+  if (loaded->data.truth) {
+    OpCounters spacing;  // not the frame's work
+    truth.emplace(
+        FurnaceTruth{*loaded->data.truth, mean_spacing(loaded->cloud().positions, spacing)});
+  }
+  const FurnaceResult f = white_furnace(loaded->scene(), loaded->cloud(), rs, truth);
   if (o.out) {
     OutputFiles outputs;
     stage_render_images(outputs, f.frame, *o.out, "", "");
@@ -551,20 +600,12 @@ int command_furnace(const FurnaceOptions& o) {
   }
   json params = loaded->params;
   params.update({{"M", rs.width * rs.height}, {"S", rs.spp}, {"B", rs.bounces}, {"seed", rs.seed}});
-  const json j = {
-      {"params", params},
-      {"object_pixels", f.object_pixels},
-      {"mean", f.mean},
-      {"dark_pixels", f.dark_pixels},
-      {"dark_share", f.object_pixels ? double(f.dark_pixels) / double(f.object_pixels) : 0.0},
-      {"counters", counters_json(f.frame.counters)}};
-  if (o.json) {
+  if (truth) params["mean_spacing"] = truth->h;
+  const json j = furnace_json(f, params);
+  if (o.json)
     std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    std::printf("%s: furnace mean %.5f over %zu object pixels, %zu dark (%.2f%%), S=%d B=%d\n",
-                loaded->label().c_str(), f.mean, f.object_pixels, f.dark_pixels,
-                100.0 * j["dark_share"].get<double>(), rs.spp, rs.bounces);
-  }
+  else
+    print_furnace(loaded->label(), f, j, rs);
   return 0;
 }
 

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "harness/crossover.hpp"
+#include "harness/scene_file.hpp"
 #include "harness/sweep_datasets.hpp"
 #include "harness/workloads.hpp"
 #include "reconstruction/reconstruction.hpp"
@@ -120,8 +121,33 @@ RunResult execute_build(const RunSpec& spec) {
   return r;
 }
 
+// Frames of a scene file whose swept objects trace the run's method on the run's cloud: the scene
+// is loaded per pass like a method's scene; counters of the first pass, the swept structure's
+// bytes.
+RunResult execute_scene_file_render(const RunSpec& spec) {
+  RunResult r = started(spec);
+  const PointCloud cloud = cloud_of(spec, r);
+  const SweptCloud swept{cloud, scene_options(spec)};
+  RenderSettings rs = render_settings(spec, cloud);
+  for (int i = 0; i < spec.warmup + spec.reps; ++i) {
+    const auto file =
+        load_scene_file(spec.scene_path.empty() ? spec.scene : spec.scene_path, &swept);
+    apply_scene_camera(*file, rs);
+    if (i == 0) r.prepare_counters = file->prepare.to_map();
+    const RenderResult res = render(file->scene, rs);
+    if (i == 0) r.counters = res.counters.to_map();
+    if (i >= spec.warmup) r.times_s.push_back(res.seconds);
+    r.measures.prepare_s = file->timings["prepare"];
+    r.measures.build_s = file->timings["build"];
+    r.measures.structure_bytes = file->swept->structure_bytes();
+  }
+  r.pixels = rs.width * rs.height;
+  return r;
+}
+
 // Frames: a frame rendered per pass; render counters of the first pass.
 RunResult execute_render(const RunSpec& spec) {
+  if (!spec.scene.empty()) return execute_scene_file_render(spec);
   return execute_scene_passes(spec, [](const PointScene& scene, const PointCloud& cloud,
                                        const RenderSettings& rs, Timings& t, int i, RunResult& r) {
     const RenderResult res = render(scene, cloud, rs);

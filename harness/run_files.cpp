@@ -104,6 +104,7 @@ json run_row(const RunResult& r) {
                         "engine", "workload", "status", "error"})
     row[k] = spec.value(k, json(""));
   for (const char* k : {"N", "M", "S", "B"}) row[k] = spec.value(k, json(nullptr));
+  if (!r.spec.scene.empty()) row["scene"] = r.spec.scene;  // a column only where a sweep has one
   row["K"] = k_of(r);
   row["k"] = optional_set(r, "k");
   row["I"] = optional_set(r, "max_iterations");

@@ -48,6 +48,8 @@ void to_json(json& j, const RunSpec& s) {
   if (s.camera_inside) j["camera"] = "inside";
   if (s.kind != RunKind::kWorkload) j["dataset"] = s.dataset;
   if (!s.dataset_path.empty()) j["dataset_path"] = s.dataset_path;
+  if (!s.scene.empty()) j["scene"] = s.scene;
+  if (!s.scene_path.empty()) j["scene_path"] = s.scene_path;
   if (runs_method(s.kind)) {
     j["method"] = s.method;
     j["structure"] = s.structure;
@@ -77,6 +79,8 @@ void from_json(const json& j, RunSpec& s) {
   s.camera_inside = j.value("camera", std::string()) == "inside";
   s.dataset = j.value("dataset", std::string());
   s.dataset_path = j.value("dataset_path", std::string());
+  s.scene = j.value("scene", std::string());
+  s.scene_path = j.value("scene_path", std::string());
   s.method = j.value("method", std::string());
   s.structure = j.value("structure", std::string());
   s.reconstruction = j.value("reconstruction", std::string());
@@ -92,6 +96,7 @@ std::string run_key(const RunSpec& spec) {
   // Where the dataset lies on this machine is not what the run is (a cluster node, a moved
   // checkout): the key keeps the name the config gives.
   s.erase("dataset_path");
+  s.erase("scene_path");
   return s.dump();
 }
 

@@ -35,11 +35,14 @@ struct RunSpec {
   RunKind kind = RunKind::kRender;
   int reps = 1, warmup = 0, threads = 2;
   uint64_t seed = 1;
-  std::string measure = "both";       // recorded as the config gives it
-  bool camera_inside = false;         // at the centre of the cloud's bounds ("camera": "inside")
-  std::string dataset;                // as the config names it (every kind but workload)
-  std::string dataset_path;           // where it lies, when that differs from `dataset`
-  std::string method, structure;      // structure "": the method traces through its own
+  std::string measure = "both";   // recorded as the config gives it
+  bool camera_inside = false;     // at the centre of the cloud's bounds ("camera": "inside")
+  std::string dataset;            // as the config names it (every kind but workload)
+  std::string dataset_path;       // where it lies, when that differs from `dataset`
+  std::string method, structure;  // structure "": the method traces through its own
+  // Renders: a scene file whose "swept" objects the run's method traces on the run's dataset
+  // (as the config names it, and where it lies when that differs).
+  std::string scene, scene_path;
   std::map<std::string, double> set;  // parameters given (method's and structure's)
   std::string reconstruction, engine, workload;
   // The grid point: points (N), pixels (M), samples per pixel (S), bounces (B), where given.

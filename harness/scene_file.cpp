@@ -181,6 +181,30 @@ Dataset sampled_dataset(const json& j, const Where& w, const std::string& mesh_f
   return Dataset{std::move(sampled.cloud), truth};
 }
 
+bool is_swept(const json& j, const Where& w) {
+  if (!j.contains("swept")) return false;
+  if (!j["swept"].is_boolean()) (w / "swept").fail("must be true or false");
+  if (!j.contains("points") && !j.contains("sample"))
+    (w / "swept").fail("applies only to point clouds");
+  return j["swept"].get<bool>();
+}
+
+// A swept object: the run's method on the run's cloud, one structure for every swept object.
+void add_swept_geometry(SceneFile& s, const SweptCloud& run, SceneObject& o, json& record) {
+  if (!s.swept) {
+    s.geometry.push_back(
+        std::make_unique<PointScene>(run.cloud, run.options, s.prepare, s.timings));
+    s.swept = static_cast<const PointScene*>(s.geometry.back().get());
+  }
+  record = {{"swept", true},
+            {"method", run.options.method},
+            {"structure", s.swept->structure_id()},
+            {"N", run.cloud.size()}};
+  o.geometry = s.swept;
+  o.points = &run.cloud;
+  o.bounds = run.cloud.bounds();
+}
+
 // An object's geometry: a point method over a dataset, a mesh file on an engine, or the quad.
 void add_geometry(SceneFile& s, const json& j, const Where& w, const std::filesystem::path& dir,
                   SceneObject& o, json& record) {
@@ -207,6 +231,7 @@ void add_geometry(SceneFile& s, const json& j, const Where& w, const std::filesy
     o.points = &cloud;
     o.bounds = cloud.bounds();
     s.geometry.push_back(std::move(scene));
+    o.geometry = s.geometry.back().get();
     return;
   }
   if (j.contains("mesh")) {
@@ -225,13 +250,14 @@ void add_geometry(SceneFile& s, const json& j, const Where& w, const std::filesy
   record["triangles"] = s.meshes.back().triangles.size();
   o.bounds = s.meshes.back().bounds();
   s.geometry.push_back(std::make_unique<MeshScene>(s.meshes.back(), engine, s.prepare, s.timings));
+  o.geometry = s.geometry.back().get();
 }
 
 void add_object(SceneFile& s, const json& j, const Where& w, const std::filesystem::path& dir,
-                const std::map<std::string, Material>& materials) {
+                const std::map<std::string, Material>& materials, const SweptCloud* swept) {
   only_keys(j, w,
             {"name", "points", "sample", "sampling", "method", "structure", "set", "mesh", "engine",
-             "quad", "material", "transform"});
+             "quad", "material", "transform", "swept"});
   const bool cloud = j.contains("points") || j.contains("sample");
   if (!cloud)
     for (const char* key : {"method", "structure", "set"})
@@ -239,8 +265,10 @@ void add_object(SceneFile& s, const json& j, const Where& w, const std::filesyst
   if (j.contains("engine") && cloud) (w / "engine").fail("applies only to meshes");
   SceneObject o;
   json record;
-  add_geometry(s, j, w, dir, o, record);
-  o.geometry = s.geometry.back().get();
+  if (is_swept(j, w) && swept)
+    add_swept_geometry(s, *swept, o, record);
+  else
+    add_geometry(s, j, w, dir, o, record);
   if (j.contains("material")) {
     const std::string name = text(j["material"], w / "material");
     const auto it = materials.find(name);
@@ -267,7 +295,7 @@ TriangleMesh quad_mesh(float size) {
   return m;
 }
 
-std::unique_ptr<SceneFile> load_scene_file(const std::string& path) {
+std::unique_ptr<SceneFile> load_scene_file(const std::string& path, const SweptCloud* swept) {
   const json j = read_json_file(path);
   const Where root{path, ""};
   only_keys(j, root, {"materials", "objects", "lights", "camera"});
@@ -285,7 +313,9 @@ std::unique_ptr<SceneFile> load_scene_file(const std::string& path) {
   if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
     objects.fail("must be a non-empty array");
   for (size_t i = 0; i < j["objects"].size(); ++i)
-    named(objects.at(i), [&] { add_object(*s, j["objects"][i], objects.at(i), dir, materials); });
+    named(objects.at(i),
+          [&] { add_object(*s, j["objects"][i], objects.at(i), dir, materials, swept); });
+  if (swept && !s->swept) objects.fail("mark no point cloud \"swept\": true, as a sweep needs");
   const Where lights{path, "lights"};
   if (!j.contains("lights") || !j["lights"].is_array() || j["lights"].empty())
     lights.fail("must be a non-empty array");
@@ -293,6 +323,22 @@ std::unique_ptr<SceneFile> load_scene_file(const std::string& path) {
     s->scene.lights.push_back(parse_light(j["lights"][i], lights.at(i), dir));
   if (j.contains("camera")) s->camera = parse_camera(j["camera"], root / "camera");
   return s;
+}
+
+void apply_scene_camera(const SceneFile& file, RenderSettings& settings) {
+  if (!file.camera) return;
+  const CameraSpec& c = *file.camera;
+  settings.camera = Camera(c.eye, c.target, c.up, c.fov_degrees, settings.width, settings.height);
+}
+
+void check_sweep_scene(const std::string& path) {
+  const json j = read_json_file(path);
+  const Where objects{path, "objects"};
+  if (!j.is_object()) Where{path, ""}.fail("must be a JSON object");
+  if (!j.contains("objects") || !j["objects"].is_array()) objects.fail("must be an array");
+  for (size_t i = 0; i < j["objects"].size(); ++i)
+    if (j["objects"][i].is_object() && is_swept(j["objects"][i], objects.at(i))) return;
+  objects.fail("mark no point cloud \"swept\": true, as a sweep needs");
 }
 
 }  // namespace pcrt

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/json_input.hpp"
 #include "harness/claims.hpp"
+#include "harness/scene_file.hpp"
 #include "harness/sweep_datasets.hpp"
 #include "harness/workloads.hpp"
 #include "methods/method.hpp"
@@ -370,6 +371,20 @@ RunSpec experiment_base(const Experiment& x, const RunDefaults& d) {
     input_error("{}: camera must be 'outside' or 'inside', not '{}'", x.where, camera);
   // Inside a closed surface every bounce hits again, so work per path grows with B.
   s.camera_inside = camera == "inside";
+  if (x.e.contains("scene")) {
+    if (!x.e["scene"].is_string() || x.e["scene"].get<std::string>().empty())
+      input_error("{}: scene must be a scene file's name", x.where);
+    if (x.kind != RunKind::kRender) input_error("{}: scene applies only to render runs", x.where);
+    if (x.e.contains("camera")) input_error("{}: a scene brings its own camera", x.where);
+    s.scene = x.e["scene"].get<std::string>();
+    const std::string path = dataset_path(s.scene, x.dataset_dir);
+    if (path != s.scene) s.scene_path = path;
+    if (x.check == DatasetCheck::kOpenFiles) try {
+        check_sweep_scene(path);
+      } catch (const InputError& e) {
+        input_error("{}: scene: {}", x.where, e.what());
+      }
+  }
   if (!runs_method(x.kind)) return s;  // the experiment's set.* go to methods only
   for (const auto& [k, v] : x.e.items())
     if (k.rfind("set.", 0) == 0) s.set[k.substr(4)] = v.get<double>();
@@ -478,11 +493,11 @@ void add_runs(const Experiment& x, std::vector<RunSpec> specs, SweepConfig& c) {
 void parse_experiment(const json& e, const std::string& where, size_t index, const RunDefaults& d,
                       const std::string& dataset_dir, DatasetCheck check,
                       std::set<std::string>& names, SweepConfig& c) {
-  check_keys(
-      e,
-      {"name", "description", "kind", "methods", "structures", "datasets", "grid", "points",
-       "reconstructions", "engine", "workloads", "fits", "repetitions", "camera", "replicates"},
-      where);
+  check_keys(e,
+             {"name", "description", "kind", "methods", "structures", "datasets", "grid", "points",
+              "reconstructions", "engine", "workloads", "fits", "repetitions", "camera",
+              "replicates", "scene"},
+             where);
   Experiment x{e,
                where,
                e.value("name", fmt::format("experiment{}", index)),

@@ -147,6 +147,12 @@ expect_error "camera eye and target must differ" "${sr[@]}" "$dir/s_camera.json"
 expect_error "s_trunc.json" "${sr[@]}" "$dir/s_trunc.json"
 expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" --method reference_splat
 expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
+expect_error "--exact traces a generator's own surface: give --data only" furnace --exact --method reference_splat --data sphere:n=100
+expect_error "tri.off is a file; --exact needs a generator with an exact surface" furnace --exact --data "$dir/tri.off"
+# Scenes in sweeps: the config and experiment named, and the scene's own key.
+scene s_unswept '{"objects": [{"points": "plane:n=100", "method": "reference_splat"}], "lights": [{"type": "sky"}]}'
+printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["plane"], "scene": "s_unswept.json", "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_scene.json"
+expect_error "c_scene.json: experiments[0]: scene: $dir/s_unswept.json: objects mark no point cloud \"swept\": true" sweep "$dir/c_scene.json" --out "$dir/c_scene_out"
 # Outputs: a device or FIFO is refused and left as it was, never replaced by a file; a symbolic
 # link is written through to its target and stays a link; an output that is an input is refused.
 mkfifo "$dir/fifo"
