@@ -1,9 +1,10 @@
 # Installation and the exported CMake package: after `cmake --install build --prefix P`, a project
 # with CMAKE_PREFIX_PATH=P says find_package(pcrt) and links pcrt::methods (or any other layer,
-# each bringing those below it). Tested by tests/consumer.sh.
+# each bringing those below it), or pcrt::pcrt for all of them and the command line. Tested by
+# tests/consumer.sh.
 include(CMakePackageConfigHelpers)
 set(PCRT_LAYERS pcrt_core pcrt_structures pcrt_methods pcrt_render pcrt_reconstruction pcrt_harness
-                pcrt_cli)
+                pcrt_cli pcrt_umbrella)
 install(TARGETS ${PCRT_LAYERS} EXPORT pcrtTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pcrt)

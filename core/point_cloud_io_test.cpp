@@ -1,9 +1,9 @@
 #include "core/point_cloud_io.hpp"
 
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
-#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -159,10 +159,8 @@ TEST_CASE("unknown extensions, missing files and duplicates", "[io]") {
 
 TEST_CASE("real scans load when fetched", "[io][data]") {
   const std::filesystem::path dir = pcrt::test::data_dir();
-  if (!std::filesystem::exists(dir / "cgal")) {
-    WARN("data/ not fetched (scripts/fetch_data.sh); skipping real scans");
-    return;
-  }
+  if (!std::filesystem::exists(dir / "cgal"))
+    PCRT_SKIP("data/ not fetched (scripts/fetch_data.sh): no real scans");
   size_t loaded = 0;
   for (const char* f :
        {"cgal/points_3/kitten.xyz", "cgal/points_3/hippo1.ply", "cgal/points_3/oni.pwn",

@@ -218,7 +218,7 @@ std::function<double(double, double)> growth(Growth m) {
 //   a violation one class up, pure or added so that it doubles y at x_max -> exceeds >= 90%;
 //   a between-class violation (g x^0.25), pure or added -> holds <= 5%.
 // The table is printed (the closing note of issue 27 quotes it).
-TEST_CASE("verdict power on the thesis designs", "[fit][power]") {
+TEST_CASE("verdict power on the thesis designs", "[fit][power][slow]") {
   const int trials = 400;
   int designs = 0, line = 0;
   for (const Design& d : thesis_designs()) {

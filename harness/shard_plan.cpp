@@ -7,36 +7,17 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "methods/method.hpp"
 
 namespace pcrt {
 namespace {
 
-// Nanoseconds per N log2 N of preparation + build, and per ray and log2 N of a frame: medians
-// over results/thesis (2 threads). Methods not listed cost like the splat oracle.
-struct MethodCost {
-  double prepare_ns = 100, ray_ns = 60;
-};
-
-MethodCost method_cost(const std::string& method) {
-  static const std::map<std::string, MethodCost> table = {{"adams_2005", {107, 371}},
-                                                          {"adamson_alexa_2003", {58, 777}},
-                                                          {"cai_2011", {116, 149}},
-                                                          {"cai_2015", {46, 327}},
-                                                          {"goradia_2010", {165, 47}},
-                                                          {"goradia_2011", {771, 101}},
-                                                          {"hubo_2006", {79, 58}},
-                                                          {"hubo_2007", {58, 74}},
-                                                          {"kashyap_2010_implicit", {747, 96}},
-                                                          {"kashyap_2010_splat", {157, 38}},
-                                                          {"linsen_2007", {345, 48}},
-                                                          {"reference_splat", {97, 41}},
-                                                          {"schaufler_jensen_2000", {130, 60}},
-                                                          {"tejada_2006", {35, 744}},
-                                                          {"tejada_2007", {47, 620}},
-                                                          {"wald_seidel_2005", {77, 203}},
-                                                          {"wand_strasser_2003", {110, 165}}};
-  const auto it = table.find(method);
-  return it == table.end() ? MethodCost{} : it->second;
+// What the method declares (MethodInfo::cost); a method this build does not know (a plan made
+// elsewhere) is priced like the defaults.
+MethodInfo::RunCost method_cost(const std::string& method) {
+  for (const MethodInfo& m : MethodRegistry::instance().all())
+    if (m.id == method) return m.cost;
+  return {};
 }
 
 double n_log_n(double n) { return n * std::log2(std::max(2.0, n)); }
@@ -55,7 +36,7 @@ double workload_cost(const std::string& workload, double n) {
   return 10e-9 * n_log_n(n);
 }
 
-double frame_cost(const RunSpec& spec, const MethodCost& c, double n) {
+double frame_cost(const RunSpec& spec, const MethodInfo::RunCost& c, double n) {
   const double rays = spec.M.value_or(4096.0) * spec.S.value_or(1.0) * (1 + spec.B.value_or(1.0));
   // The per-ray constants come from outside cameras, where most rays miss the cloud early. Inside
   // a closed surface every ray hits and works through its leaves: 17-30x as long on ci.json's
@@ -72,7 +53,7 @@ double model_run_cost(const RunSpec& spec) {
   const double n = spec.N.value_or(1000.0);
   const double overhead = 0.004 + 200e-9 * n;
   const double passes = double(spec.warmup + spec.reps);
-  const MethodCost c = method_cost(spec.method);
+  const MethodInfo::RunCost c = method_cost(spec.method);
   const double prepare = c.prepare_ns * 1e-9 * n_log_n(n);
   switch (spec.kind) {
     case RunKind::kWorkload:

@@ -127,6 +127,19 @@ struct MethodInfo {
   // Its structure is built over items of its own making (implicit cells, patches, fitted or
   // reduced splats: Table 5.4's "other preprocessing"), so its build is a claim of its own.
   bool own_items = false;
+  // What its runs cost, for balancing a sweep's shards (harness/shard_plan): nanoseconds per
+  // N log2 N of preparation and build, and per ray and log2 N of a frame, medians over
+  // results/thesis at 2 threads. The defaults are the splat oracle's order of magnitude.
+  struct RunCost {
+    double prepare_ns = 100, ray_ns = 60;
+  } cost = {};
+  // The accuracy bounds (render/accuracy.hpp) it is known to miss with its defaults, per
+  // generator shape, each explained in its README; render/accuracy_test.cpp requires exactly these.
+  struct KnownMiss {
+    std::string dataset;  // a generator: "sphere", "torus"
+    std::string bound;  // "holes", "false hits", "distance median", "distance p95", "normal median"
+  };
+  std::vector<KnownMiss> accuracy_misses = {};
 
   // One of the thesis's surveyed methods (it has a reference number), not a reference oracle.
   [[nodiscard]] bool surveyed() const { return thesis_ref != "-"; }

@@ -46,31 +46,15 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
 
 StructureFootprint structure_footprint(const std::string& structure,
                                        const ParamValues& structure_params) {
-  // Per item, over the cloud (24 B) and the radii (4): the process peak of reference_splat on a
-  // 10^7-point sphere with the disc blocks in item order (no copy: the structure's build peak or
-  // its final arrays, whichever is higher) and in leaf order (a 28-byte disc per reference), from
-  // results/scale/layouts (scripts/scale.sh; the kd-tree's item order from results/scale/lean,
-  // since its build's chunks grow: the larger of 10^7 and 10^8; the octree's from
-  // results/scale/octree at 6b7fb5f, with compact references or without, and its leaf order at
-  // 667aa3e), plus 10% and rounded up.
-  // References per item: the build_item_refs / N of the same structures at 10^6-10^7
+  // Each structure's figures are per item over the cloud (24 B) and the radii (4): the process
+  // peak of reference_splat on a 10^7-point sphere with the disc blocks in item order (no copy:
+  // the structure's build peak or its final arrays, whichever is higher) and in leaf order (a
+  // 28-byte disc per reference), from results/scale/layouts (scripts/scale.sh), plus 10% and
+  // rounded up. References per item: the build_item_refs / N of the same structures at 10^6-10^7
   // (structure_memory.sh), the smaller where they differ, so that disc_blocks=0 is priced as leaf
   // order wherever it may choose it.
-  if (structure == "brute_force") return {sizeof(uint32_t), sizeof(uint32_t) + 28, 1};
-  if (structure == "grid") return {20, 72, 1.9};
-  if (structure == "sphere_tree") return {23, 54, 1};
-  if (structure == "kd_tree") return {25, 138, 3.7};
-  if (structure == "octree") {
-    // Compact references (the default) or 32-bit ones, which the leaf-order copy needs.
-    const auto compact = structure_params.find("compact_refs");
-    const bool is_compact = compact == structure_params.end() || compact->second != 0;
-    // With compact references a leaf-order copy is refused when the method binds (there is no
-    // array to copy along), so it is priced as item order: the refusal, not a memory error.
-    // Methods without disc blocks keep every box reference: schaufler_jensen_2000's peak at 10^7
-    // over its cloud, radii and records (results/scale/octree at 4f1fe68), plus 10%.
-    return is_compact ? StructureFootprint{24, 24, 7.2, 41} : StructureFootprint{37, 249, 7.2, 60};
-  }
-  if (structure == "bvh") return {55, 60, 1};
+  for (const StructureInfo& info : StructureRegistry::instance().all())
+    if (info.id == structure && info.footprint) return info.footprint(structure_params);
   return {80, 80, 1};  // structures of a method's own
 }
 

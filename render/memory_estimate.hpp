@@ -11,25 +11,15 @@
 #include "core/params.hpp"
 #include "core/point_cloud.hpp"
 #include "methods/method.hpp"
+#include "structures/structure.hpp"
 
 namespace pcrt {
 
 // Bytes per point the method's prepare step holds at its peak, besides the cloud.
 size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& cloud,
                                 const ParamValues& method_params);
-// What a structure adds per item at the process's peak (its build or its final arrays with the
-// method's leaf data): with the disc blocks adapted in item order (also the figure for methods
-// without disc blocks) or copied in leaf order, and the leaf references it stores per item.
-struct StructureFootprint {
-  size_t item_order = 0;
-  size_t leaf_order = 0;
-  double references_per_item = 1;
-  // For methods without disc blocks, whose items a structure keeps by their boxes alone (no disc
-  // plane test, ItemSet::hits_on_discs); 0: as item_order.
-  size_t by_boxes = 0;
-};
-// The structure's own parameters count where they change its bytes (the octree's compact_refs);
-// none given: its defaults.
+// The footprint the structure declares (StructureInfo::footprint) for its parameters (none
+// given: its defaults); a structure of a method's own, not in the registry, is priced at 80 bytes.
 StructureFootprint structure_footprint(const std::string& structure,
                                        const ParamValues& structure_params = {});
 // The footprint for the layout the method's parameters choose (disc_blocks; none: item order).

@@ -56,8 +56,10 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
   const auto with_layout = [&](DiscBlockLayout l) {
     return resolve_params(splat.params, {{"disc_blocks", double(l)}}, "test");
   };
-  for (const char* s : {"brute_force", "sphere_tree", "bvh", "grid", "kd_tree", "octree"}) {
+  for (const StructureInfo& info : StructureRegistry::instance().all()) {
+    const std::string& s = info.id;
     INFO(s);
+    REQUIRE(info.footprint);  // every structure declares what it costs
     const StructureFootprint f = structure_footprint(s);
     CHECK(f.references_per_item >= 1);
     // A leaf-order copy holds at least a 28-byte disc per reference beyond the references.

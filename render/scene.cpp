@@ -12,7 +12,7 @@ namespace pcrt {
 PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters,
                        Timings& timings) {
   method_info_ = &MethodRegistry::instance().get(options.method, "method");
-  static const StructureInfo kOwn{"", "", "", "", {}, nullptr};
+  static const StructureInfo kOwn{"", "", "", "", {}, nullptr, nullptr};
   if (!method_info_->own_structure.empty()) {
     if (!options.structure.empty() && options.structure != method_info_->own_structure)
       input_error("method {} traces through its own {}; --structure {} does not apply",

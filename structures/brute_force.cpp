@@ -31,12 +31,18 @@ class BruteForce final : public Structure {
 
 void register_brute_force(StructureRegistry& registry) {
   registry.add(StructureInfo{
-      "brute_force",
-      "every point in one leaf; O(N) per ray; the oracle other structures are checked against",
-      "O(N)",
-      "O(N)",
-      {},
-      [](const ParamValues&) { return std::make_unique<BruteForce>(); }});
+      .id = "brute_force",
+      .description =
+          "every point in one leaf; O(N) per ray; the oracle other structures are checked against",
+      .build_claim = "O(N)",
+      .query_claim = "O(N)",
+      .params = {},
+      .create = [](const ParamValues&) { return std::make_unique<BruteForce>(); },
+      // One reference per item; a leaf-order copy adds its 28-byte disc.
+      .footprint = fixed_footprint({.item_order = sizeof(uint32_t),
+                                    .leaf_order = sizeof(uint32_t) + 28,
+                                    .references_per_item = 1}),
+  });
 }
 
 }  // namespace pcrt

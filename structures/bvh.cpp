@@ -287,11 +287,15 @@ class Bvh final : public Structure {
 
 void register_bvh(StructureRegistry& registry) {
   registry.add(StructureInfo{
-      "bvh",
-      "binned-SAH bounding volume hierarchy over the item boxes, one leaf per item, "
-      "children tested "
-      "at push and walked nearer first",
-      "O(N log N)", "O(log N)", bvh_params().specs(), structure_from<Bvh>(bvh_params(), "bvh")});
+      .id = "bvh",
+      .description = "binned-SAH bounding volume hierarchy over the item boxes, one leaf per item, "
+                     "children tested at push and walked nearer first",
+      .build_claim = "O(N log N)",
+      .query_claim = "O(log N)",
+      .params = bvh_params().specs(),
+      .create = structure_from<Bvh>(bvh_params(), "bvh"),
+      .footprint = fixed_footprint({.item_order = 55, .leaf_order = 60, .references_per_item = 1}),
+  });
 }
 
 }  // namespace pcrt

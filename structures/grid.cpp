@@ -240,9 +240,16 @@ class Grid final : public Structure {
 }  // namespace
 
 void register_grid(StructureRegistry& registry) {
-  registry.add(StructureInfo{"grid", "uniform grid of about N/c cubic cells, 3D-DDA traversal",
-                             "O(N)", "O(1)", grid_params().specs(),
-                             structure_from<Grid>(grid_params(), "grid")});
+  registry.add(StructureInfo{
+      .id = "grid",
+      .description = "uniform grid of about N/c cubic cells, 3D-DDA traversal",
+      .build_claim = "O(N)",
+      .query_claim = "O(1)",
+      .params = grid_params().specs(),
+      .create = structure_from<Grid>(grid_params(), "grid"),
+      .footprint =
+          fixed_footprint({.item_order = 20, .leaf_order = 72, .references_per_item = 1.9}),
+  });
 }
 
 }  // namespace pcrt

@@ -180,10 +180,15 @@ class SphereTree final : public Structure {
 }  // namespace
 
 void register_sphere_tree(StructureRegistry& registry) {
-  registry.add(StructureInfo{"sphere_tree",
-                             "bounding sphere hierarchy, median object split, one leaf per item",
-                             "O(N log N)", "O(log N)", sphere_tree_params().specs(),
-                             structure_from<SphereTree>(sphere_tree_params(), "sphere_tree")});
+  registry.add(StructureInfo{
+      .id = "sphere_tree",
+      .description = "bounding sphere hierarchy, median object split, one leaf per item",
+      .build_claim = "O(N log N)",
+      .query_claim = "O(log N)",
+      .params = sphere_tree_params().specs(),
+      .create = structure_from<SphereTree>(sphere_tree_params(), "sphere_tree"),
+      .footprint = fixed_footprint({.item_order = 23, .leaf_order = 54, .references_per_item = 1}),
+  });
 }
 
 }  // namespace pcrt

@@ -120,6 +120,20 @@ class Structure {
   [[nodiscard]] virtual std::span<const uint32_t> leaf_references() const = 0;
 };
 
+// What a structure adds per item at the process's peak (its build or its final arrays with the
+// method's leaf data), as the memory estimate prices it before any work (render/memory_estimate):
+// with the methods' disc blocks adapted in item order (also the figure for methods without disc
+// blocks) or copied in leaf order, and the leaf references it stores per item. Each structure
+// declares its own, measured by the scale benchmark (results/scale/).
+struct StructureFootprint {
+  size_t item_order = 0;
+  size_t leaf_order = 0;
+  double references_per_item = 1;
+  // For methods without disc blocks, whose items a structure keeps by their boxes alone (no disc
+  // plane test, ItemSet::hits_on_discs); 0: as item_order.
+  size_t by_boxes = 0;
+};
+
 struct StructureInfo {
   std::string id;
   std::string description;
@@ -127,7 +141,14 @@ struct StructureInfo {
   std::string query_claim;  // query complexity claimed by the thesis (section 5.4)
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Structure>(const ParamValues&)> create;
+  // The structure's own parameters count where they change its bytes (the octree's compact_refs).
+  std::function<StructureFootprint(const ParamValues&)> footprint;
 };
+
+// A footprint that does not depend on the structure's parameters.
+inline std::function<StructureFootprint(const ParamValues&)> fixed_footprint(StructureFootprint f) {
+  return [f](const ParamValues&) { return f; };
+}
 
 // StructureInfo::create for a structure constructed from its typed parameters (declared by `list`).
 template <class S, class P>

@@ -18,7 +18,13 @@ using namespace pcrt;
 
 namespace {
 
-const char* kStructures[] = {"kd_tree", "octree", "sphere_tree", "grid", "bvh"};
+// Every registered structure but the oracle itself: a new one is checked without being named.
+std::vector<std::string> structures_to_check() {
+  std::vector<std::string> ids;
+  for (const StructureInfo& info : StructureRegistry::instance().all())
+    if (info.id != "brute_force") ids.push_back(info.id);
+  return ids;
+}
 
 // Primary-like rays from outside aimed at cloud points, incoherent rays from inside the bounds,
 // and rays from far away aimed at random spots of the box: a third each.
@@ -122,7 +128,7 @@ void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const 
   const auto oracle = trace_all(*make("brute_force"), *method, rays);
   size_t hits = 0;
   for (char f : oracle.found) hits += size_t(f);
-  for (const char* id : kStructures) {
+  for (const std::string& id : structures_to_check()) {
     INFO(label << " on " << id << " (" << hits << " of " << rays.size() << " rays hit)");
     const auto got = trace_all(*make(id), *method, rays);
     size_t mismatches = 0;
@@ -145,7 +151,8 @@ void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const 
 
 }  // namespace
 
-TEST_CASE("structures return brute force's closest hits on synthetic clouds", "[structures]") {
+TEST_CASE("structures return brute force's closest hits on synthetic clouds",
+          "[structures][slow]") {
   check_against_brute_force(load_dataset("sphere:n=1000,seed=3").cloud, 100000, "sphere 1e3");
   check_against_brute_force(load_dataset("torus:n=10000,seed=4,noise=0.002").cloud, 100000,
                             "noisy torus 1e4");
@@ -155,7 +162,8 @@ TEST_CASE("structures return brute force's closest hits on synthetic clouds", "[
                             "bumpy sphere 1e5");
 }
 
-TEST_CASE("structures return brute force's closest hits on real scans", "[structures][data]") {
+TEST_CASE("structures return brute force's closest hits on real scans",
+          "[structures][data][slow]") {
   const std::filesystem::path dir = pcrt::test::data_dir();
   size_t used = 0;
   for (const char* f :
@@ -164,11 +172,11 @@ TEST_CASE("structures return brute force's closest hits on real scans", "[struct
     check_against_brute_force(load_dataset((dir / f).string()).cloud, 30000, f);
     ++used;
   }
-  if (used == 0) WARN("data/ not fetched (scripts/fetch_data.sh); real scans skipped");
+  if (used == 0) PCRT_SKIP("data/ not fetched (scripts/fetch_data.sh): no real scans");
 }
 
 TEST_CASE("degenerate clouds build bounded structures that still agree with brute force",
-          "[structures]") {
+          "[structures][slow]") {
   auto cloud_of = [](std::vector<Vec3> pts, float radius) {
     PointCloud c;
     c.name = "degenerate";
@@ -201,7 +209,7 @@ TEST_CASE("degenerate clouds build bounded structures that still agree with brut
 TEST_CASE("structure parameters and memory", "[structures]") {
   const Dataset d = load_dataset("sphere:n=20000,seed=2");
   std::vector<float> radii(d.cloud.size(), 0.01f);
-  for (const char* id : kStructures) {
+  for (const std::string& id : structures_to_check()) {
     const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
     auto s = info.create(resolve_params(info.params, {}, id));
     OpCounters c;
@@ -257,7 +265,7 @@ TEST_CASE("bvh leaves hold at most leaf_size items", "[structures]") {
 }
 
 TEST_CASE("the 8-wide node test hits the same children with AVX2 and with SSE", "[structures]") {
-  if (!wide_nodes_use_avx2()) return;  // nothing to compare on this CPU
+  if (!wide_nodes_use_avx2()) PCRT_SKIP("no AVX2 on this CPU: nothing to compare");
   Rng rng(23);
   size_t hits = 0;
   for (int r = 0; r < 20000; ++r) {

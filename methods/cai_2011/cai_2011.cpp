@@ -109,7 +109,8 @@ void register_cai_2011(MethodRegistry& registry) {
       .work = {&kWeightedPointTerms},
       .real_time_claim = "Table 5.1",
       .iterative_claim = "Table 5.1",
-      .iterations = {&kHeightSteps, &kHeightStarts}});
+      .iterations = {&kHeightSteps, &kHeightStarts},
+      .cost = {.prepare_ns = 116, .ray_ns = 149}});
 }
 
 }  // namespace pcrt

@@ -67,7 +67,8 @@ void register_goradia_2010(MethodRegistry& registry) {
       .create = create_from<Goradia2010>(goradia_2010_params(), "goradia_2010"),
       .work = {&kProjectionTests, &kSplatTests},
       .family = LeafFamily::kSplatBlend,
-      .real_time_claim = "Table 5.1"});
+      .real_time_claim = "Table 5.1",
+      .cost = {.prepare_ns = 165, .ray_ns = 47}});
 }
 
 }  // namespace pcrt

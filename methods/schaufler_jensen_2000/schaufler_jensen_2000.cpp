@@ -83,7 +83,8 @@ void register_schaufler_jensen_2000(MethodRegistry& registry) {
                  {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
       .create = create_from<SchauflerJensen>(schaufler_jensen_params(), "schaufler_jensen_2000"),
       .work = {&kProjectionTests},
-      .family = LeafFamily::kProjection});
+      .family = LeafFamily::kProjection,
+      .cost = {.prepare_ns = 130, .ray_ns = 60}});
 }
 
 }  // namespace pcrt

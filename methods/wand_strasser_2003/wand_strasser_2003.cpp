@@ -113,7 +113,8 @@ void register_wand_strasser_2003(MethodRegistry& registry) {
                  {"frame", "O(SMB(log N + K))", {"S", "M", "B", "N", "K"}, "Table 6.1"}},
       .create = create_from<WandStrasser>(wand_strasser_params(), "wand_strasser_2003"),
       .work = {&kProjectionTests},
-      .family = LeafFamily::kProjection});
+      .family = LeafFamily::kProjection,
+      .cost = {.prepare_ns = 110, .ray_ns = 165}});
 }
 
 }  // namespace pcrt
