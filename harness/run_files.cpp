@@ -13,12 +13,13 @@
 
 namespace pcrt {
 
-std::vector<RunResult> read_runs_jsonl(const std::string& path) {
+RunsFile read_runs_file(const std::string& path) {
   if (!std::filesystem::exists(path)) input_error("{}: cannot open: no such file", path);
   // Bounded (runs.jsonl may be a link to a device); a running sweep may be appending to it (pcrt
   // cluster status reads the shards' while they run): what was there when reading began.
   const std::string text = read_file(path, kMaxStreamBytes, FileGrowth::kSnapshot);
-  std::vector<RunResult> runs;
+  RunsFile file;
+  file.torn_tail = !text.empty() && text.back() != '\n';
   size_t n = 0;
   for (size_t pos = 0; pos < text.size();) {
     size_t end = text.find('\n', pos);
@@ -32,16 +33,21 @@ std::vector<RunResult> read_runs_jsonl(const std::string& path) {
     try {
       j = parse_json_text(line, fmt::format("{}: line {}", path, n));
     } catch (const InputError&) {
-      if (last) break;
-      input_error("{}: line {} is not valid JSON", path, n);
+      if (!last) input_error("{}: line {} is not valid JSON", path, n);
+      file.torn_tail = true;
+      break;
     }
     try {
-      runs.push_back(j.get<RunResult>());
+      file.runs.push_back(j.get<RunResult>());
     } catch (const std::exception& e) {  // json's own exceptions or InputError
       input_error("{}: line {} is not a run result: {}", path, n, e.what());
     }
   }
-  return runs;
+  return file;
+}
+
+std::vector<RunResult> read_runs_jsonl(const std::string& path) {
+  return read_runs_file(path).runs;
 }
 
 void write_runs_jsonl(const std::string& path, const std::vector<RunResult>& results) {

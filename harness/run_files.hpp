@@ -15,6 +15,14 @@ using nlohmann::json;
 // Every result in the file; InputError naming the file and line if one is not a result. A sweep
 // killed mid-write leaves at most a truncated last line: it is skipped (that run is redone).
 std::vector<RunResult> read_runs_jsonl(const std::string& path);
+
+// The same, saying whether the last line was torn: not ended by a newline, or not valid JSON (and
+// then skipped). A resume redoes such a line; a merge must not take it for a finished shard.
+struct RunsFile {
+  std::vector<RunResult> runs;
+  bool torn_tail = false;
+};
+RunsFile read_runs_file(const std::string& path);
 void write_runs_jsonl(const std::string& path, const std::vector<RunResult>& results);
 void append_run(const std::string& path, const RunResult& result);
 

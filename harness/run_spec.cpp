@@ -1,6 +1,10 @@
 #include "harness/run_spec.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string_view>
+#include <type_traits>
 
 #include "core/error.hpp"
 
@@ -37,7 +41,62 @@ namespace {
 constexpr std::pair<const char*, std::optional<double> RunSpec::*> kGridVariables[] = {
     {"N", &RunSpec::N}, {"M", &RunSpec::M}, {"S", &RunSpec::S}, {"B", &RunSpec::B}};
 
+// Specs and results are read back from files a user may have edited (runs.jsonl, plan files):
+// each field is checked where it is read, and a wrong one is an InputError naming its key, never
+// a json exception, a wrapped integer (-5000 as a count) or an undefined conversion (1e308).
+
+std::string text_field(const json& j, const char* key, const std::string& fallback = "") {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_string()) input_error("\"{}\" = {} is not a string", key, j[key].dump());
+  return j[key].get<std::string>();
+}
+
+// A whole number in [lo, hi] (hi >= 0), written as a JSON integer.
+int64_t whole_field(const json& j, const char* key, int64_t fallback, int64_t lo, int64_t hi) {
+  if (!j.contains(key)) return fallback;
+  const json& v = j[key];
+  // Unsigned first: a value beyond int64 must not wrap into the range.
+  const bool whole =
+      v.is_number_unsigned() ? v.get<uint64_t>() <= uint64_t(hi) : v.is_number_integer();
+  const int64_t n = whole ? v.get<int64_t>() : 0;
+  if (!whole || n < lo || n > hi)
+    input_error("\"{}\" = {} is not a whole number from {} to {}", key, v.dump(), lo, hi);
+  return n;
+}
+
+double number_field(const json& v, const std::string& what) {
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    input_error("{} = {} is not a finite number", what, v.dump());
+  return v.get<double>();
+}
+
+std::map<std::string, double> numbers_field(const json& j, const char* key) {
+  if (!j[key].is_object()) input_error("\"{}\" = {} is not an object", key, j[key].dump());
+  std::map<std::string, double> out;
+  for (const auto& [name, v] : j[key].items())
+    out[name] = number_field(v, fmt::format("\"{}\".{}", key, name));
+  return out;
+}
+
+// A grid variable: a whole number within the config's ranges (sweep_config.cpp).
+std::optional<double> grid_field(const json& j, const char* key) {
+  if (!j.contains(key)) return std::nullopt;
+  static const std::map<std::string, std::pair<double, double>> kRange = {
+      {"N", {1, 2e8}}, {"M", {1, 16384.0 * 16384.0}}, {"S", {1, 65536}}, {"B", {0, 64}}};
+  const auto [lo, hi] = kRange.at(key);
+  const double v = number_field(j[key], fmt::format("\"{}\"", key));
+  if (!(v >= lo && v <= hi && v == std::floor(v)))
+    input_error("\"{}\" = {} is not a whole number from {} to {}", key, j[key].dump(), lo, hi);
+  return v;
+}
+
 }  // namespace
+
+uint64_t count_from_json(const json& v, const std::string& what) {
+  if (v.is_number_unsigned()) return v.get<uint64_t>();
+  if (v.is_number_integer() && v.get<int64_t>() >= 0) return uint64_t(v.get<int64_t>());
+  input_error("{} = {} is not a non-negative integer", what, v.dump());
+}
 
 // Keys appear only where the kind uses them, as the config expansion always wrote them: run keys
 // of committed results and baselines stay the same.
@@ -65,30 +124,31 @@ void to_json(json& j, const RunSpec& s) {
 
 void from_json(const json& j, RunSpec& s) {
   if (!j.is_object()) input_error("a run spec is a JSON object");
-  const std::string kind = j.at("kind").get<std::string>();
+  if (!j.contains("kind")) input_error("a run spec has its \"kind\"");
+  const std::string kind = text_field(j, "kind");
   const std::optional<RunKind> k = run_kind_from_name(kind);
   if (!k) input_error("unknown run kind '{}'", kind);
   s = RunSpec{};
   s.kind = *k;
-  s.experiment = j.value("experiment", std::string());
-  s.reps = j.value("reps", 1);
-  s.warmup = j.value("warmup", 0);
-  s.threads = j.value("threads", 2);
-  s.seed = j.value("seed", uint64_t(1));
-  s.measure = j.value("measure", std::string("both"));
-  s.camera_inside = j.value("camera", std::string()) == "inside";
-  s.dataset = j.value("dataset", std::string());
-  s.dataset_path = j.value("dataset_path", std::string());
-  s.scene = j.value("scene", std::string());
-  s.scene_path = j.value("scene_path", std::string());
-  s.method = j.value("method", std::string());
-  s.structure = j.value("structure", std::string());
-  s.reconstruction = j.value("reconstruction", std::string());
-  s.engine = j.value("engine", std::string());
-  s.workload = j.value("workload", std::string());
-  if (j.contains("set")) s.set = j["set"].get<std::map<std::string, double>>();
-  for (const auto& [name, member] : kGridVariables)
-    if (j.contains(name)) s.*member = j[name].get<double>();
+  s.experiment = text_field(j, "experiment");
+  // The config's ranges (sweep_config.cpp): repetitions, warmup, threads.
+  s.reps = int(whole_field(j, "reps", 1, 1, 1000));
+  s.warmup = int(whole_field(j, "warmup", 0, 0, 100));
+  s.threads = int(whole_field(j, "threads", 2, 1, 1024));
+  if (j.contains("seed")) s.seed = count_from_json(j["seed"], "\"seed\"");
+  s.measure = text_field(j, "measure", "both");
+  s.camera_inside = text_field(j, "camera") == "inside";
+  s.dataset = text_field(j, "dataset");
+  s.dataset_path = text_field(j, "dataset_path");
+  s.scene = text_field(j, "scene");
+  s.scene_path = text_field(j, "scene_path");
+  s.method = text_field(j, "method");
+  s.structure = text_field(j, "structure");
+  s.reconstruction = text_field(j, "reconstruction");
+  s.engine = text_field(j, "engine");
+  s.workload = text_field(j, "workload");
+  if (j.contains("set")) s.set = numbers_field(j, "set");
+  for (const auto& [name, member] : kGridVariables) s.*member = grid_field(j, name);
 }
 
 std::string run_key(const RunSpec& spec) {
@@ -148,7 +208,20 @@ void put(json& j, const char* key, const std::optional<T>& v) {
 
 template <typename T>
 void take(const json& j, const char* key, std::optional<T>& v) {
-  if (j.contains(key)) v = j[key].get<T>();
+  if (!j.contains(key)) return;
+  if constexpr (std::is_same_v<T, uint64_t>)
+    v = count_from_json(j[key], fmt::format("\"{}\"", key));
+  else
+    v = j[key].get<T>();
+}
+
+// A run's counters: name to count, each a non-negative JSON integer within uint64.
+std::map<std::string, uint64_t> counters_field(const json& j, const char* key) {
+  if (!j[key].is_object()) input_error("\"{}\" = {} is not an object", key, j[key].dump());
+  std::map<std::string, uint64_t> out;
+  for (const auto& [name, v] : j[key].items())
+    out[name] = count_from_json(v, fmt::format("counter \"{}\" in \"{}\"", name, key));
+  return out;
 }
 
 }  // namespace
@@ -183,7 +256,7 @@ void from_json(const json& j, RunMeasures& m) {
   x.mesh_setup_s = j.at("mesh_setup_s").get<double>();
   x.mesh_frame_s = j.at("mesh_frame_s").get<double>();
   x.reconstruct_s = j.at("reconstruct_s").get<double>();
-  x.triangles = j.at("triangles").get<uint64_t>();
+  x.triangles = count_from_json(j.at("triangles"), "\"triangles\"");
   if (!j.at("crossover_frames").is_null()) x.crossover_frames = j["crossover_frames"].get<double>();
   m.crossover = x;
 }
@@ -209,13 +282,16 @@ void from_json(const json& j, RunResult& r) {
   if (!j.is_object() || !j.contains("spec")) input_error("a run result has its \"spec\"");
   r = RunResult{};
   r.spec = j["spec"].get<RunSpec>();
-  r.status = status_from_name(j.at("status").get<std::string>());
-  r.error = j.value("error", std::string());
-  if (r.ok() && j.contains("N") && j["N"].is_number_integer()) r.points = j["N"].get<uint64_t>();
-  if (r.ok() && j.contains("M") && j["M"].is_number_integer()) r.pixels = j["M"].get<int64_t>();
-  if (j.contains("counters")) r.counters = j["counters"].get<std::map<std::string, uint64_t>>();
-  if (j.contains("prepare_counters"))
-    r.prepare_counters = j["prepare_counters"].get<std::map<std::string, uint64_t>>();
+  if (!j.contains("status")) input_error("a run result has its \"status\"");
+  r.status = status_from_name(text_field(j, "status"));
+  r.error = text_field(j, "error");
+  // N and M as measured (integers; the spec's are the grid's doubles).
+  if (r.ok() && j.contains("N") && j["N"].is_number_integer())
+    r.points = count_from_json(j["N"], "\"N\"");
+  if (r.ok() && j.contains("M") && j["M"].is_number_integer())
+    r.pixels = whole_field(j, "M", 0, 0, std::numeric_limits<int64_t>::max());
+  if (j.contains("counters")) r.counters = counters_field(j, "counters");
+  if (j.contains("prepare_counters")) r.prepare_counters = counters_field(j, "prepare_counters");
   if (j.contains("times_s")) r.times_s = j["times_s"].get<std::vector<double>>();
   if (j.contains("extra")) r.measures = j["extra"].get<RunMeasures>();
   if (j.contains("wall_s") && j["wall_s"].is_number()) r.wall_s = j["wall_s"].get<double>();
@@ -227,6 +303,18 @@ RunResult failed_run(const RunSpec& spec, RunStatus status, std::string error) {
   r.status = status;
   r.error = std::move(error);
   return r;
+}
+
+namespace {
+constexpr std::string_view kKilledBySignal = "killed by signal ";
+}  // namespace
+
+std::string killed_by_signal_error(int signal) {
+  return fmt::format("{}{}", kKilledBySignal, signal);
+}
+
+bool killed_by_signal(const RunResult& result) {
+  return result.status == RunStatus::kFailed && result.error.rfind(kKilledBySignal, 0) == 0;
 }
 
 }  // namespace pcrt

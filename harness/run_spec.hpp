@@ -53,6 +53,11 @@ struct RunSpec {
 void to_json(json& j, const RunSpec& s);
 void from_json(const json& j, RunSpec& s);
 
+// A count read from a file (a counter, N as loaded, bytes): a non-negative JSON integer within
+// uint64, else InputError naming `what` and the value (json's own conversion would wrap -5000 and
+// cast 1e308, which is undefined).
+uint64_t count_from_json(const json& v, const std::string& what);
+
 // The identity of a run (its spec, canonically serialised): what --resume, merges and plans
 // compare.
 std::string run_key(const RunSpec& spec);
@@ -105,5 +110,13 @@ inline std::string run_key(const RunResult& r) { return run_key(r.spec); }
 
 // A result that never measured anything (the child failed, timed out or printed nonsense).
 RunResult failed_run(const RunSpec& spec, RunStatus status, std::string error);
+
+// The error recorded for a run whose child a signal ended ("killed by signal 9"), and whether a
+// result is one. The signal mostly comes from outside the run (the OOM killer, a job's cleanup, a
+// kill -9), so --resume and pcrt cluster do such a run again rather than keep it as done; a crash
+// (SIGSEGV) is redone too, and recorded again if it crashes again. A time-out is kept: its own
+// limit ended it.
+std::string killed_by_signal_error(int signal);
+bool killed_by_signal(const RunResult& result);
 
 }  // namespace pcrt

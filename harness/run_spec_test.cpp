@@ -10,6 +10,7 @@
 #include "harness/csv_table.hpp"
 #include "harness/run_files.hpp"
 #include "harness/sweep_fits.hpp"
+#include "tests/test_helpers.hpp"
 #include "tests/test_paths.hpp"
 
 using namespace pcrt;
@@ -124,4 +125,113 @@ TEST_CASE("CSV cells are quoted where RFC 4180 needs it", "[sweep][csv]") {
   REQUIRE(csv_cell(json(uint64_t(12345678901))) == "12345678901");
   REQUIRE(csv_cell(json(true)) == "true");
   REQUIRE(csv_cell(json(std::numeric_limits<double>::infinity())).empty());
+}
+
+namespace {
+
+// kBuildResult with one value replaced: `path` is a JSON pointer, `value` JSON text.
+json edited_result(const char* path, const char* value) {
+  json line = json::parse(kBuildResult);
+  line[json::json_pointer(path)] = json::parse(value);
+  return line;
+}
+
+std::string thrown_by(const json& line) {
+  try {
+    (void)line.get<RunResult>();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(nothing thrown)";
+}
+
+}  // namespace
+
+// Issue 29: nlohmann's get<uint64_t> wraps -5000 to 1.8e19 (a verdict flipped) and casts 1e308
+// (undefined); a count must be a non-negative JSON integer within uint64, else an error naming it.
+TEST_CASE("a counter read back is a non-negative integer within uint64, or an error naming it",
+          "[sweep][runs]") {
+  const std::pair<const char*, const char*> bad[] = {
+      {"/prepare_counters/knn_queries", "-5000"},
+      {"/prepare_counters/knn_queries", "1e308"},
+      {"/prepare_counters/knn_queries", "2500.0"},
+      {"/prepare_counters/knn_queries", "18446744073709551616"},  // 2^64: parsed as a float
+      {"/prepare_counters/knn_queries", "\"2500\""},
+      {"/prepare_counters/knn_queries", "null"},
+      {"/prepare_counters", "[1, 2]"},
+      {"/counters", "7"},
+      {"/extra/structure_bytes", "-1"},
+      {"/N", "-2500"},
+  };
+  for (const auto& [path, value] : bad) {
+    CAPTURE(path, value);
+    const std::string what = thrown_by(edited_result(path, value));
+    const std::string name = std::string(path).substr(std::string(path).rfind('/') + 1);
+    REQUIRE(what.find(name) != std::string::npos);
+  }
+  // The largest count is one.
+  const json max = edited_result("/prepare_counters/knn_queries", "18446744073709551615");
+  REQUIRE(max.get<RunResult>().prepare_counters->at("knn_queries") == UINT64_MAX);
+  // Through the file reader: the file, its line and the counter.
+  json bad_line = json::parse(kBuildResult);
+  bad_line["prepare_counters"]["knn_queries"] = -5000;
+  const std::string path =
+      test::write_text("counters.jsonl", std::string(kBuildResult) + "\n" + bad_line.dump() + "\n");
+  try {
+    (void)read_runs_jsonl(path);
+    FAIL("a counter of -5000 was read");
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    REQUIRE(what.find(path + ": line 2") != std::string::npos);
+    REQUIRE(what.find("knn_queries") != std::string::npos);
+  }
+}
+
+TEST_CASE("a run spec read back has every field checked, naming it", "[sweep][runs]") {
+  const std::pair<const char*, const char*> bad[] = {
+      {"/spec/reps", "-1"},       {"/spec/reps", "1e30"},  {"/spec/reps", "2.5"},
+      {"/spec/threads", "\"2\""}, {"/spec/warmup", "101"}, {"/spec/seed", "-1"},
+      {"/spec/seed", "1e30"},     {"/spec/N", "1e30"},     {"/spec/N", "-3"},
+      {"/spec/N", "\"2500\""},    {"/spec/B", "0.5"},      {"/spec/set", "[1]"},
+      {"/spec/set/K", "\"x\""},   {"/spec/method", "5"},   {"/spec/kind", "3"},
+  };
+  for (const auto& [path, value] : bad) {
+    CAPTURE(path, value);
+    const std::string what = thrown_by(edited_result(path, value));
+    const std::string name = std::string(path).substr(std::string(path).find('/', 1) + 1);
+    REQUIRE(what.find(name.substr(0, name.find('/'))) != std::string::npos);
+  }
+  REQUIRE(thrown_by(edited_result("/status", "1")).find("status") != std::string::npos);
+  json no_kind = json::parse(kBuildResult);
+  no_kind["spec"].erase("kind");
+  REQUIRE(thrown_by(no_kind).find("kind") != std::string::npos);
+}
+
+TEST_CASE("a runs file says whether its last line was torn", "[sweep][runs]") {
+  const std::string line = kBuildResult;
+  const std::string whole = test::write_text("whole.jsonl", line + "\n" + line + "\n");
+  REQUIRE(!read_runs_file(whole).torn_tail);
+  REQUIRE(read_runs_file(whole).runs.size() == 2);
+  // No newline after valid JSON: the result is read, but the file was cut.
+  const std::string no_newline = test::write_text("no_newline.jsonl", line + "\n" + line);
+  REQUIRE(read_runs_file(no_newline).torn_tail);
+  REQUIRE(read_runs_file(no_newline).runs.size() == 2);
+  const std::string cut = test::write_text("cut.jsonl", line + "\n" + line.substr(0, 40) + "\n");
+  REQUIRE(read_runs_file(cut).torn_tail);
+  REQUIRE(read_runs_file(cut).runs.size() == 1);
+  REQUIRE(read_runs_jsonl(cut).size() == 1);  // what --resume keeps
+}
+
+TEST_CASE("a run whose child a signal ended is redone; a time-out or an error is not",
+          "[sweep][runs]") {
+  RunSpec s;
+  s.dataset = "sphere";
+  s.method = "hubo_2006";
+  REQUIRE(killed_by_signal(failed_run(s, RunStatus::kFailed, killed_by_signal_error(9))));
+  REQUIRE(killed_by_signal(failed_run(s, RunStatus::kFailed, "killed by signal 11")));
+  REQUIRE(!killed_by_signal(failed_run(s, RunStatus::kFailed, "sphere: N = 0 is impossible")));
+  REQUIRE(!killed_by_signal(failed_run(s, RunStatus::kTimeout, "exceeded the time limit of 1 s")));
+  // As recorded in runs.jsonl and read back.
+  const json written = failed_run(s, RunStatus::kFailed, killed_by_signal_error(9));
+  REQUIRE(killed_by_signal(written.get<RunResult>()));
 }
