@@ -347,6 +347,9 @@ void bind(CLI::App& c, SweepOptions& o) {
 void bind(CLI::App& c, MergeOptions& o) {
   c.add_option("DIR", o.dirs, "sweep directories (shards of one sweep)")->required();
   text(c, "--out", o.out, "DIR", "merged directory")->required();
+  flag(c, "--keep-partial", o.keep_partial,
+       "merge shards that miss runs or end in a torn line as far as they go, listing what is "
+       "missing (refused without it)");
 }
 
 void bind(CLI::App& c, FitOptions& o) { c.add_option("DIR", o.dir, "sweep directory")->required(); }

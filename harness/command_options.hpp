@@ -170,9 +170,10 @@ struct SweepOptions {
 };
 
 struct MergeOptions {
-  static constexpr const char* usage = "pcrt merge DIR... --out DIR";
+  static constexpr const char* usage = "pcrt merge DIR... --out DIR [--keep-partial]";
   std::vector<std::string> dirs;
   std::string out;
+  bool keep_partial = false;  // merge shards that miss runs, saying what is missing
 };
 
 struct FitOptions {

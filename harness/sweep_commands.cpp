@@ -59,9 +59,10 @@ void show_progress(const RunSpec& spec, size_t i, size_t n, double elapsed_s) {
 }
 
 // The keys of the runs already in DIR/runs.jsonl; rewrites it without a truncated tail, so
-// appends start on a fresh line.
+// appends start on a fresh line, and without the runs a signal ended, which are done again.
 std::set<std::string> resume_from(const std::string& jsonl) {
-  const std::vector<RunResult> kept = read_runs_jsonl(jsonl);
+  std::vector<RunResult> kept = read_runs_jsonl(jsonl);
+  std::erase_if(kept, killed_by_signal);
   std::set<std::string> done;
   for (const RunResult& r : kept) done.insert(run_key(r));
   write_runs_jsonl(jsonl, kept);
@@ -151,18 +152,22 @@ void claim_folder(const std::string& dir, bool resume, bool overwrite) {
 }
 
 // Runs the `selected` runs of `config` not yet in DIR/runs.jsonl (with --resume); returns all
-// results in DIR afterwards.
+// results in DIR afterwards. A shard's `shard_record` (its index and runs) goes into
+// context.json, so that a merge can tell a complete shard from a cut one.
 std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& dir, bool resume,
-                                 bool overwrite, const std::vector<size_t>& selected, bool quiet) {
+                                 bool overwrite, const std::vector<size_t>& selected, bool quiet,
+                                 const json& shard_record = json()) {
   make_output_directory(dir, "--out");
   const FolderLock lock(dir);
   claim_folder(dir, resume, overwrite);
   const std::string jsonl = dir + "/runs.jsonl";
   const bool resuming = resume && fs::exists(jsonl);
   const std::set<std::string> done = resuming ? resume_from(jsonl) : std::set<std::string>{};
+  json context = machine_context(config.raw);
+  if (!shard_record.is_null()) context["shard"] = shard_record;
   // Written first: on a read-only or full file system this is the one-line error, before the
   // old results are touched.
-  write_json(dir + "/context.json", machine_context(config.raw));
+  write_json(dir + "/context.json", context);
   // A shard with nothing (left) to run still leaves a readable, empty runs.jsonl.
   if (!resuming) write_file_atomically(jsonl, [](std::ostream&) {});
   std::vector<const RunSpec*> todo;
@@ -265,6 +270,14 @@ std::vector<size_t> shard_runs(const SweepConfig& config, const SweepOptions& o)
   return plan_shards(run_costs(config.runs, earlier), n).shards[i];
 }
 
+// What a shard records of itself in context.json: which shard it is and every run it must do.
+json shard_record(const ShardIndex& shard, const SweepConfig& config,
+                  const std::vector<size_t>& selected) {
+  json runs = json::array();
+  for (size_t i : selected) runs.push_back(json(config.runs[i]));
+  return {{"index", shard.index}, {"count", shard.count}, {"runs", runs}};
+}
+
 // Merging shards of different sweeps or builds would mix results that cannot be compared: the
 // config and the commit must agree.
 void check_same_sweep(const json& ctx, const json& first, const std::string& dir,
@@ -279,6 +292,77 @@ void check_same_sweep(const json& ctx, const json& first, const std::string& dir
 }
 
 std::string python() { return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3"; }
+
+// The runs a sweep directory was to do: a shard's own list (context.json's "shard"), else the
+// whole config's.
+std::vector<std::string> planned_runs(const std::string& dir, const json& ctx) {
+  const std::string origin = dir + "/context.json";
+  std::vector<std::string> keys;
+  if (!ctx.contains("shard")) {
+    for (const RunSpec& spec : config_of(dir, DatasetCheck::kNamesOnly).runs)
+      keys.push_back(run_key(spec));
+    return keys;
+  }
+  const json& shard = ctx["shard"];
+  if (!shard.is_object() || !shard.contains("runs") || !shard["runs"].is_array())
+    input_error("{}: \"shard\" has no list of \"runs\"", origin);
+  for (const json& spec : shard["runs"]) keys.push_back(planned_run_key(spec, origin));
+  return keys;
+}
+
+// How a shard's runs.jsonl differs from its plan; nothing when it is whole.
+struct ShardGaps {
+  std::vector<std::string> missing;  // planned run keys without a result
+  size_t unplanned = 0, duplicates = 0;
+  bool torn_tail = false;
+  [[nodiscard]] bool any() const {
+    return !missing.empty() || unplanned > 0 || duplicates > 0 || torn_tail;
+  }
+  [[nodiscard]] std::string summary(size_t planned) const {
+    std::vector<std::string> parts;
+    if (!missing.empty())
+      parts.push_back(fmt::format("{} of its {} planned runs missing", missing.size(), planned));
+    auto runs = [](size_t n) { return fmt::format("{} run{}", n, n == 1 ? "" : "s"); };
+    if (unplanned > 0) parts.push_back(runs(unplanned) + " not in its plan");
+    if (duplicates > 0) parts.push_back(runs(duplicates) + " recorded twice");
+    if (torn_tail) parts.push_back("its last line torn (no newline or not valid JSON)");
+    return fmt::format("{}", fmt::join(parts, ", "));
+  }
+};
+
+// The results of DIR that are whole and planned, each once. A shard cut short (a killed or
+// failed task, a full disk) is refused naming its file, or with `keep_partial` merged as far as
+// it goes, saying what was kept and what is missing.
+std::vector<RunResult> whole_runs_of_shard(const std::string& dir, const json& ctx,
+                                           bool keep_partial) {
+  const std::string path = dir + "/runs.jsonl";
+  RunsFile file = read_runs_file(path);
+  const std::vector<std::string> planned = planned_runs(dir, ctx);
+  std::set<std::string> unseen(planned.begin(), planned.end()), seen;
+  ShardGaps gaps;
+  gaps.torn_tail = file.torn_tail;
+  std::vector<RunResult> kept;
+  for (RunResult& r : file.runs) {
+    const std::string key = run_key(r);
+    if (!seen.insert(key).second) {
+      ++gaps.duplicates;
+    } else if (!unseen.erase(key)) {
+      ++gaps.unplanned;
+    } else {
+      kept.push_back(std::move(r));
+    }
+  }
+  for (const std::string& key : planned)
+    if (unseen.count(key)) gaps.missing.push_back(key);
+  if (!gaps.any()) return kept;
+  if (!keep_partial)
+    input_error("{}: does not match its plan: {}; --keep-partial merges what is whole", path,
+                gaps.summary(planned.size()));
+  std::printf("%s: kept %zu of %zu planned runs; %s\n", path.c_str(), kept.size(), planned.size(),
+              gaps.summary(planned.size()).c_str());
+  for (const std::string& key : gaps.missing) std::printf("  missing: %s\n", key.c_str());
+  return kept;
+}
 
 }  // namespace
 
@@ -313,8 +397,10 @@ int command_run_one(const RunOneOptions& o) {
 int command_sweep(const SweepOptions& o) {
   const SweepConfig config = load_sweep_config(o.config);
   const std::string dir = o.out.value_or("results/" + config.name);
+  const std::vector<size_t> selected = shard_runs(config, o);
+  const json shard = o.shard ? shard_record(*o.shard, config, selected) : json();
   const std::vector<RunResult> results =
-      run_sweep(config, dir, o.resume, o.overwrite, shard_runs(config, o), false);
+      run_sweep(config, dir, o.resume, o.overwrite, selected, false, shard);
   if (o.fit) write_fits(dir, fit_runs(config, results));
   return 0;
 }
@@ -328,14 +414,30 @@ int command_merge(const MergeOptions& o) {
     if (!ctx.is_object()) input_error("{}/context.json: not an object", dir);
     if (i > 0) check_same_sweep(ctx, contexts[0], dir, o.dirs[0]);
     contexts.push_back(ctx);
-    for (const RunResult& r : read_runs_jsonl(dir + "/runs.jsonl")) runs[run_key(r)] = r;
+    for (RunResult& r : whole_runs_of_shard(dir, ctx, o.keep_partial)) {
+      const std::string key = run_key(r);
+      if (runs.count(key)) {
+        if (!o.keep_partial)
+          input_error(
+              "{}/runs.jsonl: a run of it is also in an earlier directory; only distinct shards "
+              "merge (--keep-partial keeps the first)",
+              dir);
+        std::printf("%s/runs.jsonl: also in an earlier directory, which is kept: %s\n", dir.c_str(),
+                    key.c_str());
+      }
+      runs.emplace(key, std::move(r));
+    }
   }
   make_output_directory(o.out, "--out");
   std::vector<RunResult> all;
   for (auto& [k, r] : runs) all.push_back(r);
   write_runs_jsonl(o.out + "/runs.jsonl", all);
   write_runs_csv(o.out + "/runs.csv", all);
+  // The merged directory is the whole sweep, no shard; each shard's list of runs is its runs.
   json merged = contexts[0];
+  merged.erase("shard");
+  for (json& ctx : contexts)
+    if (ctx.contains("shard") && ctx["shard"].is_object()) ctx["shard"].erase("runs");
   merged["shards"] = contexts;
   write_json(o.out + "/context.json", merged);
   std::printf("%s: %zu runs from %zu directories\n", o.out.c_str(), all.size(), o.dirs.size());

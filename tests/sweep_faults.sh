@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Faults a sweep must survive (issue 14): SIGKILL at several points (no run left behind; a resume
-# redoes at most the run in flight and ends with the counters of an uninterrupted sweep), and an
+# redoes at most the run in flight and ends with the counters of an uninterrupted sweep), a run's
+# child killed by SIGKILL (recorded, and redone by --resume: issue 29), and an
 # output folder on a full or a read-only file system (one line naming the file, exit 1,
 # runs.jsonl still readable and unchanged where nothing could be written).
 set -euo pipefail
@@ -78,6 +79,32 @@ for before in 0 3 7 11; do
   same_as_ref "$out"
 done
 
+# A run whose child is killed by a signal (SIGKILL: the OOM killer, a node's cleanup) is recorded
+# as failed and the sweep goes on; --resume does that run again instead of keeping it as done.
+# The first run in flight after two are recorded is killed; the kill can come too late (the run
+# ended in between), so up to three sweeps are tried.
+kill_a_run() {
+  rm -rf "$out"
+  "$pcrt" sweep "$dir/c.json" --out "$out" >/dev/null 2>&1 &
+  local sweep=$! child state
+  for _ in $(seq 2000); do
+    if [ -f "$out/runs.jsonl" ] && [ "$(wc -l <"$out/runs.jsonl")" -ge 2 ]; then
+      child=$(cat /proc/"$sweep"/task/*/children 2>/dev/null | head -n 1 || true)
+      state=$(awk '{print $3}' /proc/"$child"/stat 2>/dev/null || true)
+      if [ -n "$child" ] && [ "$state" != Z ] && kill -9 "$child" 2>/dev/null; then break; fi
+    fi
+    sleep 0.01
+  done
+  wait "$sweep" || fail "the sweep failed after one of its runs was killed"
+  grep -q '"error":"killed by signal 9"' "$out/runs.jsonl"
+}
+out="$dir/killed_child"
+kill_a_run || kill_a_run || kill_a_run || fail "no run was caught in flight and killed"
+"$pcrt" sweep "$dir/c.json" --out "$out" --resume >"$dir/resume.txt"
+grep -q "1 runs done ($((runs - 1)) already done" "$dir/resume.txt" ||
+  fail "resume after a killed run: $(cat "$dir/resume.txt")"
+same_as_ref "$out"
+
 # A file-size limit (RLIMIT_FSIZE, SIGXFSZ ignored) cuts writes short like a full disk: the
 # result that does not fit is not appended in part.
 set +e
@@ -128,4 +155,4 @@ one_line_error "$(cat "$dir/status_ro")" "$dir/err_ro" "$dir/ro/out/"
 cmp -s "$dir/ro/out/runs.jsonl" "$dir/ro_before.jsonl" || fail "read-only runs.jsonl changed"
 one_line_error "$(cat "$dir/status_ro_new")" "$dir/err_ro_new" "$dir/ro/new"
 cat "$dir/err" "$dir/err_full" "$dir/err_ro" "$dir/err_ro_new"
-echo "sweep_faults: 4 kill points, a size limit, a full and a read-only file system: ok"
+echo "sweep_faults: 4 kill points, a killed run redone, a size limit, a full and a read-only file system: ok"
