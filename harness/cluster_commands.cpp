@@ -9,12 +9,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
+#include <string_view>
 
 #include "core/error.hpp"
+#include "core/json_input.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "harness/run_files.hpp"
@@ -56,20 +58,99 @@ struct Part {
   Progress progress = Progress::Failed;
 };
 
+// POSIX single quotes, ' written as '\'': one shell word, whatever s holds.
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
 }
 
+// A word no shell and no #SBATCH line reads specially: written as it is.
+bool plain_word(const std::string& s) {
+  constexpr std::string_view kPlain = "_@%+=:,./-";
+  return !s.empty() && std::all_of(s.begin(), s.end(), [&](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+           kPlain.find(c) != std::string_view::npos;
+  });
+}
+
+// A command line printed for a user to read or paste: each word quoted where a shell needs it.
+std::string shell_line(const std::vector<std::string>& words) {
+  std::string line;
+  for (const std::string& w : words)
+    line += (line.empty() ? "" : " ") + (plain_word(w) ? w : shell_quote(w));
+  return line;
+}
+
+bool has_control_character(const std::string& s) {
+  return std::any_of(s.begin(), s.end(),
+                     [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; });
+}
+
+// A line of a job script that sbatch reads itself: "#SBATCH OPTION". A shell never sees it, so
+// shell quoting alone does not make it safe: sbatch splits the line at blanks, takes '...' and
+// "..." as quotes and \ as an escape (inside quotes too) and ends it at the line break (Slurm
+// 22.05, sbatch's _get_argument). A control character (a line break) cannot be written there
+// and is refused naming `field`; anything else is one word in single quotes, ' as '\'' and \ as
+// '\\', which sbatch and a shell read alike.
+std::string directive(const std::string& option, const std::string& field) {
+  if (has_control_character(option))
+    input_error("{}: '{}' holds a control character (a line break?), which no #SBATCH line can",
+                field, option);
+  if (plain_word(option)) return "#SBATCH " + option + "\n";
+  std::string q = "'";
+  for (char c : option)
+    q += c == '\'' ? std::string("'\\''") : c == '\\' ? std::string("'\\\\'") : std::string(1, c);
+  return "#SBATCH " + q + "'\n";
+}
+
+// A log path for sbatch --output: Slurm expands %-patterns there (%a, the array task), so a % of
+// DIR is written %%; a backslash would turn the patterns off, so DIR must not hold one.
+std::string log_pattern(const std::string& dir, const std::string& file) {
+  if (dir.find('\\') != std::string::npos)
+    input_error("--out {}: a backslash in it would turn off Slurm's %-patterns in the log paths",
+                dir);
+  std::string pattern;
+  for (char c : dir) pattern += c == '%' ? std::string("%%") : std::string(1, c);
+  return pattern + file;
+}
+
+// A sweep's name becomes Slurm job names and script comments: letters, digits and . _ + - only.
+void check_job_name(const std::string& name, const std::string& origin) {
+  const bool ok = !name.empty() && name.size() <= 100 && plain_word(name) &&
+                  name.find_first_of("@%=:,/") == std::string::npos;
+  if (!ok)
+    input_error("{}: name '{}' cannot name a Slurm job (letters, digits and . _ + -, at most 100)",
+                origin, name);
+}
+
+// The values a user gives for sbatch, before anything is written: a partition is a name (or a
+// list of them); the others go into #SBATCH lines quoted, so only a control character is refused.
+void check_sbatch_values(const ClusterSubmitOptions& o) {
+  if (const auto& p = o.partition) {
+    const bool ok = !p->empty() && plain_word(*p) &&
+                    p->find_first_of("@%+=:/") == std::string::npos && p->front() != ',' &&
+                    p->back() != ',';
+    if (!ok)
+      input_error("--partition '{}': not a partition name (letters, digits, . _ - and commas)", *p);
+  }
+  std::vector<std::pair<std::string, std::string>> values;
+  for (const auto& [flag, value] :
+       {std::pair{"--time", &o.time}, std::pair{"--cpus-per-task", &o.cpus_per_task},
+        std::pair{"--mem", &o.mem}})
+    if (*value) values.emplace_back(flag, **value);
+  for (const std::string& a : o.sbatch_args) values.emplace_back("--sbatch-arg", a);
+  for (const auto& [flag, value] : values)
+    if (has_control_character(value))
+      input_error("{} '{}': holds a control character (a line break?), which no #SBATCH line can",
+                  flag, value);
+}
+
 json read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in)
+  if (!fs::exists(path))
     input_error("{}: cannot open (is {} a pcrt cluster directory?)", path,
                 fs::path(path).parent_path().parent_path().string());
-  const json j = json::parse(in, nullptr, false);
-  if (j.is_discarded()) input_error("{}: not valid JSON", path);
-  return j;
+  return read_json_file(path);  // bounded and depth-limited; errors name the file
 }
 
 void write_script(const std::string& path, const std::string& text) {
@@ -110,8 +191,17 @@ std::vector<std::string> resource_options(const ClusterSubmitOptions& o) {
 
 std::string directives(const std::vector<std::string>& options) {
   std::string text;
-  for (const std::string& o : options) text += "#SBATCH " + o + "\n";
+  for (const std::string& o : options) text += directive(o, "an sbatch option");
   return text;
+}
+
+// What every script sets: job name, log, and the folder it runs in (where pcrt was submitted).
+std::string script_head(const std::string& job_name, const std::string& log,
+                        const std::vector<std::string>& fixed) {
+  std::string head =
+      directive("--job-name=" + job_name, "name") + directive("--output=" + log, "--out");
+  for (const std::string& o : fixed) head += "#SBATCH " + o + "\n";
+  return head + directive("--chdir=" + fs::current_path().string(), "the current directory");
 }
 
 std::string self_exe() { return fs::read_symlink("/proc/self/exe").string(); }
@@ -119,8 +209,8 @@ std::string self_exe() { return fs::read_symlink("/proc/self/exe").string(); }
 std::string shard_script(const ClusterDir& d, const std::string& name, size_t n,
                          const std::vector<std::string>& options) {
   const std::string head =
-      directives({"--job-name=pcrt-" + name, "--output=" + d.slurm() + "/logs/shard-%a.log",
-                  "--open-mode=append", "--requeue", "--chdir=" + fs::current_path().string()});
+      script_head("pcrt-" + name, log_pattern(d.root, "/slurm/logs/shard-%a.log"),
+                  {"--open-mode=append", "--requeue"});
   return fmt::format(
       "#!/bin/bash\n"
       "# pcrt cluster: one shard of sweep {name} per array task (written by pcrt cluster submit).\n"
@@ -141,9 +231,9 @@ std::string merge_script(const ClusterDir& d, const std::string& name, size_t n,
                          const std::vector<std::string>& options) {
   std::vector<std::string> shards;
   for (size_t i = 0; i < n; ++i) shards.push_back(shell_quote(d.shard_dir(i)));
-  const std::string head = directives(
-      {"--job-name=pcrt-" + name + "-merge", "--output=" + d.merge_log(), "--open-mode=append",
-       "--kill-on-invalid-dep=yes", "--chdir=" + fs::current_path().string()});
+  const std::string head =
+      script_head("pcrt-" + name + "-merge", log_pattern(d.root, "/slurm/logs/merge.log"),
+                  {"--open-mode=append", "--kill-on-invalid-dep=yes"});
   return fmt::format(
       "#!/bin/bash\n"
       "# pcrt cluster: merge, fit and report sweep {name} once every shard succeeded\n"
@@ -159,22 +249,14 @@ std::string merge_script(const ClusterDir& d, const std::string& name, size_t n,
       fmt::arg("root", shell_quote(d.root)));
 }
 
-// Shards in the plan, and each shard's planned run keys.
-std::vector<std::vector<std::string>> planned_keys(const json& plan, const std::string& origin) {
-  std::vector<std::vector<std::string>> keys;
-  for (const json& shard : plan.at("shards")) {
-    keys.emplace_back();
-    for (const json& spec : shard.at("runs")) keys.back().push_back(planned_run_key(spec, origin));
-  }
-  return keys;
-}
-
-// Runs of `keys` recorded in DIR/runs.jsonl (a truncated last line does not count).
+// Runs of `keys` recorded in DIR/runs.jsonl (a truncated last line does not count, nor does a run
+// a signal ended: the shard's --resume does it again).
 size_t runs_done(const std::string& dir, const std::vector<std::string>& keys) {
   const std::string path = dir + "/runs.jsonl";
   if (!fs::exists(path)) return 0;
   std::set<std::string> have;
-  for (const RunResult& r : read_runs_jsonl(path)) have.insert(run_key(r));
+  for (const RunResult& r : read_runs_jsonl(path))
+    if (!killed_by_signal(r)) have.insert(run_key(r));
   return size_t(std::count_if(keys.begin(), keys.end(),
                               [&](const std::string& k) { return have.count(k) > 0; }));
 }
@@ -191,22 +273,58 @@ struct JobIds {
   std::string merge;
 };
 
-JobIds newest_jobs(const json& jobs, size_t n) {
+// A job id field of jobs.json: what sbatch printed, or empty (the merge not submitted yet).
+std::string job_field(const json& submission, const char* key, const std::string& where) {
+  if (!submission.contains(key) || !submission[key].is_string())
+    input_error("{}.{} is missing or not a string", where, key);
+  const std::string id = submission[key].get<std::string>();
+  if (!id.empty() && !is_job_id(id))
+    input_error("{}.{} = {} is not a Slurm job id", where, key, submission[key].dump());
+  return id;
+}
+
+// The shards a submission's array ran: indices into the plan's n shards.
+std::vector<size_t> submitted_shards(const json& submission, size_t n, const std::string& where) {
+  if (!submission.contains("shards") || !submission["shards"].is_array())
+    input_error("{}.shards is missing or not a list of shard indices", where);
+  std::vector<size_t> shards;
+  for (size_t k = 0; k < submission["shards"].size(); ++k) {
+    const json& v = submission["shards"][k];
+    if (!v.is_number_unsigned() || v.get<uint64_t>() >= n)
+      input_error("{}.shards[{}] = {} is not a shard of the plan (0 to {})", where, k, v.dump(),
+                  n - 1);
+    shards.push_back(size_t(v.get<uint64_t>()));
+  }
+  return shards;
+}
+
+// jobs.json, every field checked where it is read (a hand-edited or cut file is one line naming
+// it and the field, never an internal error).
+JobIds newest_jobs(const json& jobs, size_t n, const std::string& origin) {
+  if (!jobs.is_object() || !jobs.contains("submissions") || !jobs["submissions"].is_array())
+    input_error("{}: \"submissions\" is missing or not a list (written by pcrt cluster submit)",
+                origin);
   JobIds ids;
   ids.shard.resize(n);
-  for (const json& sub : jobs.value("submissions", json::array())) {
-    for (const json& s : sub.value("shards", json::array()))
-      if (s.get<size_t>() < n) ids.shard[s.get<size_t>()] = {sub.at("array_job"), s.dump()};
-    ids.merge = sub.at("merge_job");
+  const json& submissions = jobs["submissions"];
+  for (size_t i = 0; i < submissions.size(); ++i) {
+    const std::string where = fmt::format("{}: submissions[{}]", origin, i);
+    if (!submissions[i].is_object()) input_error("{} is not an object", where);
+    const std::string array = job_field(submissions[i], "array_job", where);
+    const std::vector<size_t> shards = submitted_shards(submissions[i], n, where);
+    if (array.empty() && !shards.empty())
+      input_error("{}.array_job is empty, but the submission lists shards", where);
+    for (size_t s : shards) ids.shard[s] = {array, std::to_string(s)};
+    ids.merge = job_field(submissions[i], "merge_job", where);
   }
   return ids;
 }
 
 std::vector<Part> survey(const ClusterDir& d) {
-  const json plan = read_json(d.plan());
-  const json jobs = fs::exists(d.jobs()) ? read_json(d.jobs()) : json::object();
-  const auto keys = planned_keys(plan, d.plan());
-  const JobIds ids = newest_jobs(jobs, keys.size());
+  const auto keys = read_plan(read_json(d.plan()), d.plan());
+  const json jobs =
+      fs::exists(d.jobs()) ? read_json(d.jobs()) : json{{"submissions", json::array()}};
+  const JobIds ids = newest_jobs(jobs, keys.size(), d.jobs());
   std::map<std::string, std::map<std::string, JobStatus>> queried;
   auto state_of = [&](const std::string& job, const std::string& task) {
     if (job.empty()) return JobStatus{};
@@ -261,11 +379,11 @@ void submit(const ClusterDir& d, const Submission& s, bool dry_run) {
   if (dry_run) {
     std::vector<std::string> merge_cmd = s.extra_options;
     if (!s.shards.empty()) {
-      std::printf("would run: sbatch --parsable %s\n", join(array_cmd, " ").c_str());
+      std::printf("would run: sbatch --parsable %s\n", shell_line(array_cmd).c_str());
       merge_cmd.push_back("--dependency=afterok:<array job>");
     }
     merge_cmd.push_back(d.merge_script());
-    std::printf("would run: sbatch --parsable %s\n", join(merge_cmd, " ").c_str());
+    std::printf("would run: sbatch --parsable %s\n", shell_line(merge_cmd).c_str());
     return;
   }
   std::string array_job;
@@ -290,18 +408,22 @@ void submit(const ClusterDir& d, const Submission& s, bool dry_run) {
 // DIR/slurm: the config, the plan and both job scripts.
 void write_cluster_files(const ClusterDir& d, const SweepConfig& config, size_t n,
                          const ClusterSubmitOptions& o) {
-  fs::create_directories(d.slurm() + "/logs");
-  const std::vector<RunResult> earlier =
-      o.costs ? read_runs_jsonl(*o.costs + "/runs.jsonl") : std::vector<RunResult>{};
-  const ShardPlan plan = plan_shards(run_costs(config.runs, earlier), n);
-  write_json(d.config(), config.raw);
-  write_json(d.plan(), plan_json(plan, config.runs, o.costs.value_or("model")));
   std::vector<std::string> options = resource_options(o);
   if (!o.cpus_per_task)  // a run uses the config's threads
     options.insert(options.begin(),
                    fmt::format("--cpus-per-task={}", config.raw.value("threads", 2)));
-  write_script(d.shard_script(), shard_script(d, config.name, n, options));
-  write_script(d.merge_script(), merge_script(d, config.name, n, resource_options(o)));
+  // The scripts first: a value they cannot hold is refused before anything is written.
+  check_job_name(config.name, o.target);
+  const std::string shard = shard_script(d, config.name, n, options);
+  const std::string merge = merge_script(d, config.name, n, resource_options(o));
+  const std::vector<RunResult> earlier =
+      o.costs ? read_runs_jsonl(*o.costs + "/runs.jsonl") : std::vector<RunResult>{};
+  const ShardPlan plan = plan_shards(run_costs(config.runs, earlier), n);
+  fs::create_directories(d.slurm() + "/logs");
+  write_json(d.config(), config.raw);
+  write_json(d.plan(), plan_json(plan, config.runs, o.costs.value_or("model")));
+  write_script(d.shard_script(), shard);
+  write_script(d.merge_script(), merge);
   const auto [lo, hi] = std::minmax_element(plan.cost.begin(), plan.cost.end());
   std::printf("%s: %zu runs in %zu shards, estimated %.1f to %.1f s each\n", d.slurm().c_str(),
               config.runs.size(), n, *lo, *hi);
@@ -350,6 +472,7 @@ int submit_resume(const ClusterSubmitOptions& o) {
 
 int command_cluster_submit(const ClusterSubmitOptions& o) {
   if (!o.dry_run) require_slurm_command("sbatch");
+  check_sbatch_values(o);
   if (o.resume) {
     if (o.out || o.shards || o.costs)
       input_error(

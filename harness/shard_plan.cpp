@@ -132,17 +132,58 @@ json plan_json(const ShardPlan& plan, const std::vector<RunSpec>& runs, const st
   return {{"cost_source", source}, {"shards", shards}};
 }
 
+namespace {
+
+// pcrt cluster submit --shards' bound.
+constexpr size_t kMaxShards = 100000;
+
+// One shard of a plan file: its estimated seconds (if given) and its runs' keys.
+std::vector<std::string> read_planned_shard(const json& shard, const std::string& where) {
+  if (!shard.is_object() || !shard.contains("runs") || !shard["runs"].is_array())
+    input_error("{}: not an object with a list of \"runs\"", where);
+  if (shard.contains("estimated_s")) {
+    const json& e = shard["estimated_s"];
+    if (!e.is_number() || !(e.get<double>() >= 0 && std::isfinite(e.get<double>())))
+      input_error("{}.estimated_s = {} is not a number of seconds", where, e.dump());
+  }
+  std::vector<std::string> keys;
+  for (size_t r = 0; r < shard["runs"].size(); ++r)
+    keys.push_back(planned_run_key(shard["runs"][r], fmt::format("{}.runs[{}]", where, r)));
+  return keys;
+}
+
+}  // namespace
+
+std::vector<std::vector<std::string>> read_plan(const json& plan, const std::string& origin) {
+  if (!plan.is_object() || !plan.contains("shards"))
+    input_error("{}: not a shard plan (written by pcrt cluster submit)", origin);
+  const json& shards = plan["shards"];
+  if (!shards.is_array() || shards.empty() || shards.size() > kMaxShards)
+    input_error("{}: \"shards\" is not a list of 1 to {} shards", origin, kMaxShards);
+  if (plan.contains("cost_source") && !plan["cost_source"].is_string())
+    input_error("{}: \"cost_source\" = {} is not a string", origin, plan["cost_source"].dump());
+  std::vector<std::vector<std::string>> keys;
+  std::unordered_map<std::string, size_t> shard_of;
+  for (size_t s = 0; s < shards.size(); ++s) {
+    const std::string where = fmt::format("{}: shards[{}]", origin, s);
+    keys.push_back(read_planned_shard(shards[s], where));
+    for (size_t r = 0; r < keys.back().size(); ++r) {
+      const auto [it, fresh] = shard_of.emplace(keys.back()[r], s);
+      if (!fresh) input_error("{}.runs[{}]: also planned in shard {}", where, r, it->second);
+    }
+  }
+  return keys;
+}
+
 std::vector<size_t> plan_shard(const json& plan, const std::vector<RunSpec>& runs, size_t shard,
                                size_t n, const std::string& origin) {
-  if (!plan.is_object() || !plan.contains("shards") || !plan["shards"].is_array())
-    input_error("{}: not a shard plan (written by pcrt cluster submit)", origin);
-  if (plan["shards"].size() != n)
-    input_error("{}: plans {} shards, not {}", origin, plan["shards"].size(), n);
+  const std::vector<std::vector<std::string>> keys = read_plan(plan, origin);
+  if (keys.size() != n) input_error("{}: plans {} shards, not {}", origin, keys.size(), n);
   std::unordered_map<std::string, size_t> index;
   for (size_t i = 0; i < runs.size(); ++i) index[run_key(runs[i])] = i;
   std::vector<size_t> mine;
-  for (const json& spec : plan["shards"][shard].value("runs", json::array())) {
-    const auto it = index.find(planned_run_key(spec, origin));
+  for (const std::string& key : keys.at(shard)) {
+    const auto it = index.find(key);
     if (it == index.end())
       input_error(
           "{}: shard {} plans a run the config does not have; the plan belongs to "

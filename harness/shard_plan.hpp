@@ -38,6 +38,10 @@ ShardPlan plan_shards(const std::vector<double>& costs, size_t n);
 json plan_json(const ShardPlan& plan, const std::vector<RunSpec>& runs, const std::string& source);
 // The key (run_key) of a run spec in a plan file; InputError naming the plan if it is not one.
 std::string planned_run_key(const json& spec, const std::string& origin);
+// Each shard's run keys, every field of the plan checked where it is read: InputError naming
+// `origin` and the field ("shards[2].runs[0]: ...") if it is not a plan pcrt wrote, among them a
+// run planned in two shards.
+std::vector<std::vector<std::string>> read_plan(const json& plan, const std::string& origin);
 // The shard's run indices in `runs`; InputError if the plan does not belong to these runs.
 std::vector<size_t> plan_shard(const json& plan, const std::vector<RunSpec>& runs, size_t shard,
                                size_t n, const std::string& origin);

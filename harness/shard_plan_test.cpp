@@ -106,3 +106,44 @@ TEST_CASE("Slurm job states parse into types", "[slurm]") {
   REQUIRE(!is_failure(JobState::Gone));
   REQUIRE(!is_failure(JobState::Completed));
 }
+
+// Issue 29: a hand-edited or cut plan.json was an internal error ("shards": [1e30] undefined).
+TEST_CASE("a plan file has every field checked, naming the file and the field", "[shards]") {
+  const std::vector<RunSpec> runs = render_runs({1000, 2000, 4000});
+  const json good = plan_json(plan_shards(run_costs(runs, {}), 2), runs, "model");
+  REQUIRE(read_plan(good, "plan.json").size() == 2);
+  const std::pair<const char*, const char*> bad[] = {
+      {"", "[]"},
+      {"", "{}"},
+      {"/shards", "3"},
+      {"/shards", "[]"},
+      {"/shards", "[1e30]"},
+      {"/shards", "[[{\"runs\": []}]]"},
+      {"/shards/0/runs", "{}"},
+      {"/shards/0/estimated_s", "-1"},
+      {"/shards/0/estimated_s", "\"soon\""},
+      {"/shards/0/runs/0", "\"a run\""},
+      {"/shards/0/runs/0/reps", "-5"},
+      {"/shards/0/runs/0/reps", "1e30"},
+      {"/shards/0/runs/0/threads", "2.5"},
+      {"/shards/0/runs/0/seed", "-1"},
+      {"/shards/0/runs/0/N", "1e30"},
+      {"/shards/0/runs/0/kind", "7"},
+      {"/cost_source", "5"},
+  };
+  for (const auto& [path, value] : bad) {
+    CAPTURE(path, value);
+    json plan = good;
+    plan[json::json_pointer(path)] = json::parse(value);
+    try {
+      (void)read_plan(plan, "DIR/plan.json");
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      REQUIRE(std::string(e.what()).find("DIR/plan.json") == 0);
+    }
+  }
+  json twice = good;
+  twice["shards"][1]["runs"].push_back(twice["shards"][0]["runs"][0]);
+  REQUIRE_THROWS_WITH(read_plan(twice, "plan.json"),
+                      Catch::Matchers::Contains("also planned in shard 0"));
+}

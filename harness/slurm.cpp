@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <cstring>
@@ -85,6 +86,13 @@ void require_slurm_command(const std::string& program) {
         program);
 }
 
+bool is_job_id(const std::string& text) {
+  if (text.empty() || text.size() > 10 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return false;
+  return std::stoull(text) <= 0xffffffffULL;
+}
+
 std::string sbatch(const std::vector<std::string>& args) {
   std::vector<std::string> argv = {"sbatch", "--parsable"};
   argv.insert(argv.end(), args.begin(), args.end());
@@ -92,7 +100,10 @@ std::string sbatch(const std::vector<std::string>& args) {
   const std::string id = last_line(r.out);
   if (r.exit_code != 0 || id.empty())
     input_error("sbatch failed (exit {}): {}", r.exit_code, last_line(r.err));
-  return id.substr(0, id.find(';'));  // "123;cluster" on federated set-ups
+  const std::string job = id.substr(0, id.find(';'));  // "123;cluster" on federated set-ups
+  // Recorded in jobs.json and read back by status: what is not a job id is refused now.
+  if (!is_job_id(job)) input_error("sbatch printed '{}', not a job id", id);
+  return job;
 }
 
 std::map<std::string, JobStatus> squeue_job(const std::string& job_id) {

@@ -46,6 +46,9 @@ bool on_path(const std::string& program);
 // InputError saying plainly that `program` (sbatch, squeue) is not there.
 void require_slurm_command(const std::string& program);
 
+// A job id as sbatch --parsable prints it: decimal digits within Slurm's 32-bit ids.
+bool is_job_id(const std::string& text);
+
 // sbatch --parsable ARGS...; returns the job id, or InputError with sbatch's own message.
 std::string sbatch(const std::vector<std::string>& args);
 // States of a job, or of every task of a job array ("123_4"), by squeue -r -t all.

@@ -7,7 +7,8 @@
 #   3. --resume resubmits shard 2 alone; it resumes from the runs it finds (a cut line redone);
 #      status exits 0.
 #   4. The merged runs equal a single-process sweep's as sets, every ops_* column identical.
-#   5. A requeued shard (what preemption does) resumes instead of redoing its runs.
+#   5. A requeued shard (what preemption does) resumes instead of redoing its runs; its DIR has
+#      quotes, a space, $(touch X), # and % in it, which sbatch and bash must take whole.
 # Usage: cluster_slurm.sh PCRT CONFIG. Exit 77 (skipped) without slurm-wlm/munge or as non-root.
 set -euo pipefail
 pcrt=$(realpath "$1")
@@ -125,16 +126,19 @@ print(f"merged = single: {len(a)} runs, identical counters and ops_* columns")
 PY
 
 # 5. A requeued task (as on preemption) resumes: requeue the only shard of a slower sweep once it
-# has recorded two runs; its second start skips them.
+# has recorded two runs; its second start skips them. Its DIR holds a space, quotes, $(touch X),
+# a # and a %: real sbatch must read the quoted #SBATCH lines whole (the log lands in DIR) and no
+# injected command may run (issue 29).
 cat >"$work/slow.json" <<'JSON'
 {"name": "slow", "threads": 1, "experiments": [{"name": "worst", "kind": "reconstruct",
  "reconstructions": ["delaunay"], "datasets": ["skew_lines"],
  "grid": {"N": [3000, 3001, 3002, 3003, 3004, 3005, 3006, 3007]}}]}
 JSON
-"$pcrt" cluster submit "$work/slow.json" --out "$work/slow" --shards 1 --cpus-per-task 1 >"$work/submit.out"
+slow="$work/slow 'q' \$(touch X) #%p"
+"$pcrt" cluster submit "$work/slow.json" --out "$slow" --shards 1 --cpus-per-task 1 >"$work/submit.out"
 array=$(sed -n 's/^shards 0: job array \([0-9]*\)$/\1/p' "$work/submit.out")
 for _ in $(seq 600); do
-  [ "$(cat "$work/slow/shards/0/runs.jsonl" 2>/dev/null | wc -l)" -ge 2 ] && break
+  [ "$(cat "$slow/shards/0/runs.jsonl" 2>/dev/null | wc -l)" -ge 2 ] && break
   sleep 0.1
 done
 scontrol requeue "${array}_0"
@@ -142,14 +146,15 @@ scontrol requeue "${array}_0"
 sleep 1
 scontrol update JobId="${array}_0" StartTime=now
 rc=0; for _ in $(seq 600); do
-  rc=0; "$pcrt" cluster status "$work/slow" >"$work/status" || rc=$?
+  rc=0; "$pcrt" cluster status "$slow" >"$work/status" || rc=$?
   [ $rc != 2 ] && break
   sleep 0.5
 done
 [ $rc = 0 ] || { cat "$work/status"; fail "the requeued sweep did not finish (status $rc)"; }
-grep -q "DUE TO JOB REQUEUE" "$work/slow/slurm/logs/shard-0.log" || fail "the shard was not requeued"
-grep -q "([1-9][0-9]* already done" "$work/slow/slurm/logs/shard-0.log" || { cat "$work/slow/slurm/logs/shard-0.log"; fail "the requeued shard redid its runs"; }
-test "$(wc -l <"$work/slow/runs.jsonl")" -eq 8 || fail "the requeued sweep lost or doubled runs"
+grep -q "DUE TO JOB REQUEUE" "$slow/slurm/logs/shard-0.log" || fail "the shard was not requeued"
+grep -q "([1-9][0-9]* already done" "$slow/slurm/logs/shard-0.log" || { cat "$slow/slurm/logs/shard-0.log"; fail "the requeued shard redid its runs"; }
+test "$(wc -l <"$slow/runs.jsonl")" -eq 8 || fail "the requeued sweep lost or doubled runs"
+[ -z "$(find "$work" -name X)" ] && [ ! -e X ] || fail "a command injected through --out ran"
 
 cluster_down
 while read -r pid name; do kill -0 "$pid" 2>/dev/null && fail "$name ($pid) still running"; done <"$work/cluster/pids.down"
