@@ -19,6 +19,7 @@
 #include "core/point_cloud_io.hpp"
 #include "core/process_usage.hpp"
 #include "core/ray_io.hpp"
+#include "harness/catalogue.hpp"
 #include "harness/claims.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/scene_file.hpp"
@@ -753,82 +754,6 @@ int command_compare(const CompareOptions& o) {
 }
 
 namespace {
-
-json iteration_json(const IterationCounters& it) {
-  if (!it.steps || !it.runs) return nullptr;
-  return {{"steps", registered_counters()[it.steps->id()].name},
-          {"runs", registered_counters()[it.runs->id()].name}};
-}
-
-json method_json(const MethodInfo& m) {
-  json claims = json::array();
-  for (const auto& c : m.claims)
-    claims.push_back({{"quantity", c.quantity},
-                      {"complexity", c.complexity},
-                      {"variables", c.variables},
-                      {"source", c.source}});
-  json work = json::array();
-  for (const Counter* c : m.work) work.push_back(registered_counters()[c->id()].name);
-  return {{"id", m.id},
-          {"paper", m.paper},
-          {"thesis_ref", m.thesis_ref},
-          {"description", m.description},
-          {"structure", m.own_structure.empty() ? m.structure : m.own_structure},
-          {"own_structure", !m.own_structure.empty()},
-          {"needs", m.needs},
-          {"parameters", params_json(m.params)},
-          {"claims", claims},
-          {"work_counters", work},
-          {"real_time_claim", m.real_time_claim},
-          {"iterative_claim", m.iterative_claim},
-          {"iteration_counters", iteration_json(m.iterations)},
-          {"own_items", m.own_items}};
-}
-
-json claim_json(const Claim& c) {
-  return {{"id", c.id},
-          {"subject", c.subject},
-          {"statement", c.statement},
-          {"complexity", c.complexity},
-          {"variables", c.variables},
-          {"source", c.source},
-          {"tested", c.not_tested.empty()},
-          {"not_tested", c.not_tested},
-          {"about", claim_about_name(c.about)},
-          {"precondition", c.precondition == Precondition::kUniformVolume
-                               ? "a uniformly distributed cloud (ball or cube)"
-                               : ""}};
-}
-
-// Everything registered: methods, structures, generators, reconstructions, mesh engines, claims
-// and counters.
-json catalogue_json() {
-  json j = {{"methods", json::array()},      {"structures", json::array()},
-            {"generators", json::array()},   {"reconstructions", json::array()},
-            {"mesh_engines", json::array()}, {"claims", json::array()},
-            {"counters", json::array()}};
-  for (const MethodInfo& m : MethodRegistry::instance().all())
-    j["methods"].push_back(method_json(m));
-  for (const StructureInfo& s : StructureRegistry::instance().all())
-    j["structures"].push_back({{"id", s.id},
-                               {"description", s.description},
-                               {"build_claim", s.build_claim},
-                               {"query_claim", s.query_claim},
-                               {"parameters", params_json(s.params)}});
-  for (const GeneratorInfo& g : generators())
-    j["generators"].push_back(
-        {{"id", g.name}, {"description", g.description}, {"parameters", params_json(g.params)}});
-  for (const Claim& c : all_claims()) j["claims"].push_back(claim_json(c));
-  for (const ReconstructionInfo& r : ReconstructionRegistry::instance().all())
-    j["reconstructions"].push_back(
-        {{"id", r.id}, {"description", r.description}, {"claim", r.claim}});
-  for (const MeshEngineInfo& e : MeshEngineRegistry::instance().all())
-    j["mesh_engines"].push_back({{"id", e.id}, {"description", e.description}});
-  for (size_t i = 0; i < registered_counter_count(); ++i)
-    j["counters"].push_back({{"name", registered_counters()[i].name},
-                             {"description", registered_counters()[i].description}});
-  return j;
-}
 
 void print_catalogue(const json& j) {
   std::printf("methods:\n");

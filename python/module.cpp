@@ -13,6 +13,7 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/ray_io.hpp"
+#include "harness/catalogue.hpp"
 #include "methods/method.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
@@ -193,64 +194,13 @@ class Scene {
   std::unique_ptr<PointScene> scene_;
 };
 
-py::dict param_dict(const ParamSpec& p) {
-  py::dict d;
-  d["name"] = p.name;
-  d["default"] = p.default_value;
-  d["min"] = p.min_value;
-  d["max"] = p.max_value;
-  d["integer"] = p.integer;
-  d["doc"] = p.description;
-  return d;
+// The registries as `pcrt list --json` has them (harness/catalogue.hpp): the same keys.
+py::object catalogue_list(const char* key) {
+  return py::module_::import("json").attr("loads")(catalogue_json()[key].dump());
 }
 
-py::list methods() {
-  py::list out;
-  for (const MethodInfo& info : MethodRegistry::instance().all()) {
-    const MethodInfo* m = &info;
-    py::dict d;
-    d["id"] = m->id;
-    d["paper"] = m->paper;
-    d["thesis_ref"] = m->thesis_ref;
-    d["description"] = m->description;
-    d["structure"] = m->own_structure.empty() ? m->structure : m->own_structure;
-    d["needs"] = m->needs;
-    py::list params, claims;
-    for (const ParamSpec& p : m->params) params.append(param_dict(p));
-    for (const MethodClaim& c : m->claims) {
-      py::dict cd;
-      cd["quantity"] = c.quantity;
-      cd["complexity"] = c.complexity;
-      cd["variables"] = c.variables;
-      cd["source"] = c.source;
-      claims.append(cd);
-    }
-    d["params"] = params;
-    d["claims"] = claims;
-    d["real_time_claim"] = m->real_time_claim;
-    d["iterative_claim"] = m->iterative_claim;
-    d["own_items"] = m->own_items;
-    out.append(d);
-  }
-  return out;
-}
-
-py::list structures() {
-  py::list out;
-  for (const StructureInfo& info : StructureRegistry::instance().all()) {
-    const StructureInfo* s = &info;
-    py::dict d;
-    d["id"] = s->id;
-    d["description"] = s->description;
-    d["build_claim"] = s->build_claim;
-    d["query_claim"] = s->query_claim;
-    py::list params;
-    for (const ParamSpec& p : s->params) params.append(param_dict(p));
-    d["params"] = params;
-    out.append(d);
-  }
-  return out;
-}
+py::object methods() { return catalogue_list("methods"); }
+py::object structures() { return catalogue_list("structures"); }
 
 // pcrt.Error: an InputError's one-line message as a ValueError.
 void bind_errors(py::module_& m) {

@@ -148,10 +148,11 @@ def test_methods_and_structures_come_from_the_registry():
     listed = json.loads(subprocess.run([EXE, "list", "--json"], check=True, capture_output=True,
                                        text=True).stdout)
     methods = pcrt.methods()
-    assert [m["id"] for m in methods] == [m["id"] for m in listed["methods"]]
+    assert methods == listed["methods"]  # one serialisation: the same keys and values
+    assert pcrt.structures() == listed["structures"]
     assert sum(m["thesis_ref"] != "-" for m in methods) == 16
     for m in methods:
-        for p in m["params"]:
+        for p in m["parameters"]:
             assert p["min"] <= p["default"] <= p["max"], (m["id"], p)
     assert {"kd_tree", "octree", "grid"} <= {s["id"] for s in pcrt.structures()}
 
