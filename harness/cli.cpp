@@ -186,10 +186,11 @@ const char* const kMeshEngineHelp = "triangle engine for --mesh: bvh, cgal_aabb 
 
 // --width, --height, --spp, --bounces of a frame.
 void bind_frame(CLI::App& c, RenderSettings& s) {
-  integer(c, "--width", s.width, "W", "image width in pixels", 1, 16384);
-  integer(c, "--height", s.height, "H", "image height in pixels", 1, 16384);
-  integer(c, "--spp", s.spp, "S", "samples per pixel", 1, 1 << 16);
-  integer(c, "--bounces", s.bounces, "B", "BRDF bounces after the primary hit", 0, 64);
+  integer(c, "--width", s.width, "W", "image width in pixels", 1, FrameLimits::kMaxSide);
+  integer(c, "--height", s.height, "H", "image height in pixels", 1, FrameLimits::kMaxSide);
+  integer(c, "--spp", s.spp, "S", "samples per pixel", 1, FrameLimits::kMaxSpp);
+  integer(c, "--bounces", s.bounces, "B", "BRDF bounces after the primary hit", 0,
+          FrameLimits::kMaxBounces);
 }
 
 void bind(CLI::App& c, InfoOptions& o) {

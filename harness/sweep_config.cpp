@@ -553,9 +553,17 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin, Datas
   if (!raw.contains("experiments") || !raw["experiments"].is_array() || raw["experiments"].empty())
     input_error("{}: 'experiments' must be a non-empty list", origin);
   std::set<std::string> names;
-  for (size_t i = 0; i < raw["experiments"].size(); ++i)
-    parse_experiment(raw["experiments"][i], fmt::format("{}: experiments[{}]", origin, i), i,
-                     defaults, dataset_dir, datasets, names, c);
+  for (size_t i = 0; i < raw["experiments"].size(); ++i) {
+    const std::string where = fmt::format("{}: experiments[{}]", origin, i);
+    try {
+      parse_experiment(raw["experiments"][i], where, i, defaults, dataset_dir, datasets, names, c);
+    } catch (const InputError& e) {
+      // A registry's or a reader's message ("unknown structure 'NaN'") gets the config and the
+      // experiment it came from; one that names them already is passed on.
+      if (std::string(e.what()).rfind(origin, 0) == 0) throw;
+      input_error("{}: {}", where, e.what());
+    }
+  }
   return c;
 }
 

@@ -5,7 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
-#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <memory>
 #include <optional>
@@ -60,11 +60,29 @@ py::dict counters_dict(const OpCounters& c) {
   return d;
 }
 
-std::unique_ptr<tbb::global_control> thread_limit(int threads) {
-  if (threads < 0 || threads > 1024) input_error("threads = {} is impossible", threads);
-  if (threads == 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               size_t(threads));
+// The threads of one call: an arena of its own, so that concurrent calls with different counts
+// neither throttle each other nor the rest of the process (a global_control would).
+void check_threads(int threads) {
+  if (threads < 0 || threads > FrameLimits::kMaxThreads)
+    input_error("threads = {} is impossible (0: all cores, at most {})", threads,
+                FrameLimits::kMaxThreads);
+}
+
+template <typename F>
+void in_arena(int threads, F&& f) {
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute(f);
+}
+
+// The command line's ranges (FrameLimits), so that no frame runs for hours by a typo.
+void check_frame(int width, int height, int spp, int bounces) {
+  const int side = FrameLimits::kMaxSide;
+  if (width < 1 || height < 1 || width > side || height > side)
+    input_error("width {} x height {}: each must lie in [1, {}]", width, height, side);
+  if (spp < 1 || spp > FrameLimits::kMaxSpp)
+    input_error("spp = {}: must lie in [1, {}]", spp, FrameLimits::kMaxSpp);
+  if (bounces < 0 || bounces > FrameLimits::kMaxBounces)
+    input_error("bounces = {}: must lie in [0, {}]", bounces, FrameLimits::kMaxBounces);
 }
 
 std::shared_ptr<PointCloud> cloud_from_arrays(const py::handle& positions,
@@ -117,12 +135,12 @@ class Scene {
       if (const char* why = user_ray_problem(origin, direction)) input_error("ray {}: {}", i, why);
       rays[i] = user_ray(origin, direction);
     }
+    check_threads(threads);
     std::vector<Hit> hits(n);
     std::vector<char> found(n, 0);
     {
       py::gil_scoped_release unlocked;
-      const auto limit = thread_limit(threads);
-      last_ = trace_rays(*scene_, rays, hits, found);
+      in_arena(threads, [&] { last_ = trace_rays(*scene_, rays, hits, found); });
     }
     py::array_t<bool> hit{py::ssize_t(n)};
     py::array_t<float> t{py::ssize_t(n)};
@@ -163,13 +181,11 @@ class Scene {
     rs.seed = seed;
     rs.point_light = point_light;
     rs.threads = threads;
-    if (width < 1 || height < 1 || width > 1 << 15 || height > 1 << 15)
-      input_error("width {} x height {} is impossible", width, height);
-    if (spp < 1 || bounces < 0) input_error("spp = {}, bounces = {}: impossible", spp, bounces);
+    check_frame(width, height, spp, bounces);
+    check_threads(threads);
     std::optional<RenderResult> r;
     {
-      py::gil_scoped_release unlocked;
-      const auto limit = thread_limit(threads);
+      py::gil_scoped_release unlocked;  // the renderer keeps to rs.threads in an arena of its own
       r.emplace(pcrt::render(*scene_, *cloud_, rs));
     }
     last_ = r->counters;

@@ -19,6 +19,14 @@
 
 namespace pcrt {
 
+// What a frame may ask for, wherever it is asked (the command line, the Python module).
+struct FrameLimits {
+  static constexpr int kMaxSide = 16384;   // pixels per image side
+  static constexpr int kMaxSpp = 1 << 16;  // S
+  static constexpr int kMaxBounces = 64;   // B
+  static constexpr int kMaxThreads = 1024;
+};
+
 struct RenderSettings {
   int width = 512;
   int height = 512;

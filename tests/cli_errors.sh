@@ -149,6 +149,13 @@ expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" 
 expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
 expect_error "--exact traces a generator's own surface: give --data only" furnace --exact --method reference_splat --data sphere:n=100
 expect_error "tri.off is a file; --exact needs a generator with an exact surface" furnace --exact --data "$dir/tri.off"
+# Registry and reader errors inside a config name the config and the experiment (issue 29).
+printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "structures": ["NaN"], "datasets": ["sphere"], "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_structure.json"
+expect_error "c_structure.json: experiments[0]: unknown structure 'NaN'" sweep "$dir/c_structure.json" --out "$dir/c_structure_out"
+printf '{"experiments": [{"kind": "reconstruct", "reconstructions": ["nope"], "datasets": ["sphere"], "grid": {"N": [100]}}]}' >"$dir/c_recon.json"
+expect_error "c_recon.json: experiments[0]: unknown reconstruction 'nope'" sweep "$dir/c_recon.json" --out "$dir/c_recon_out"
+printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["missing.ply"], "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_data.json"
+expect_error "c_data.json: experiments[0]: $dir/missing.ply" sweep "$dir/c_data.json" --out "$dir/c_data_out"
 # Scenes in sweeps: the config and experiment named, and the scene's own key.
 scene s_unswept '{"objects": [{"points": "plane:n=100", "method": "reference_splat"}], "lights": [{"type": "sky"}]}'
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["plane"], "scene": "s_unswept.json", "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_scene.json"

@@ -107,6 +107,37 @@ def test_trace_runs_beside_python_threads():
     assert len(results) == 2 and np.array_equal(results[0], results[1])
 
 
+def test_concurrent_calls_keep_their_own_thread_counts():
+    # Each call runs in an arena of its own: one at 1 thread and one at 2 at the same time give
+    # the hits and counters of either alone, and TBB prints no warning about a process limit.
+    scene = pcrt.Scene(pcrt.load("sphere:n=5000"), method="reference_splat")
+    o, d = sphere_rays(4000)
+    alone = scene.trace(o, d, threads=1)["t"]
+    results = {}
+
+    def trace(n):
+        results[n] = scene.trace(o, d, threads=n)["t"]
+
+    threads = [threading.Thread(target=trace, args=(n,)) for n in (1, 2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert np.array_equal(results[1], alone) and np.array_equal(results[2], alone)
+    with pytest.raises(pcrt.Error, match="threads = 5000 is impossible"):
+        scene.trace(o, d, threads=5000)
+
+
+def test_frames_keep_to_the_command_lines_limits():
+    scene = pcrt.Scene(pcrt.load("sphere:n=500"), method="reference_splat")
+    with pytest.raises(pcrt.Error, match=r"spp = 2147483647: must lie in \[1, 65536\]"):
+        scene.render(width=8, height=8, spp=2**31 - 1)
+    with pytest.raises(pcrt.Error, match=r"bounces = 65: must lie in \[0, 64\]"):
+        scene.render(width=8, height=8, bounces=65)
+    with pytest.raises(pcrt.Error, match="width 16385"):
+        scene.render(width=16385, height=8)
+
+
 def test_render_matches_the_command_line_counters(tmp_path):
     data = "sphere:n=5000"
     scene = pcrt.Scene(pcrt.load(data), method="reference_splat")
