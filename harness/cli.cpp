@@ -343,6 +343,8 @@ void bind(CLI::App& c, SweepOptions& o) {
   text(c, "--costs", o.costs, "DIR", "estimate run times from an earlier sweep's DIR/runs.jsonl");
   text(c, "--plan", o.plan, "FILE", "take the shard's runs from a plan file (pcrt cluster submit)");
   flag(c, "--fit", o.fit, "also write DIR/fits.json and fits.csv");
+  flag(c, "--no-limit", o.no_limit,
+       "run a sweep of more than 100000 runs or 7 days of estimated run time anyway");
 }
 
 void bind(CLI::App& c, MergeOptions& o) {

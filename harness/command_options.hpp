@@ -167,6 +167,11 @@ struct SweepOptions {
   std::optional<ShardIndex> shard;
   std::optional<std::string> costs, plan;
   bool fit = false;
+  bool no_limit = false;  // run a sweep over kMaxSweepRuns or kMaxSweepSeconds anyway
+  // What a sweep may plan without --no-limit: a config that expands past either is a mistake
+  // more often than a plan (a grid of 10^6 points, N = 10^9 per run).
+  static constexpr size_t kMaxSweepRuns = 100000;
+  static constexpr double kMaxSweepSeconds = 7 * 24 * 3600.0;
 };
 
 struct MergeOptions {

@@ -394,10 +394,34 @@ int command_run_one(const RunOneOptions& o) {
   return 0;
 }
 
+namespace {
+
+// The sweep's size and the shard planner's estimate of its time, said before any run; a sweep
+// over the limits is refused unless --no-limit.
+void announce_sweep(const SweepConfig& config, const std::vector<size_t>& selected,
+                    const SweepOptions& o) {
+  double seconds = 0;
+  for (size_t i : selected) seconds += model_run_cost(config.runs[i]);
+  const std::string time = seconds < 120    ? fmt::format("{:.0f} s", seconds)
+                           : seconds < 7200 ? fmt::format("{:.0f} min", seconds / 60)
+                                            : fmt::format("{:.1f} h", seconds / 3600);
+  const std::string estimate = fmt::format(
+      "{} runs, about {} of run time by the shard planner's model", selected.size(), time);
+  if (!o.no_limit &&
+      (selected.size() > SweepOptions::kMaxSweepRuns || seconds > SweepOptions::kMaxSweepSeconds))
+    input_error("{}: {}, over the limit of {} runs or {} days; --no-limit runs it anyway", o.config,
+                estimate, SweepOptions::kMaxSweepRuns, SweepOptions::kMaxSweepSeconds / 86400.0);
+  std::printf("%s: %s\n", o.config.c_str(), estimate.c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
 int command_sweep(const SweepOptions& o) {
   const SweepConfig config = load_sweep_config(o.config);
   const std::string dir = o.out.value_or("results/" + config.name);
   const std::vector<size_t> selected = shard_runs(config, o);
+  announce_sweep(config, selected, o);
   const json shard = o.shard ? shard_record(*o.shard, config, selected) : json();
   const std::vector<RunResult> results =
       run_sweep(config, dir, o.resume, o.overwrite, selected, false, shard);

@@ -156,6 +156,10 @@ printf '{"experiments": [{"kind": "reconstruct", "reconstructions": ["nope"], "d
 expect_error "c_recon.json: experiments[0]: unknown reconstruction 'nope'" sweep "$dir/c_recon.json" --out "$dir/c_recon_out"
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["missing.ply"], "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_data.json"
 expect_error "c_data.json: experiments[0]: $dir/missing.ply" sweep "$dir/c_data.json" --out "$dir/c_data_out"
+# A config of absurd size is refused before any run, with its size and estimate (issue 29).
+printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["sphere"], "replicates": 100, "grid": {"N": [%s], "M": [16], "B": [1]}}]}' "$(seq -s, 100 1 1100)" >"$dir/c_huge.json"
+expect_error "c_huge.json: 100100 runs, about" sweep "$dir/c_huge.json" --out "$dir/c_huge_out"
+if [ -e "$dir/c_huge_out" ]; then echo "FAIL: a refused sweep made its folder"; fails=$((fails + 1)); fi
 # Scenes in sweeps: the config and experiment named, and the scene's own key.
 scene s_unswept '{"objects": [{"points": "plane:n=100", "method": "reference_splat"}], "lights": [{"type": "sky"}]}'
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["plane"], "scene": "s_unswept.json", "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_scene.json"
