@@ -30,7 +30,10 @@ RunResult run_in_child(const RunSpec& spec, double time_limit_s) {
       r.error = "the run printed no valid JSON";
     }
   } else {
-    r.error = out.signal ? killed_by_signal_error(out.signal) : last_line(out.err);
+    if (out.signal)
+      r = killed_run(spec, out.signal);
+    else
+      r.error = last_line(out.err);
   }
   r.wall_s = out.wall_s;
   return r;

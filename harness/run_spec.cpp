@@ -274,6 +274,7 @@ void to_json(json& j, const RunResult& r) {
     j["extra"] = r.measures;
   } else {
     j["error"] = r.error;
+    if (r.signal) j["signal"] = *r.signal;
   }
   if (r.wall_s) j["wall_s"] = *r.wall_s;
 }
@@ -285,6 +286,7 @@ void from_json(const json& j, RunResult& r) {
   if (!j.contains("status")) input_error("a run result has its \"status\"");
   r.status = status_from_name(text_field(j, "status"));
   r.error = text_field(j, "error");
+  if (j.contains("signal")) r.signal = int(whole_field(j, "signal", 0, 1, 128));
   // N and M as measured (integers; the spec's are the grid's doubles).
   if (r.ok() && j.contains("N") && j["N"].is_number_integer())
     r.points = count_from_json(j["N"], "\"N\"");
@@ -305,16 +307,14 @@ RunResult failed_run(const RunSpec& spec, RunStatus status, std::string error) {
   return r;
 }
 
-namespace {
-constexpr std::string_view kKilledBySignal = "killed by signal ";
-}  // namespace
-
-std::string killed_by_signal_error(int signal) {
-  return fmt::format("{}{}", kKilledBySignal, signal);
+RunResult killed_run(const RunSpec& spec, int signal) {
+  RunResult r = failed_run(spec, RunStatus::kFailed, fmt::format("killed by signal {}", signal));
+  r.signal = signal;
+  return r;
 }
 
 bool killed_by_signal(const RunResult& result) {
-  return result.status == RunStatus::kFailed && result.error.rfind(kKilledBySignal, 0) == 0;
+  return result.status == RunStatus::kFailed && result.signal.has_value();
 }
 
 }  // namespace pcrt

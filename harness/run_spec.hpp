@@ -89,7 +89,8 @@ void from_json(const json& j, RunMeasures& m);
 struct RunResult {
   RunSpec spec;
   RunStatus status = RunStatus::kOk;
-  std::string error;  // why a run failed or timed out
+  std::string error;          // why a run failed or timed out
+  std::optional<int> signal;  // the signal that ended a failed run's child, if one did
   // What the run measured (ok runs): N as loaded and M as rendered replace the spec's values.
   std::optional<uint64_t> points;
   std::optional<int64_t> pixels;
@@ -116,7 +117,8 @@ RunResult failed_run(const RunSpec& spec, RunStatus status, std::string error);
 // kill -9), so --resume and pcrt cluster do such a run again rather than keep it as done; a crash
 // (SIGSEGV) is redone too, and recorded again if it crashes again. A time-out is kept: its own
 // limit ended it.
-std::string killed_by_signal_error(int signal);
+// The result is typed (RunResult::signal, "signal" in runs.jsonl); the error says it in words.
+RunResult killed_run(const RunSpec& spec, int signal);
 bool killed_by_signal(const RunResult& result);
 
 }  // namespace pcrt

@@ -227,11 +227,14 @@ TEST_CASE("a run whose child a signal ended is redone; a time-out or an error is
   RunSpec s;
   s.dataset = "sphere";
   s.method = "hubo_2006";
-  REQUIRE(killed_by_signal(failed_run(s, RunStatus::kFailed, killed_by_signal_error(9))));
-  REQUIRE(killed_by_signal(failed_run(s, RunStatus::kFailed, "killed by signal 11")));
+  REQUIRE(killed_by_signal(killed_run(s, 9)));
+  REQUIRE(killed_run(s, 11).error == "killed by signal 11");
+  // The words alone do not make a killed run: the signal is a field of its own.
+  REQUIRE(!killed_by_signal(failed_run(s, RunStatus::kFailed, "killed by signal 11")));
   REQUIRE(!killed_by_signal(failed_run(s, RunStatus::kFailed, "sphere: N = 0 is impossible")));
   REQUIRE(!killed_by_signal(failed_run(s, RunStatus::kTimeout, "exceeded the time limit of 1 s")));
   // As recorded in runs.jsonl and read back.
-  const json written = failed_run(s, RunStatus::kFailed, killed_by_signal_error(9));
+  const json written = killed_run(s, 9);
+  REQUIRE(written["signal"] == 9);
   REQUIRE(killed_by_signal(written.get<RunResult>()));
 }

@@ -97,7 +97,7 @@ path = sys.argv[1]
 lines = open(path).read().splitlines()
 r = json.loads(lines[0])
 killed = {k: v for k, v in r.items() if k not in ("counters", "prepare_counters", "extra") and not k.startswith("time")}
-killed.update(status="failed", error="killed by signal 9")
+killed.update(status="failed", error="killed by signal 9", signal=9)
 lines[0] = json.dumps(killed)
 open(path, "w").write("\n".join(lines) + "\n")
 PY
