@@ -7,11 +7,16 @@
 #include <pybind11/stl.h>
 #include <tbb/task_arena.h>
 
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <future>
 #include <memory>
 #include <optional>
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "core/ray_io.hpp"
 #include "harness/catalogue.hpp"
 #include "methods/method.hpp"
@@ -23,7 +28,9 @@ using namespace pcrt;
 
 namespace {
 
-using FloatRows = py::array_t<float, py::array::c_style | py::array::forcecast>;
+// Float rows in the caller's own layout: a strided or broadcast float32 array is read in place,
+// never copied into a contiguous one first.
+using FloatRows = py::array_t<float, py::array::forcecast>;
 
 // A read-only numpy view of `count` rows of `columns` values of T starting at `data`, kept alive
 // by `owner` (the Python object holding the cloud): no copy.
@@ -39,12 +46,64 @@ py::array view(const T* data, size_t count, size_t columns, size_t row_bytes, py
   return a;
 }
 
-// (n, 3) float rows of a numpy argument, or an error naming the argument.
+// Raises MemoryError (as pybind11 does for std::bad_alloc) saying what did not fit.
+[[noreturn]] void memory_error(const std::string& what) {
+  PyErr_SetString(PyExc_MemoryError, what.c_str());
+  throw py::error_already_set();
+}
+
+// (n, 3) float rows of a numpy argument, or an error naming the argument: the shape is checked
+// before any conversion, so that a conversion that does not fit is reported as memory, not shape.
 FloatRows rows3(const py::handle& obj, const char* name) {
+  if (py::isinstance<py::array>(obj)) {
+    const auto given = py::reinterpret_borrow<py::array>(obj);
+    if (given.ndim() != 2 || given.shape(1) != 3)
+      input_error("{}: expected an array of shape (n, 3), got {} dimensions", name, given.ndim());
+  }
   FloatRows a = FloatRows::ensure(obj);
+  if (!a && py::isinstance<py::array>(obj))
+    memory_error(fmt::format("{}: {} rows do not fit in memory as float32", name,
+                             py::reinterpret_borrow<py::array>(obj).shape(0)));
   if (!a || a.ndim() != 2 || a.shape(1) != 3)
     input_error("{}: expected an array of shape (n, 3)", name);
   return a;
+}
+
+// Text arguments end at a NUL in every C++ message: one is refused, with the text escaped.
+const std::string& text_arg(const std::string& text, const char* name) {
+  const size_t nul = text.find('\0');
+  if (nul != std::string::npos) {
+    std::string shown = text;
+    shown.replace(nul, 1, "\\x00");
+    input_error("{}: contains a NUL byte at position {}: '{}'", name, nul, shown);
+  }
+  return text;
+}
+
+// Runs `work` (GIL released) on a thread of its own while the caller's thread looks for Ctrl-C
+// every 50 ms: on a signal, `stop` is set, the work's loops leave within a ray or a pixel, and the
+// signal's exception (KeyboardInterrupt) is raised here once the work has returned.
+template <typename Work>
+void interruptible(Work&& work) {
+  std::atomic<bool> stop{false};
+  bool interrupted = false;
+  {
+    py::gil_scoped_release unlocked;
+    std::future<void> done = std::async(std::launch::async, [&] { work(stop); });
+    while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      py::gil_scoped_acquire locked;
+      if (!interrupted && PyErr_CheckSignals() != 0) interrupted = true, stop = true;
+    }
+    if (!interrupted) {
+      done.get();  // the work's own exception, if any
+    } else {
+      try {
+        done.get();
+      } catch (...) {  // abandoned work: the interrupt is what the caller sees
+      }
+    }
+  }
+  if (interrupted) throw py::error_already_set();
 }
 
 std::vector<Vec3> to_vec3(const FloatRows& a) {
@@ -89,7 +148,7 @@ std::shared_ptr<PointCloud> cloud_from_arrays(const py::handle& positions,
                                               const py::object& normals, const py::object& radii,
                                               const std::string& name) {
   auto c = std::make_shared<PointCloud>();
-  c->name = name;
+  c->name = text_arg(name, "name");
   c->positions = to_vec3(rows3(positions, "positions"));
   if (!normals.is_none()) c->normals = to_vec3(rows3(normals, "normals"));
   if (!radii.is_none()) {
@@ -109,9 +168,9 @@ class Scene {
         const std::string& structure, const py::kwargs& params)
       : cloud_(std::move(cloud)) {
     if (!cloud_) input_error("Scene: cloud is None (give a cloud from pcrt.load or from_arrays)");
-    SceneOptions options{method, structure, {}};
+    SceneOptions options{text_arg(method, "method"), text_arg(structure, "structure"), {}};
     for (const auto& [k, v] : params) {
-      const auto name = py::cast<std::string>(k);
+      const std::string name = text_arg(py::cast<std::string>(k), "parameter name");
       try {
         options.set[name] = py::cast<double>(v);
       } catch (const py::cast_error&) {
@@ -128,6 +187,8 @@ class Scene {
     if (o.shape(0) != d.shape(0))
       input_error("origins has {} rows but directions {}", o.shape(0), d.shape(0));
     const size_t n = size_t(o.shape(0));
+    // The rays, their hits and the five result arrays, before any of them is allocated.
+    require_memory(n * (sizeof(Ray) + sizeof(Hit) + 1 + 37), fmt::format("a trace of {} rays", n));
     std::vector<Ray> rays(n);
     auto ro = o.unchecked<2>(), rd = d.unchecked<2>();
     for (size_t i = 0; i < n; ++i) {
@@ -138,10 +199,9 @@ class Scene {
     check_threads(threads);
     std::vector<Hit> hits(n);
     std::vector<char> found(n, 0);
-    {
-      py::gil_scoped_release unlocked;
-      in_arena(threads, [&] { last_ = trace_rays(*scene_, rays, hits, found); });
-    }
+    interruptible([&](const std::atomic<bool>& stop) {
+      in_arena(threads, [&] { last_ = trace_in_chunks(rays, hits, found, stop); });
+    });
     py::array_t<bool> hit{py::ssize_t(n)};
     py::array_t<float> t{py::ssize_t(n)};
     py::array_t<float> position({py::ssize_t(n), py::ssize_t(3)});
@@ -171,6 +231,20 @@ class Scene {
     return out;
   }
 
+  // Chunks of kChunk rays, `stop` looked at between them; counters are sums over rays, so the
+  // chunks change none of them.
+  OpCounters trace_in_chunks(std::span<const Ray> rays, std::span<Hit> hits, std::span<char> found,
+                             const std::atomic<bool>& stop) const {
+    constexpr size_t kChunk = 16384;
+    OpCounters total;
+    for (size_t begin = 0; begin < rays.size() && !stop; begin += kChunk) {
+      const size_t count = std::min(kChunk, rays.size() - begin);
+      total.merge(trace_rays(*scene_, rays.subspan(begin, count), hits.subspan(begin, count),
+                             found.subspan(begin, count)));
+    }
+    return total;
+  }
+
   py::array render(int width, int height, int spp, int bounces, uint64_t seed, bool point_light,
                    int threads) {
     RenderSettings rs;
@@ -183,11 +257,15 @@ class Scene {
     rs.threads = threads;
     check_frame(width, height, spp, bounces);
     check_threads(threads);
+    // The frame's three images, depth and normals, and the array returned.
+    require_memory(size_t(width) * size_t(height) * (4 * sizeof(Vec3) + sizeof(float) + 12),
+                   fmt::format("a frame of {} x {} pixels", width, height));
     std::optional<RenderResult> r;
-    {
-      py::gil_scoped_release unlocked;  // the renderer keeps to rs.threads in an arena of its own
+    // The renderer keeps to rs.threads in an arena of its own.
+    interruptible([&](const std::atomic<bool>& stop) {
+      rs.stop = &stop;
       r.emplace(pcrt::render(*scene_, *cloud_, rs));
-    }
+    });
     last_ = r->counters;
     py::array_t<float> image({py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
     auto im = image.mutable_unchecked<3>();
@@ -318,6 +396,7 @@ PYBIND11_MODULE(_pcrt, m) {
   m.def(
       "load",
       [](const std::string& spec) {
+        text_arg(spec, "data");
         py::gil_scoped_release unlocked;
         return std::make_shared<PointCloud>(load_dataset(spec).cloud);
       },

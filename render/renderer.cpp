@@ -231,7 +231,10 @@ void render_tiles(const Frame& f, OpCounters& total) {
       for (int tile = r.begin(); tile != r.end(); ++tile) {
         const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
         for (int y = y0; y < std::min(y0 + kTile, s.height); ++y)
-          for (int x = x0; x < std::min(x0 + kTile, s.width); ++x) render_pixel(f, x, y, counters);
+          for (int x = x0; x < std::min(x0 + kTile, s.width); ++x) {
+            if (s.stop && s.stop->load(std::memory_order_relaxed)) return;
+            render_pixel(f, x, y, counters);
+          }
       }
     });
   });

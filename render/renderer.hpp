@@ -6,6 +6,7 @@
 // reach a light. No Russian roulette: every path runs its B bounces unless it leaves the scene.
 #pragma once
 
+#include <atomic>
 #include <optional>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct RenderSettings {
   Vec3 view = Vec3(0.55f, -0.75f, 0.4f);  // direction from the cloud's centre to the camera
   Vec3 up = Vec3::UnitZ();
   std::optional<Camera> camera;  // default: Camera::framing of the cloud's bounds along view/up
+  // When set and true, the pixels not yet rendered are skipped: the caller abandons the frame
+  // (Ctrl-C in Python). Read once per pixel.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct RenderResult {

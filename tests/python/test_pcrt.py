@@ -4,7 +4,9 @@ import csv
 import json
 import os
 import subprocess
+import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -212,3 +214,51 @@ def test_half_made_objects_raise_instead_of_crashing():
         half.method
     with pytest.raises(TypeError, match="not initialised"):
         half.render(width=4, height=4)
+
+
+def interrupted_after(seconds, call):
+    """Sends this process SIGINT `seconds` into `call` (Ctrl-C); returns how long after the signal
+    the KeyboardInterrupt arrived, or fails if the call returned without one."""
+    timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        call()
+    except KeyboardInterrupt:
+        return time.monotonic() - start - seconds
+    finally:
+        timer.cancel()
+    pytest.fail(f"the call ended without the interrupt ({time.monotonic() - start:.1f} s)")
+
+
+def test_ctrl_c_interrupts_a_trace_and_a_frame_within_a_second():
+    # Uninterrupted, the trace takes about 150 s here and the frame about half an hour.
+    scene = pcrt.Scene(pcrt.load("sphere:n=20000"), method="adamson_alexa_2003")
+    n = 4_000_000
+    rng = np.random.default_rng(3)
+    origins = np.tile(np.array([[0.0, -4.0, 0.0]], np.float32), (n, 1))
+    targets = rng.uniform(-1, 1, (n, 3)).astype(np.float32)
+    late = interrupted_after(1.0, lambda: scene.trace(origins, targets - origins, threads=2))
+    assert late < 1.0, f"the trace stopped {late:.2f} s after Ctrl-C"
+    late = interrupted_after(1.0, lambda: scene.render(width=2048, height=2048, spp=64, threads=2))
+    assert late < 1.0, f"the frame stopped {late:.2f} s after Ctrl-C"
+    # The scene is still usable afterwards.
+    assert scene.render(width=8, height=8).shape == (8, 8, 3)
+
+
+def test_too_many_rays_are_a_memory_error_not_a_shape_error():
+    row = np.zeros((1, 3), np.float32)
+    huge = np.broadcast_to(row, (10**11, 3))  # no memory of its own
+    scene = pcrt.Scene(pcrt.load("sphere:n=500"), method="reference_splat")
+    with pytest.raises(pcrt.Error, match="out of memory: a trace of 100000000000 rays"):
+        scene.trace(huge, huge)
+    with pytest.raises(pcrt.Error, match=r"origins: expected an array of shape \(n, 3\)"):
+        scene.trace(np.zeros((4, 2), np.float32), np.zeros((4, 3), np.float32))
+
+
+def test_a_nul_in_a_text_argument_is_refused_whole():
+    with pytest.raises(pcrt.Error, match=r"data: contains a NUL byte at position 12: 'sphere:n=100\\x00,seed=2'"):
+        pcrt.load("sphere:n=100\0,seed=2")
+    cloud = pcrt.load("sphere:n=100")
+    with pytest.raises(pcrt.Error, match=r"method: contains a NUL byte at position 9"):
+        pcrt.Scene(cloud, method="reference\0_splat")
