@@ -267,59 +267,6 @@ Progress judge(const Part& p, bool outputs_complete) {
   return Progress::Failed;
 }
 
-// Each shard's newest job (a resubmission takes over its shards), and the newest merge job.
-struct JobIds {
-  std::vector<std::pair<std::string, std::string>> shard;  // (array job, task)
-  std::string merge;
-};
-
-// A job id field of jobs.json: what sbatch printed, or empty (the merge not submitted yet).
-std::string job_field(const json& submission, const char* key, const std::string& where) {
-  if (!submission.contains(key) || !submission[key].is_string())
-    input_error("{}.{} is missing or not a string", where, key);
-  const std::string id = submission[key].get<std::string>();
-  if (!id.empty() && !is_job_id(id))
-    input_error("{}.{} = {} is not a Slurm job id", where, key, submission[key].dump());
-  return id;
-}
-
-// The shards a submission's array ran: indices into the plan's n shards.
-std::vector<size_t> submitted_shards(const json& submission, size_t n, const std::string& where) {
-  if (!submission.contains("shards") || !submission["shards"].is_array())
-    input_error("{}.shards is missing or not a list of shard indices", where);
-  std::vector<size_t> shards;
-  for (size_t k = 0; k < submission["shards"].size(); ++k) {
-    const json& v = submission["shards"][k];
-    if (!v.is_number_unsigned() || v.get<uint64_t>() >= n)
-      input_error("{}.shards[{}] = {} is not a shard of the plan (0 to {})", where, k, v.dump(),
-                  n - 1);
-    shards.push_back(size_t(v.get<uint64_t>()));
-  }
-  return shards;
-}
-
-// jobs.json, every field checked where it is read (a hand-edited or cut file is one line naming
-// it and the field, never an internal error).
-JobIds newest_jobs(const json& jobs, size_t n, const std::string& origin) {
-  if (!jobs.is_object() || !jobs.contains("submissions") || !jobs["submissions"].is_array())
-    input_error("{}: \"submissions\" is missing or not a list (written by pcrt cluster submit)",
-                origin);
-  JobIds ids;
-  ids.shard.resize(n);
-  const json& submissions = jobs["submissions"];
-  for (size_t i = 0; i < submissions.size(); ++i) {
-    const std::string where = fmt::format("{}: submissions[{}]", origin, i);
-    if (!submissions[i].is_object()) input_error("{} is not an object", where);
-    const std::string array = job_field(submissions[i], "array_job", where);
-    const std::vector<size_t> shards = submitted_shards(submissions[i], n, where);
-    if (array.empty() && !shards.empty())
-      input_error("{}.array_job is empty, but the submission lists shards", where);
-    for (size_t s : shards) ids.shard[s] = {array, std::to_string(s)};
-    ids.merge = job_field(submissions[i], "merge_job", where);
-  }
-  return ids;
-}
-
 std::vector<Part> survey(const ClusterDir& d) {
   const auto keys = read_plan(read_json(d.plan()), d.plan());
   const json jobs =

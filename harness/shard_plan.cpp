@@ -181,16 +181,24 @@ std::vector<size_t> plan_shard(const json& plan, const std::vector<RunSpec>& run
   if (keys.size() != n) input_error("{}: plans {} shards, not {}", origin, keys.size(), n);
   std::unordered_map<std::string, size_t> index;
   for (size_t i = 0; i < runs.size(); ++i) index[run_key(runs[i])] = i;
+  // Every shard's runs must be the config's, and every run of the config planned (read_plan has
+  // refused a run planned twice): a run no shard plans would never run anywhere.
   std::vector<size_t> mine;
-  for (const std::string& key : keys.at(shard)) {
-    const auto it = index.find(key);
-    if (it == index.end())
-      input_error(
-          "{}: shard {} plans a run the config does not have; the plan belongs to "
-          "another config",
-          origin, shard);
-    mine.push_back(it->second);
-  }
+  size_t planned = 0;
+  for (size_t s = 0; s < keys.size(); ++s)
+    for (const std::string& key : keys[s]) {
+      const auto it = index.find(key);
+      if (it == index.end())
+        input_error(
+            "{}: shard {} plans a run the config does not have; the plan belongs to "
+            "another config",
+            origin, s);
+      if (s == shard) mine.push_back(it->second);
+      ++planned;
+    }
+  if (planned != runs.size())
+    input_error("{}: plans {} of the config's {} runs; the others would never run", origin, planned,
+                runs.size());
   return mine;
 }
 

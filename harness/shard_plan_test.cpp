@@ -92,6 +92,11 @@ TEST_CASE("a plan file gives each shard its runs and refuses another config", "[
   const std::vector<RunSpec> other = render_runs({1000, 2000, 4000, 9000});
   const size_t holder = std::count(plan.shards[0].begin(), plan.shards[0].end(), 3) ? 0 : 1;
   REQUIRE_THROWS_AS(plan_shard(file, other, holder, 2, "plan.json"), InputError);
+  // A config run no shard plans would never run: refused whichever shard asks (issue 29).
+  const std::vector<RunSpec> more = render_runs({1000, 2000, 4000, 8000, 16000});
+  for (size_t shard = 0; shard < 2; ++shard)
+    REQUIRE_THROWS_WITH(plan_shard(file, more, shard, 2, "plan.json"),
+                        "plan.json: plans 4 of the config's 5 runs; the others would never run");
 }
 
 TEST_CASE("Slurm job states parse into types", "[slurm]") {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,5 +54,16 @@ bool is_job_id(const std::string& text);
 std::string sbatch(const std::vector<std::string>& args);
 // States of a job, or of every task of a job array ("123_4"), by squeue -r -t all.
 std::map<std::string, JobStatus> squeue_job(const std::string& job_id);
+
+// Each shard's newest job (a resubmission takes over its shards), and the newest merge job.
+struct JobIds {
+  std::vector<std::pair<std::string, std::string>> shard;  // (array job, task)
+  std::string merge;
+};
+
+// jobs.json (`pcrt cluster submit` records every submission's job ids there), every field checked
+// where it is read: a hand-edited or cut file is an InputError naming `origin` and the field.
+// `n` is the plan's number of shards.
+JobIds newest_jobs(const nlohmann::json& jobs, size_t n, const std::string& origin);
 
 }  // namespace pcrt

@@ -132,6 +132,12 @@ std::vector<GridPoint> grid_points(const json& e, const std::string& where) {
   std::vector<GridPoint> points{GridPoint{}};
   const json grid = e.value("grid", json::object());
   check_keys(grid, kGridKeys, where + ".grid");
+  double product = 1;  // counted before any point is made: a few lists can name 10^12 points
+  for (const auto& [key, values] : grid.items())
+    if (values.is_array()) product *= double(std::max<size_t>(values.size(), 1));
+  if (product > double(kMaxConfigRuns))
+    input_error("{}.grid: {:.3g} points, more than a config may expand to ({} runs)", where,
+                product, kMaxConfigRuns);
   for (const auto& [key, values] : grid.items()) {
     std::vector<GridPoint> next;
     for (double v : number_list(values, where + ".grid." + key))
@@ -414,6 +420,17 @@ void check_datasets(const Experiment& x) {
   }
 }
 
+// Counted before the runs are made: methods x structures x datasets x points x replicates.
+void refuse_too_many_runs(const Experiment& x, size_t earlier_runs, size_t specs) {
+  const double runs =
+      double(earlier_runs) + double(specs) * double(x.points.size()) * double(x.replicates);
+  if (runs > double(kMaxConfigRuns))
+    input_error(
+        "{}: the config expands to {:.0f} runs with this experiment, more than a config "
+        "may ({})",
+        x.where, runs, kMaxConfigRuns);
+}
+
 std::vector<RunSpec> method_runs(const Experiment& x) {
   const json methods = x.e.contains("methods")
                            ? x.e["methods"]
@@ -435,6 +452,7 @@ std::vector<RunSpec> method_runs(const Experiment& x) {
           (void)MeshEngineRegistry::instance().get(spec.engine, "mesh engine");
         }
         out.push_back(spec);
+        refuse_too_many_runs(x, 0, out.size());
       }
   }
   return out;
@@ -470,6 +488,7 @@ std::vector<RunSpec> workload_runs(const Experiment& x) {
 // Each spec at every grid point; a point's "set.x" values join the experiment's, and each
 // combination is checked as a run would check it.
 void add_runs(const Experiment& x, std::vector<RunSpec> specs, SweepConfig& c) {
+  refuse_too_many_runs(x, c.runs.size(), specs.size());
   for (RunSpec& spec : specs) {
     if (spec.kind != RunKind::kWorkload) {
       const std::string path = dataset_path(spec.dataset, x.dataset_dir);

@@ -36,6 +36,11 @@ struct FitSpec {
   [[nodiscard]] bool is_threshold() const { return max >= 0 || min >= 0; }
 };
 
+// The most runs a config may expand to, refused before they are made (`pcrt sweep` refuses more
+// than SweepOptions::kMaxSweepRuns unless told --no-limit; this bound no option lifts: a million
+// runs of a second each are twelve days).
+inline constexpr size_t kMaxConfigRuns = 1'000'000;
+
 struct SweepConfig {
   json raw;  // as read (context.json and a cluster's config.json keep it)
   std::string name;

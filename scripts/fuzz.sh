@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer target (tests/fuzz/) for a bounded time, seeded from real files: the small
-# samples in tests/fuzz/seeds/, the bad-input corpus (tests/bad_inputs/), the sweep configs, and
-# small files of the fetched scans in data/ when present. Fails on any finding (crash, sanitizer
+# samples in tests/fuzz/seeds/ (among them command lines, a plan, jobs and runs files), the
+# bad-input corpus (tests/bad_inputs/), the sweep configs, the committed results' small runs.jsonl
+# files, and small files of the fetched scans in data/ when present. Fails on any finding (crash, sanitizer
 # report, hang over 10 s, an error that is not an InputError naming the input); the finding's input
 # is kept in fuzz-findings/.
 # Usage: scripts/fuzz.sh [seconds per target (60)] [build dir (build-asan)]
@@ -10,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 build=${2:-build-asan}
-kinds=(ply xyz off rays spec json)
+kinds=(ply xyz off rays spec json config plan jobs runs cli)
 if [ ! -f "$build/build.ninja" ]; then
   CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPCRT_SANITIZE=ON \
     -DPCRT_FUZZ=ON >/dev/null
@@ -35,6 +36,8 @@ seed off tests/bad_inputs/*.off data/**/*.off
 seed rays tests/bad_inputs/*.csv
 seed spec tests/bad_inputs/*.spec
 seed json tests/bad_inputs/*.json configs/*.json
+seed config tests/bad_inputs/*.json configs/*.json
+seed runs results/**/runs.jsonl
 
 failed=0
 for kind in "${kinds[@]}"; do

@@ -60,9 +60,29 @@ print("".join({"\n": "\\n", "\t": "\\t", "\r": "\\r", "\\": "\\\\"}.get(c) or (c
   fi
 }
 
+# The harness's own files are read against a sweep of tests/fuzz/seeds/config/small.json: its
+# plan of 3 shards (from --dry-run), and its finished folder, whose runs.jsonl each bad one replaces.
+small="$here/fuzz/seeds/config/small.json"
+"$pcrt" cluster submit "$small" --out "$dir/cluster" --shards 3 --dry-run >/dev/null
+"$pcrt" sweep "$small" --out "$dir/done" >/dev/null
+cp "$dir/done/runs.jsonl" "$dir/done.runs"
+mkdir -p "$dir/merged"
 for f in "${corpus[@]}"; do
   base=$(basename "$f")
   case "$base" in
+    plan_*.json)
+      expect_rejected "$f" "$dir/sweep/runs.jsonl" sweep "$small" --shard 0/3 --plan "$f" --out "$dir/sweep"
+      ;;&
+    jobs_*.json)
+      cp "$f" "$dir/cluster/slurm/jobs.json"
+      expect_rejected "$dir/cluster/slurm/jobs.json" "$dir/status.txt" cluster status "$dir/cluster"
+      ;;&
+    *.jsonl)
+      cp "$f" "$dir/done/runs.jsonl"
+      expect_rejected "$dir/done/runs.jsonl" "$dir/done/fits.json" fit "$dir/done"
+      expect_rejected "$dir/done/runs.jsonl" "$dir/merged/keep.txt" merge "$dir/done" --out "$dir/merged"
+      cp "$dir/done.runs" "$dir/done/runs.jsonl"
+      ;;
     mesh_*.ply | mesh_*.off)
       for engine in bvh cgal_aabb embree; do
         expect_rejected "$f" "$dir/out.png" render --mesh "$f" --engine "$engine" --out "$dir/out.png" --width 8 --height 8

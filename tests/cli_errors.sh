@@ -160,6 +160,12 @@ expect_error "c_data.json: experiments[0]: $dir/missing.ply" sweep "$dir/c_data.
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["sphere"], "replicates": 100, "grid": {"N": [%s], "M": [16], "B": [1]}}]}' "$(seq -s, 100 1 1100)" >"$dir/c_huge.json"
 expect_error "c_huge.json: 100100 runs, about" sweep "$dir/c_huge.json" --out "$dir/c_huge_out"
 if [ -e "$dir/c_huge_out" ]; then echo "FAIL: a refused sweep made its folder"; fails=$((fails + 1)); fi
+# Beyond what any config may expand to: refused before the points are made, in well under a
+# second (10^12 points would need terabytes).
+printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["sphere"], "grid": {"N": [%s], "M": [%s], "S": [%s], "B": [1]}}]}' "$(seq -s, 1 10000)" "$(seq -s, 1 10000)" "$(seq -s, 1 10000)" >"$dir/c_absurd.json"
+expect_error "c_absurd.json: experiments[0].grid: 1e+12 points, more than a config may expand to (1000000 runs)" sweep "$dir/c_absurd.json" --out "$dir/c_absurd_out" --no-limit
+printf '{"experiments": [{"kind": "render", "methods": ["surveyed"], "datasets": ["sphere"], "replicates": 100, "grid": {"N": [%s], "M": [16], "B": [1]}}]}' "$(seq -s, 100 1 1100)" >"$dir/c_absurd2.json"
+expect_error "c_absurd2.json: experiments[0]: the config expands to" sweep "$dir/c_absurd2.json" --out "$dir/c_absurd_out" --no-limit
 # Scenes in sweeps: the config and experiment named, and the scene's own key.
 scene s_unswept '{"objects": [{"points": "plane:n=100", "method": "reference_splat"}], "lights": [{"type": "sky"}]}'
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["plane"], "scene": "s_unswept.json", "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_scene.json"

@@ -1,8 +1,10 @@
 // pcrt_input_replay FILE...: every reader of user input on each hostile FILE, in-process, so a
 // sanitizer build (scripts/test.sh) sees what the readers do with it. The reader is chosen by
 // extension and name: mesh_*.ply/.off as a mesh (vertices and faces), other .ply/.off/.xyz/.pwn as
-// a point cloud, .csv as rays, .json
-// as JSON, .spec as a dataset spec (the file's first line). Every input must be rejected with an
+// a point cloud, .csv as rays, .spec as a dataset spec (the file's first line); config_*.json as
+// a sweep config, plan_*.json as a cluster plan (against tests/fuzz/seeds/config/small.json),
+// jobs_*.json as a cluster's jobs file (of a 3-shard plan), other .json as JSON; .jsonl as a
+// sweep's runs file, then fitted as `pcrt fit` does. Every input must be rejected with an
 // InputError whose message names it; exit status 1 otherwise.
 #include <array>
 #include <cstdio>
@@ -18,6 +20,11 @@
 #include "core/json_input.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/ray_io.hpp"
+#include "harness/run_files.hpp"
+#include "harness/shard_plan.hpp"
+#include "harness/slurm.hpp"
+#include "harness/sweep_config.hpp"
+#include "harness/sweep_fits.hpp"
 
 namespace {
 
@@ -28,6 +35,34 @@ std::string first_line(const std::string& path) {
   std::string line;
   std::getline(in, line);
   return line;
+}
+
+bool starts_with(const std::string& path, const char* prefix) {
+  return std::filesystem::path(path).filename().string().rfind(prefix, 0) == 0;
+}
+
+const pcrt::SweepConfig& small_sweep() {
+  static const pcrt::SweepConfig config =
+      pcrt::load_sweep_config(PCRT_SOURCE_DIR "/tests/fuzz/seeds/config/small.json");
+  return config;
+}
+
+// The harness's files: configs, plans, jobs and runs files, each read as the command reads it.
+std::vector<std::pair<std::string, std::function<void()>>> harness_readers_for(
+    const std::string& path) {
+  using namespace pcrt;
+  if (std::filesystem::path(path).extension() == ".jsonl")
+    return {{path, [=] { (void)fit_runs(small_sweep(), read_runs_file(path).runs); }}};
+  if (starts_with(path, "config_")) return {{path, [=] { (void)load_sweep_config(path); }}};
+  if (starts_with(path, "plan_"))
+    return {{path, [=] {
+               const json plan = read_json_file(path);
+               for (size_t s = 0; s < read_plan(plan, path).size(); ++s)
+                 (void)plan_shard(plan, small_sweep().runs, s, read_plan(plan, path).size(), path);
+             }}};
+  if (starts_with(path, "jobs_"))
+    return {{path, [=] { (void)newest_jobs(read_json_file(path), 3, path); }}};
+  return {{path, [=] { read_json_file(path); }}};
 }
 
 // The readers that take `path`, each with the name its message must contain.
@@ -48,7 +83,7 @@ std::vector<std::pair<std::string, std::function<void()>>> readers_for(const std
   if (ext == ".ply" || ext == ".off" || ext == ".xyz" || ext == ".pwn")
     return {{path, [=] { read_point_cloud(path); }}};
   if (ext == ".csv") return {{path, [=] { read_rays_csv(path); }}};
-  if (ext == ".json") return {{path, [=] { read_json_file(path); }}};
+  if (ext == ".json" || ext == ".jsonl") return harness_readers_for(path);
   if (ext == ".spec") {
     const std::string spec = first_line(path);
     return {{spec, [=] { load_dataset(spec); }}};
