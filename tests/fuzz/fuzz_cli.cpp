@@ -50,10 +50,11 @@ std::vector<Command> commands_of(const uint8_t* data, size_t size) {
   return commands;
 }
 
-// Nothing outside the scratch directory: no path with a separator, no parent.
+// Nothing outside the scratch directory: no path with a separator, no parent; and no NUL, which
+// no argument of a real command line can hold.
 bool stays_here(const Command& args) {
   return std::none_of(args.begin(), args.end(), [](const std::string& a) {
-    return a.find('/') != std::string::npos || a == "..";
+    return a.find('/') != std::string::npos || a.find('\0') != std::string::npos || a == "..";
   });
 }
 
