@@ -192,6 +192,8 @@ class Scene {
     std::vector<Ray> rays(n);
     auto ro = o.unchecked<2>(), rd = d.unchecked<2>();
     for (size_t i = 0; i < n; ++i) {
+      // Ctrl-C during the checks of millions of rows too (the GIL is held here).
+      if (i % 65536 == 0 && PyErr_CheckSignals() != 0) throw py::error_already_set();
       const Vec3 origin(ro(i, 0), ro(i, 1), ro(i, 2)), direction(rd(i, 0), rd(i, 1), rd(i, 2));
       if (const char* why = user_ray_problem(origin, direction)) input_error("ray {}: {}", i, why);
       rays[i] = user_ray(origin, direction);
@@ -235,7 +237,7 @@ class Scene {
   // chunks change none of them.
   OpCounters trace_in_chunks(std::span<const Ray> rays, std::span<Hit> hits, std::span<char> found,
                              const std::atomic<bool>& stop) const {
-    constexpr size_t kChunk = 16384;
+    constexpr size_t kChunk = 1024;
     OpCounters total;
     for (size_t begin = 0; begin < rays.size() && !stop; begin += kChunk) {
       const size_t count = std::min(kChunk, rays.size() - begin);
