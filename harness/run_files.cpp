@@ -9,7 +9,7 @@
 #include "core/json_input.hpp"
 #include "core/point_cloud_io.hpp"
 #include "harness/csv_table.hpp"
-#include "methods/method.hpp"
+#include "harness/run_quantity.hpp"
 
 namespace pcrt {
 
@@ -62,40 +62,7 @@ void append_run(const std::string& path, const RunResult& result) {
 
 namespace {
 
-// The default of a method's own K parameter (MLS neighbours, fan size, ...), if it declares one.
-std::optional<double> method_k_parameter(const std::string& method) {
-  if (!MethodRegistry::instance().contains(method)) return std::nullopt;
-  for (const ParamSpec& p : MethodRegistry::instance().get(method, "method").params)
-    if (p.name == "K") return p.default_value;
-  return std::nullopt;
-}
-
-double count(const std::map<std::string, uint64_t>& counters, const std::string& name) {
-  const auto it = counters.find(name);
-  return it == counters.end() ? 0.0 : double(it->second);
-}
-
-// K: the method's K when it has one (given, or its default), else the measured mean items per
-// visited leaf.
-json k_of(const RunResult& r) {
-  if (r.spec.set.count("K")) return r.spec.set.at("K");
-  if (const std::optional<double> method_k = method_k_parameter(r.spec.method)) return *method_k;
-  if (count(r.counters, "leaves_visited") > 0)
-    return count(r.counters, "items_visited") / count(r.counters, "leaves_visited");
-  return nullptr;
-}
-
-// I as measured: the method's declared iteration steps per iterative run (MethodInfo::
-// iterations: Newton steps per Newton run, MLS fits per MLS run, ...), whatever the cap; what the
-// drift check and iteration fits look at. Null for a method without an iterative kernel.
-json iterations_per_run(const RunResult& r) {
-  if (!MethodRegistry::instance().contains(r.spec.method)) return nullptr;
-  const IterationCounters& it = MethodRegistry::instance().get(r.spec.method, "method").iterations;
-  if (!it.steps || !it.runs) return nullptr;
-  const double runs = count(r.counters, registered_counters()[it.runs->id()].name);
-  return runs > 0 ? json(count(r.counters, registered_counters()[it.steps->id()].name) / runs)
-                  : json(nullptr);
-}
+json optional_json(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 
 json optional_set(const RunResult& r, const char* name) {
   return r.spec.set.count(name) ? json(r.spec.set.at(name)) : json(nullptr);
@@ -111,10 +78,10 @@ json run_row(const RunResult& r) {
     row[k] = spec.value(k, json(""));
   for (const char* k : {"N", "M", "S", "B"}) row[k] = spec.value(k, json(nullptr));
   if (!r.spec.scene.empty()) row["scene"] = r.spec.scene;  // a column only where a sweep has one
-  row["K"] = k_of(r);
+  row["K"] = optional_json(k_of(r));
   row["k"] = optional_set(r, "k");
   row["I"] = optional_set(r, "max_iterations");
-  row["I_run"] = iterations_per_run(r);
+  row["I_run"] = optional_json(iterations_per_run(r));
   for (const auto& [k, v] : r.spec.set) row["set_" + k] = v;
   for (const auto& [k, v] : r.counters) row["ops_" + k] = v;
   if (r.prepare_counters)

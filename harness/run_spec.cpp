@@ -32,6 +32,24 @@ std::optional<RunKind> run_kind_from_name(const std::string& name) {
   return std::nullopt;
 }
 
+const char* measure_mode_name(MeasureMode m) {
+  switch (m) {
+    case MeasureMode::kBoth:
+      return "both";
+    case MeasureMode::kOps:
+      return "ops";
+    case MeasureMode::kTime:
+      return "time";
+  }
+  return "?";
+}
+
+std::optional<MeasureMode> measure_mode_from_name(const std::string& name) {
+  for (MeasureMode m : {MeasureMode::kBoth, MeasureMode::kOps, MeasureMode::kTime})
+    if (name == measure_mode_name(m)) return m;
+  return std::nullopt;
+}
+
 bool runs_method(RunKind k) {
   return k == RunKind::kRender || k == RunKind::kBuild || k == RunKind::kCrossover;
 }
@@ -101,9 +119,13 @@ uint64_t count_from_json(const json& v, const std::string& what) {
 // Keys appear only where the kind uses them, as the config expansion always wrote them: run keys
 // of committed results and baselines stay the same.
 void to_json(json& j, const RunSpec& s) {
-  j = {{"experiment", s.experiment}, {"kind", run_kind_name(s.kind)}, {"reps", s.reps},
-       {"warmup", s.warmup},         {"threads", s.threads},          {"seed", s.seed},
-       {"measure", s.measure}};
+  j = {{"experiment", s.experiment},
+       {"kind", run_kind_name(s.kind)},
+       {"reps", s.reps},
+       {"warmup", s.warmup},
+       {"threads", s.threads},
+       {"seed", s.seed},
+       {"measure", measure_mode_name(s.measure)}};
   if (s.camera_inside) j["camera"] = "inside";
   if (s.kind != RunKind::kWorkload) j["dataset"] = s.dataset;
   if (!s.dataset_path.empty()) j["dataset_path"] = s.dataset_path;
@@ -136,7 +158,10 @@ void from_json(const json& j, RunSpec& s) {
   s.warmup = int(whole_field(j, "warmup", 0, 0, 100));
   s.threads = int(whole_field(j, "threads", 2, 1, 1024));
   if (j.contains("seed")) s.seed = count_from_json(j["seed"], "\"seed\"");
-  s.measure = text_field(j, "measure", "both");
+  const std::string measure = text_field(j, "measure", "both");
+  const std::optional<MeasureMode> mode = measure_mode_from_name(measure);
+  if (!mode) input_error("\"measure\" = \"{}\" is not ops, time or both", measure);
+  s.measure = *mode;
   s.camera_inside = text_field(j, "camera") == "inside";
   s.dataset = text_field(j, "dataset");
   s.dataset_path = text_field(j, "dataset_path");

@@ -30,12 +30,18 @@ std::optional<RunKind> run_kind_from_name(const std::string& name);
 // Whether runs of this kind trace a method (method, structure and its parameters).
 bool runs_method(RunKind k);
 
+// What a sweep's runs are for ("measure" in a config): operation counts, times or both. Recorded
+// with each run, as part of its key.
+enum class MeasureMode { kBoth, kOps, kTime };
+const char* measure_mode_name(MeasureMode m);  // "both", "ops", "time"
+std::optional<MeasureMode> measure_mode_from_name(const std::string& name);
+
 struct RunSpec {
   std::string experiment;
   RunKind kind = RunKind::kRender;
   int reps = 1, warmup = 0, threads = 2;
   uint64_t seed = 1;
-  std::string measure = "both";   // recorded as the config gives it
+  MeasureMode measure = MeasureMode::kBoth;
   bool camera_inside = false;     // at the centre of the cloud's bounds ("camera": "inside")
   std::string dataset;            // as the config names it (every kind but workload)
   std::string dataset_path;       // where it lies, when that differs from `dataset`

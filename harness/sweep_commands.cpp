@@ -425,7 +425,7 @@ int command_sweep(const SweepOptions& o) {
   const json shard = o.shard ? shard_record(*o.shard, config, selected) : json();
   const std::vector<RunResult> results =
       run_sweep(config, dir, o.resume, o.overwrite, selected, false, shard);
-  if (o.fit) write_fits(dir, fit_runs(config, results));
+  if (o.fit) write_fits(dir, fits_json(fit_runs(config, results)));
   return 0;
 }
 
@@ -471,7 +471,8 @@ int command_merge(const MergeOptions& o) {
 int command_fit(const FitOptions& o) {
   // Fitting reads runs.jsonl only: the folder alone is enough, without the data it was made from.
   const SweepConfig config = config_of(o.dir, DatasetCheck::kNamesOnly);
-  const std::vector<json> fits = fit_runs(config, read_runs_jsonl(o.dir + "/runs.jsonl"));
+  const std::vector<json> fits =
+      fits_json(fit_runs(config, read_runs_jsonl(o.dir + "/runs.jsonl")));
   write_fits(o.dir, fits);
   std::map<std::string, int> verdicts;
   for (const json& f : fits) ++verdicts[f.value("verdict", "")];
@@ -554,7 +555,7 @@ int command_calibrate(const CalibrateOptions& o) {
   const std::string dir = sweep_dir(o.out, "calibrate");
   const std::vector<RunResult> results =
       run_sweep(config, dir, false, true, all_runs(config), true);
-  const std::vector<json> fits = fit_runs(config, results);
+  const std::vector<json> fits = fits_json(fit_runs(config, results));
   if (o.out)
     write_fits(dir, fits);
   else
@@ -664,7 +665,7 @@ int command_check(const CheckOptions& o) {
   const std::string dir = sweep_dir(o.out, "check");
   const std::vector<RunResult> results =
       run_sweep(config, dir, false, true, all_runs(config), true);
-  const json now = gate_record(results, fit_runs(config, results));
+  const json now = gate_record(results, fits_json(fit_runs(config, results)));
   if (!o.out) fs::remove_all(dir);
   if (o.update) {
     write_json(o.baseline, now);

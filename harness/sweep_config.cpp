@@ -58,7 +58,7 @@ std::vector<double> number_list(const json& v, const std::string& where) {
 struct RunDefaults {
   int threads = 2, reps = 1, warmup = 0;
   uint64_t seed = 1;
-  std::string measure = "both";
+  MeasureMode measure = MeasureMode::kBoth;
   double time_limit_s = 300;  // per run, in its child process
 };
 
@@ -83,9 +83,10 @@ RunDefaults parse_defaults(const json& raw, const std::string& origin) {
   d.reps = int(reps);
   d.warmup = int(warmup);
   d.seed = uint64_t(seed);
-  d.measure = raw.value("measure", std::string("both"));
-  if (d.measure != "both" && d.measure != "ops" && d.measure != "time")
-    input_error("{}: measure must be 'ops', 'time' or 'both', not '{}'", origin, d.measure);
+  const std::string measure = raw.value("measure", std::string("both"));
+  const std::optional<MeasureMode> mode = measure_mode_from_name(measure);
+  if (!mode) input_error("{}: measure must be 'ops', 'time' or 'both', not '{}'", origin, measure);
+  d.measure = *mode;
   return d;
 }
 
@@ -243,38 +244,74 @@ bool is_counter_column(const std::string& column) {
   return false;
 }
 
-void check_fit_metric(const FitSpec& s, const std::string& where) {
-  // Other metric names are run columns (time, fps, I_run, a crossover's times, ...).
-  for (const std::string& m : s.metric)
-    if (m.rfind("ops_", 0) == 0 && !is_counter_column(m))
-      input_error("{}.metric: '{}' is not a counter (pcrt list)", where, m);
-  if (!s.per.empty() && !is_counter_column(s.per))
-    input_error("{}.per: '{}' is not a counter (ops_NAME, pcrt list)", where, s.per);
+// "metric" names run columns (run_quantity.hpp).
+RunQuantity metric_term(const std::string& m, const std::string& where) {
+  if (m.rfind("ops_", 0) == 0 && !is_counter_column(m))
+    input_error("{}.metric: '{}' is not a counter (pcrt list)", where, m);
+  const std::optional<RunQuantity> q = run_quantity_from_name(m);
+  if (!q)
+    input_error(
+        "{}.metric: '{}' is not a run column: time, fps, work, ops_COUNTER, one of N M S B K k I "
+        "I_run, set_PARAMETER or a kind's measurement (build_s, direct_frame_s, ...)",
+        where, m);
+  return *q;
+}
+
+void parse_fit_metric(const json& f, const std::string& where, FitSpec& s) {
+  if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
+  for (const std::string& m : string_list(f["metric"], where + ".metric"))
+    s.metric.push_back(metric_term(m, where));
+  const std::string per = f.value("per", std::string());
+  if (per.empty()) return;
+  if (!is_counter_column(per))
+    input_error("{}.per: '{}' is not a counter (ops_NAME, pcrt list)", where, per);
+  s.per = run_quantity_from_name(per);
+}
+
+// What "by" may keep in a group: what an experiment sweeps.
+RunQuantity group_column(const std::string& name, const std::string& where) {
+  const std::optional<RunQuantity> q = run_quantity_from_name(name);
+  const bool swept_kind =
+      q && (q->source == RunQuantity::Source::kParameter ||
+            (q->source == RunQuantity::Source::kVariable && is_grid_variable(q->variable)));
+  if (!swept_kind) input_error("{}.by: '{}' is not one of N M S B or set_PARAMETER", where, name);
+  return *q;
 }
 
 void check_not_rays_only(const FitSpec& s, const std::string& where) {
   // Rays are S * M * (paths) by construction: a growth fit on them proves nothing.
-  const std::set<std::string> rays = {"ops_rays_cast", "ops_primary_rays", "ops_bounce_rays",
-                                      "ops_shadow_rays", "ops_ray_hits"};
-  if (!s.is_threshold() &&
-      std::all_of(s.metric.begin(), s.metric.end(), [&](auto& m) { return rays.count(m); }))
+  const std::set<std::string> rays = {"rays_cast", "primary_rays", "bounce_rays", "shadow_rays",
+                                      "ray_hits"};
+  auto counts_rays = [&](const RunQuantity& m) {
+    return m.source == RunQuantity::Source::kCounter && rays.count(m.name);
+  };
+  if (!s.is_threshold() && std::all_of(s.metric.begin(), s.metric.end(), counts_rays))
     input_error(
         "{}: metric counts rays only, which grow with S and M by construction; fit "
         "'work' or a method's own counters",
         where);
 }
 
-void check_fit_variables(const FitSpec& s, const std::string& where) {
-  for (const std::string& v : s.free)
-    if (v != "K" && v != "k" && v != "I_run")
-      input_error("{}.free: '{}' is not one of K, k, I_run", where, v);
-  if (!s.is_threshold() && s.variable.empty())
+// The variable, x, and the held variables that may move (K, k, I_run).
+void parse_fit_variables(const json& f, const std::string& where, FitSpec& s) {
+  if (f.contains("free"))
+    for (const std::string& v : string_list(f["free"], where + ".free")) {
+      if (v != "K" && v != "k" && v != "I_run")
+        input_error("{}.free: '{}' is not one of K, k, I_run", where, v);
+      s.free.push_back(*run_quantity_from_name(v));
+    }
+  const std::string variable = f.value("variable", std::string());
+  if (!s.is_threshold() && variable.empty())
     input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
-  if (!s.variable.empty() && std::string("SMBNKkI").find(s.variable) == std::string::npos)
-    input_error("{}: variable '{}' is not one of S M B N K k I", where, s.variable);
-  const std::set<std::string> columns = {"S", "M", "B", "N", "K", "k", "I", "I_run"};
-  if (!s.x.empty() && !columns.count(s.x) && s.x.rfind("set_", 0) != 0)
-    input_error("{}.x: '{}' is not one of S M B N K k I I_run or set_PARAMETER", where, s.x);
+  if (!variable.empty() && !(s.variable = variable_from_name(variable)))
+    input_error("{}: variable '{}' is not one of S M B N K k I", where, variable);
+  const std::string x = f.value("x", variable);
+  if (x.empty()) return;
+  s.x = run_quantity_from_name(x);
+  using Source = RunQuantity::Source;
+  if (!s.x || (s.x->source != Source::kVariable && s.x->source != Source::kIterationsPerRun &&
+               s.x->source != Source::kParameter))
+    input_error("{}.x: '{}' is not one of S M B N K k I I_run or set_PARAMETER", where, x);
 }
 
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {
@@ -287,21 +324,18 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   if (!f.contains("claim") || !f["claim"].is_string())
     input_error("{}: 'claim' is required", where);
   s.claim = f["claim"].get<std::string>();
-  s.variable = f.value("variable", std::string());
-  s.x = f.value("x", s.variable);
-  if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
-  s.metric = string_list(f["metric"], where + ".metric");
-  s.per = f.value("per", std::string());
-  check_fit_metric(s, where);
-  if (f.contains("by")) s.by = string_list(f["by"], where + ".by");
-  if (f.contains("free")) s.free = string_list(f["free"], where + ".free");
-  s.covariate = f.value("covariate", std::string());
-  if (!s.covariate.empty() && s.covariate != "K")
-    input_error("{}.covariate: only K can be a covariate, not '{}'", where, s.covariate);
+  parse_fit_metric(f, where, s);
+  if (f.contains("by"))
+    for (const std::string& b : string_list(f["by"], where + ".by"))
+      s.by.push_back(group_column(b, where));
+  const std::string covariate = f.value("covariate", std::string());
+  if (!covariate.empty() && covariate != "K")
+    input_error("{}.covariate: only K can be a covariate, not '{}'", where, covariate);
+  if (!covariate.empty()) s.covariate = Variable::K;
   s.short_range = f.value("short_range", std::string());
   s.max = f.value("max", -1.0);
   s.min = f.value("min", -1.0);
-  check_fit_variables(s, where);
+  parse_fit_variables(f, where, s);
   check_not_rays_only(s, where);
   return s;
 }
@@ -312,25 +346,33 @@ void check_fit_claims(const FitSpec& f, const std::vector<RunSpec>& runs,
   for (const RunSpec& run : runs) {
     if (run.experiment != f.experiment) continue;
     try {
-      const Claim& claim = find_claim(fill_claim(f.claim, json(run)));
+      const Claim& claim = find_claim(fill_claim(f.claim, run_names(run)));
       if (!claim.not_tested.empty())
         input_error("claim '{}' is not tested: {}", claim.id, claim.not_tested);
-      if (!f.variable.empty() && !f.is_threshold())
-        (void)expected_growth(claim.complexity, f.variable);
+      if (f.variable && !f.is_threshold())
+        (void)expected_growth(claim.complexity, variable_name(*f.variable));
     } catch (const InputError& err) {
       input_error("{}: {}", where, err.what());
     }
   }
 }
 
+// What the experiment's grid sweeps (more than one value): N, M, S, B and parameters.
+std::vector<RunQuantity> swept_columns(const json& e) {
+  std::vector<RunQuantity> swept;
+  const json grid = e.value("grid", json::object());
+  for (const auto& [k, v] : grid.items()) {
+    if (!v.is_array() || v.size() <= 1) continue;
+    const std::string column = k.rfind("set.", 0) == 0 ? "set_" + k.substr(4) : k;
+    if (const std::optional<RunQuantity> q = run_quantity_from_name(column)) swept.push_back(*q);
+  }
+  return swept;
+}
+
 void parse_fits(const json& e, const std::string& name, const std::string& where, SweepConfig& c) {
   if (!e.contains("fits")) return;
   if (!e["fits"].is_array()) input_error("{}.fits: must be a list", where);
-  std::vector<std::string> swept;
-  const json grid = e.value("grid", json::object());
-  for (const auto& [k, v] : grid.items())
-    if (v.is_array() && v.size() > 1)
-      swept.push_back(k.rfind("set.", 0) == 0 ? "set_" + k.substr(4) : k);
+  const std::vector<RunQuantity> swept = swept_columns(e);
   for (size_t f = 0; f < e["fits"].size(); ++f) {
     const std::string fwhere = fmt::format("{}.fits[{}]", where, f);
     c.fits.push_back(parse_fit(e["fits"][f], name, fwhere));
@@ -547,12 +589,15 @@ void parse_experiment(const json& e, const std::string& where, size_t index, con
 
 }  // namespace
 
-std::string fill_claim(std::string claim, const json& row) {
-  for (const char* k : {"method", "structure", "reconstruction", "workload"}) {
-    const std::string key = std::string("{") + k + "}";
+std::string fill_claim(std::string claim, const RunNames& run) {
+  const std::pair<const char*, const std::string*> kFields[] = {
+      {"{method}", &run.method},
+      {"{structure}", &run.structure},
+      {"{reconstruction}", &run.reconstruction},
+      {"{workload}", &run.workload}};
+  for (const auto& [key, value] : kFields)
     for (size_t p; (p = claim.find(key)) != std::string::npos;)
-      claim.replace(p, key.size(), row.value(k, std::string()));
-  }
+      claim.replace(p, std::string(key).size(), *value);
   return claim;
 }
 

@@ -4,32 +4,37 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "harness/run_quantity.hpp"
 #include "harness/run_spec.hpp"
 
 namespace pcrt {
 
 using nlohmann::json;
 
+// A fit as the config asks for it, its names already typed (run_quantity.hpp).
 struct FitSpec {
   std::string experiment;
-  std::string claim;     // claim id, may use {method}, {structure}, {reconstruction}, {workload}
-  std::string variable;  // the thesis variable the claim is judged in (N, M, S, B, K, k, I)
-  std::string x;         // the run column used as x (default: the variable)
-  std::vector<std::string> metric;  // run columns summed ("time" = median seconds, "fps")
-  std::string per;                  // optional column the metric is divided by
-  double max = -1, min = -1;        // threshold claims instead of a growth fit
-  // Run columns the experiment sweeps (N, M, S, B, set_*): they form the x axis, not groups,
-  // unless listed in "by".
-  std::vector<std::string> swept;
-  std::vector<std::string> by;
+  std::string claim;                 // claim id, may use {method}, {structure}, {reconstruction},
+                                     // {workload}
+  std::optional<Variable> variable;  // the thesis variable the claim is judged in (none: a
+                                     // threshold over the runs)
+  std::optional<RunQuantity> x;      // the run column used as x (default: the variable)
+  std::vector<RunQuantity> metric;   // summed ("time" = median seconds, "fps", "work")
+  std::optional<RunQuantity> per;    // a counter the metric is divided by
+  double max = -1, min = -1;         // threshold claims instead of a growth fit
+  // What the experiment sweeps (N, M, S, B, set_*): the x axis, not groups, unless listed in
+  // "by".
+  std::vector<RunQuantity> swept;
+  std::vector<RunQuantity> by;
   // Of K, k and I_run, which may move (the metric itself, say); the others must stay within 20%.
-  std::vector<std::string> free;
+  std::vector<RunQuantity> free;
   // A held variable the claim adds linearly (K in O(SMB(log N + K))), fitted as a term of its
-  // own instead of being held: the claim in x is then judged at fixed covariate.
-  std::string covariate;
+  // own instead of being held: the claim in x is then judged at fixed covariate. Only K.
+  std::optional<Variable> covariate;
   // Why x cannot span its variable's minimum range here (waives the rule; shown in the verdict).
   std::string short_range;
 
@@ -57,8 +62,8 @@ enum class DatasetCheck { kOpenFiles, kNamesOnly };
 SweepConfig parse_sweep_config(const json& raw, const std::string& origin,
                                DatasetCheck datasets = DatasetCheck::kOpenFiles);
 
-// A claim template ({method}, {structure}, {reconstruction}, {workload}) filled from a run spec
-// or a run's row (absent keys are empty).
-std::string fill_claim(std::string claim, const json& row);
+// A claim template ({method}, {structure}, {reconstruction}, {workload}) filled from a run's names
+// (empty where its kind has none).
+std::string fill_claim(std::string claim, const RunNames& run);
 
 }  // namespace pcrt

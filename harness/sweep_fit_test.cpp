@@ -1,8 +1,9 @@
 // fit_runs on crafted run results: what is judged and what is not (identities, drifted groups,
-// duplicated points, too few distinct x), and the work metric.
+// duplicated points, too few distinct x), the work metric, and the typed names fits read.
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "core/error.hpp"
 #include "harness/sweep_config.hpp"
 #include "harness/sweep_fits.hpp"
 
@@ -65,7 +66,7 @@ TEST_CASE("fit_runs: work includes the method's own leaf counters", "[sweep][fit
                               {"leaves_visited", 100},
                               {"weighted_plane_terms", 5000},
                               {"rays_cast", 64}}));
-  const std::vector<json> fits = fit_runs(c, runs);
+  const std::vector<json> fits = fits_json(fit_runs(c, runs));
   REQUIRE(fits.size() == 1);
   REQUIRE(fits[0]["metric"].get<std::string>().find("ops_weighted_plane_terms") !=
           std::string::npos);
@@ -78,7 +79,7 @@ TEST_CASE("fit_runs: a fixed K that drifts is not judged", "[sweep][fit]") {
   const SweepConfig c =
       config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
   const std::vector<RunResult> runs = drifting_k_runs(1.5);
-  const json f = fit_runs(c, runs)[0];
+  const json f = fits_json(fit_runs(c, runs))[0];
   REQUIRE(f["verdict"] == "drifted");
   REQUIRE(f["reason"].get<std::string>().find("K moved from 8 to") != std::string::npos);
   REQUIRE(f.contains("verdict_if_fixed"));
@@ -90,14 +91,14 @@ TEST_CASE("fit_runs: a drifting K declared a covariate is fitted, not held", "[s
                                 {"metric", "work"},
                                 {"covariate", "K"}});
   const std::vector<RunResult> runs = drifting_k_runs(1.5);
-  const json f = fit_runs(c, runs)[0];
+  const json f = fits_json(fit_runs(c, runs))[0];
   INFO(f.dump());
   REQUIRE(f["verdict"] != "drifted");
   REQUIRE(f["verdict"] != "exceeds");  // the K term carries the growth, not N
   REQUIRE(f["covariate_values"].size() == 6);
   // A K that does not move is no term of its own (it would be the intercept again): the faster
   // terms stay identifiable.
-  const json fixed = fit_runs(c, drifting_k_runs(1.0))[0];
+  const json fixed = fits_json(fit_runs(c, drifting_k_runs(1.0)))[0];
   INFO(fixed.dump());
   for (const json& t : fixed["faster_terms"]) REQUIRE(t["high95"].is_number());
 }
@@ -106,7 +107,7 @@ TEST_CASE("fit_runs: a threshold without its measure is an error, never a pass",
   const SweepConfig c = config({{"claim", "{method}/iterations"}, {"metric", "I_run"}, {"max", 3}});
   std::vector<RunResult> runs;
   for (double n : {1000, 2000}) runs.push_back(result(n, {{"rays_cast", 64}}));  // no iterations
-  const json f = fit_runs(c, runs)[0];
+  const json f = fits_json(fit_runs(c, runs))[0];
   REQUIRE(f["verdict"] == "error");
   REQUIRE(f["error"].get<std::string>().find("no value") != std::string::npos);
 }
@@ -121,7 +122,7 @@ TEST_CASE("fit_runs: y proportional to x by construction is a loop check", "[swe
   int i = 1;
   for (double n : {1000, 2000, 4000, 8000, 16000, 32000})
     runs.push_back(result(n, {{"newton_steps", 100 * i++}, {"newton_runs", 100}}));
-  const json f = fit_runs(c, runs)[0];
+  const json f = fits_json(fit_runs(c, runs))[0];
   INFO(f.dump());
   REQUIRE(f["verdict"] == "loop_check");
 }
@@ -141,8 +142,66 @@ TEST_CASE("fit_runs: identical points are merged, and fewer than 5 distinct x is
                               {"newton_runs", 100},
                               {"weighted_plane_terms", 1000 * steps + 7}}));
   }
-  const json f = fit_runs(c, runs)[0];
+  const json f = fits_json(fit_runs(c, runs))[0];
   REQUIRE(f["verdict"] == "error");
   REQUIRE(f["x_values"].size() == 3);
   REQUIRE(f["error"].get<std::string>().find("5 distinct x") != std::string::npos);
+}
+
+TEST_CASE("run_value: what a fit reads from a run", "[sweep][fit]") {
+  RunResult r = result(1000, {{"nodes_visited", 10},
+                              {"items_visited", 20},
+                              {"weighted_plane_terms", 5},
+                              {"leaves_visited", 4}});
+  r.times_s = {0.5, 0.25, 1.0};
+  r.points = 999;  // N as loaded replaces the grid's
+  auto value = [&](const std::string& name) { return run_value(r, *run_quantity_from_name(name)); };
+  REQUIRE(value("N") == 999);
+  REQUIRE(value("M") == 64);
+  REQUIRE(std::isnan(value("S")));          // not in the grid: missing, never zero
+  REQUIRE(value("K") == 5);                 // the measured items per visited leaf
+  REQUIRE(value("ops_newton_steps") == 0);  // a counter never touched
+  REQUIRE(value("time") == 0.5);
+  REQUIRE(value("fps") == 2);
+  REQUIRE(value("work") == 10 + 20 + 5);  // with hubo_2006's own leaf counter
+  REQUIRE(std::isnan(value("build_s")));
+  REQUIRE(std::isnan(value("set_K")));
+  const RunResult failed = failed_run(r.spec, RunStatus::kFailed, "crashed");
+  REQUIRE(std::isnan(run_value(failed, *run_quantity_from_name("time"))));
+  REQUIRE(std::isnan(run_value(failed, *run_quantity_from_name("fps"))));
+}
+
+TEST_CASE("fit names are typed where the config is read", "[sweep][fit]") {
+  const SweepConfig c = config({{"claim", "{method}/leaf"},
+                                {"variable", "I"},
+                                {"x", "I_run"},
+                                {"metric", {"ops_newton_steps", "work"}},
+                                {"per", "ops_newton_runs"},
+                                {"free", {"K"}}});
+  const FitSpec& f = c.fits.at(0);
+  REQUIRE(f.variable == Variable::I);
+  REQUIRE(f.x == RunQuantity::of(RunQuantity::Source::kIterationsPerRun));
+  REQUIRE(f.metric.at(0) == RunQuantity::counter("newton_steps"));
+  REQUIRE(f.metric.at(1) == RunQuantity::of(RunQuantity::Source::kWork));
+  REQUIRE(f.per == RunQuantity::counter("newton_runs"));
+  REQUIRE(f.free.at(0) == RunQuantity::of(Variable::K));
+  REQUIRE(f.swept.at(0) == RunQuantity::of(Variable::N));  // the grid's N has six values
+  auto error_of = [](const json& fit) {
+    try {
+      (void)config(fit);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const json base = {{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}};
+  json bad = base;
+  bad["metric"] = "tme";
+  REQUIRE_THAT(error_of(bad), Catch::Contains("fits[0].metric: 'tme' is not a run column"));
+  bad = base;
+  bad["by"] = {"method"};
+  REQUIRE_THAT(error_of(bad), Catch::Contains("fits[0].by: 'method' is not one of N M S B"));
+  bad = base;
+  bad["variable"] = "NK";
+  REQUIRE_THAT(error_of(bad), Catch::Contains("variable 'NK' is not one of S M B N K k I"));
 }
