@@ -213,19 +213,9 @@ void method_claims(std::vector<Claim>& c) {
                    "O(N log N)",
                    {"N"},
                    "Table 5.4"});
+    for (const MethodInfo::OtherClaim& o : m.other_claims)
+      c.push_back({m.id + "/" + o.name, m.id, o.statement, o.complexity, o.variables, o.source});
   }
-  c.push_back({"tejada_2007/iterations",
-               "tejada_2007",
-               "one MLS step, no iteration (I = 1)",
-               "I <= 1",
-               {},
-               "Table 6.1 (no I in O(MNK + SBNK))"});
-  c.push_back({"cai_2015/fan",
-               "cai_2015",
-               "(K-1)K/2 triangles of the k-NN fan per step",
-               "O(K^2)",
-               {"K"},
-               "section 5.5.2"});
 }
 
 void reconstruction_claims(std::vector<Claim>& c) {

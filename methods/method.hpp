@@ -140,6 +140,16 @@ struct MethodInfo {
     std::string bound;  // "holes", "false hits", "distance median", "distance p95", "normal median"
   };
   std::vector<KnownMiss> accuracy_misses = {};
+  // Claims of the thesis about this method beyond its leaf and frame costs and Table 5.1's
+  // columns, each judged under the id "<id>/<name>".
+  struct OtherClaim {
+    std::string name;        // the claim id's suffix: "fan"
+    std::string statement;   // what is claimed, in words
+    std::string complexity;  // "O(K^2)", or a threshold such as "I <= 1"
+    std::vector<std::string> variables;
+    std::string source;  // "section 5.5.2"
+  };
+  std::vector<OtherClaim> other_claims = {};
 
   // One of the thesis's surveyed methods (it has a reference number), not a reference oracle.
   [[nodiscard]] bool surveyed() const { return thesis_ref != "-"; }

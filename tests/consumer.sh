@@ -45,12 +45,28 @@ PY
 cat >"$tmp/sweep.json" <<'JSON'
 {"name": "mine", "threads": 1, "repetitions": 1, "measure": "ops",
  "experiments": [{"name": "ball", "kind": "render", "methods": ["ball_splat"],
-                  "datasets": ["sphere"], "grid": {"N": [500, 1000], "M": [64], "B": [0]}}]}
+                  "datasets": ["sphere"], "grid": {"N": [500, 1000], "M": [64], "B": [0]}},
+                 {"name": "ball_leaf", "kind": "render", "methods": ["ball_splat"],
+                  "datasets": ["sphere"],
+                  "grid": {"N": [4000], "M": [256], "B": [0],
+                           "set.leaf_size": [2, 4, 8, 16, 32, 64, 128, 256]},
+                  "fits": [{"claim": "ball_splat/leaf", "variable": "K", "x": "K",
+                            "metric": "ops_ball_tests", "per": "ops_leaves_visited"}]}]}
 JSON
-"$mine" sweep "$tmp/sweep.json" --out "$tmp/sweep" >/dev/null
-python3 - "$tmp/sweep/runs.jsonl" <<'PY'
+"$mine" sweep "$tmp/sweep.json" --out "$tmp/sweep" --fit >/dev/null
+# Its declared claim is judged like a built-in one, by the same rules: ball tests per visited
+# leaf are the balls in the leaf, K itself, so the fitter must call it a loop check (y = x by
+# construction), not a confirmation of O(K).
+python3 - "$tmp/sweep/runs.jsonl" "$tmp/sweep/fits.json" <<'PY'
 import json, sys
 runs = [json.loads(l) for l in open(sys.argv[1])]
-assert len(runs) == 2 and all(r["counters"]["ball_tests"] > 0 for r in runs), runs
+assert len(runs) == 10 and all(r["counters"]["ball_tests"] > 0 for r in runs), runs
+fits = json.load(open(sys.argv[2]))
+fits = fits if isinstance(fits, list) else fits["fits"]
+mine = [f for f in fits if f["claim"] == "ball_splat/leaf"]
+assert len(mine) == 1, fits
+assert mine[0]["verdict"] == "loop_check", mine[0]
+assert "error" not in mine[0] and mine[0]["points"] == 8, mine[0]
+print("consumer: ball_splat/leaf judged:", mine[0]["verdict"], mine[0].get("reason", "")[:120])
 PY
 echo "consumer: ball_splat registered out of tree: listed, rendered, judged and swept"

@@ -167,7 +167,12 @@ void register_cai_2015(MethodRegistry& registry) {
       .work = {&kNeighbourTests, &kFanTriangles},
       .iterative_claim = "Table 5.1",
       .iterations = {&kMarchSteps, &kMarchRuns},
-      .cost = {.prepare_ns = 46, .ray_ns = 327}});
+      .cost = {.prepare_ns = 46, .ray_ns = 327},
+      .other_claims = {{"fan",
+                        "(K-1)K/2 triangles of the k-NN fan per step",
+                        "O(K^2)",
+                        {"K"},
+                        "section 5.5.2"}}});
 }
 
 }  // namespace pcrt

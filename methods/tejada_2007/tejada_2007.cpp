@@ -32,7 +32,12 @@ void register_tejada_2007(MethodRegistry& registry) {
                  .work = {&kRasterPoints, &kRasterPixels, &kKnnResults, &kMlsNeighbours},
                  .real_time_claim = "Table 5.1",
                  .iterations = {&kMlsFits, &kMlsRuns},
-                 .cost = {.prepare_ns = 47, .ray_ns = 620}});
+                 .cost = {.prepare_ns = 47, .ray_ns = 620},
+                 .other_claims = {{"iterations",
+                                   "one MLS step, no iteration (I = 1)",
+                                   "I <= 1",
+                                   {},
+                                   "Table 6.1 (no I in O(MNK + SBNK))"}}});
 }
 
 }  // namespace pcrt
