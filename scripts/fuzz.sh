@@ -37,7 +37,14 @@ seed rays tests/bad_inputs/*.csv
 seed spec tests/bad_inputs/*.spec
 seed json tests/bad_inputs/*.json configs/*.json
 seed config tests/bad_inputs/*.json configs/*.json
-seed runs results/**/runs.jsonl
+seed runs tests/bad_inputs/*.jsonl
+seed plan tests/bad_inputs/plan_*.json
+seed jobs tests/bad_inputs/jobs_*.json
+# The committed results' runs files are large and all named runs.jsonl: their first 20 lines each,
+# named after their folder.
+for f in results/**/runs.jsonl; do
+  head -n 20 "$f" >"$work/seeds/runs/$(dirname "$f" | tr / _).jsonl"
+done
 
 failed=0
 for kind in "${kinds[@]}"; do
