@@ -50,7 +50,8 @@ failed=0
 for kind in "${kinds[@]}"; do
   mkdir -p "$work/corpus/$kind"
   log="$work/$kind.log"
-  if "$build/bin/pcrt_fuzz_$kind" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  # The harness targets write scratch files under TMPDIR: inside $work, removed on exit.
+  if TMPDIR="$work" "$build/bin/pcrt_fuzz_$kind" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
     -max_len=65536 -print_final_stats=1 -artifact_prefix="fuzz-findings/$kind-" \
     "$work/corpus/$kind" "$work/seeds/$kind" >"$log" 2>&1; then
     runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
