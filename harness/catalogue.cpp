@@ -17,7 +17,44 @@ json iteration_json(const IterationCounters& it) {
           {"runs", registered_counters()[it.runs->id()].name}};
 }
 
+std::string counter_name(const Counter* c) {
+  return c ? registered_counters()[c->id()].name : std::string();
+}
+
+json design_json(const MethodInfo::ClaimDesign& d) {
+  json metric = json::array();
+  for (const Counter* c : d.metric) metric.push_back(counter_name(c));
+  json fixed = json::object();
+  for (const auto& [name, value] : d.fixed) fixed[name] = value;
+  return {{"claim", d.claim},
+          {"experiment", d.experiment},
+          {"structure", d.structure},
+          {"variable", d.variable},
+          {"param", d.param},
+          {"values", d.values},
+          {"N", d.N},
+          {"M", d.M},
+          {"B", d.B},
+          {"metric", metric},
+          {"per", counter_name(d.per)},
+          {"x", d.x},
+          {"max", d.max},
+          {"fixed", fixed},
+          {"replicates", d.replicates},
+          {"shapes", d.shapes}};
+}
+
+json real_time_json(const MethodInfo& m) {
+  json designs = json::array();
+  for (const MethodInfo::RealTimeDesign& r : m.real_time_designs)
+    designs.push_back(
+        {{"experiment", r.experiment}, {"N", r.N}, {"repetitions", r.repetitions}, {"why", r.why}});
+  return designs;
+}
+
 json method_json(const MethodInfo& m) {
+  json designs = json::array();
+  for (const MethodInfo::ClaimDesign& d : m.designs) designs.push_back(design_json(d));
   json claims = json::array();
   for (const auto& c : m.claims)
     claims.push_back({{"quantity", c.quantity},
@@ -39,7 +76,9 @@ json method_json(const MethodInfo& m) {
           {"real_time_claim", m.real_time_claim},
           {"iterative_claim", m.iterative_claim},
           {"iteration_counters", iteration_json(m.iterations)},
-          {"own_items", m.own_items}};
+          {"own_items", m.own_items},
+          {"designs", designs},
+          {"real_time_designs", real_time_json(m)}};
 }
 
 json claim_json(const Claim& c) {

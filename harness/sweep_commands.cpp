@@ -151,6 +151,25 @@ void claim_folder(const std::string& dir, bool resume, bool overwrite) {
   move_aside(dir);
 }
 
+// Where the runs already in DIR were made, kept when --resume rewrites context.json: the earlier
+// contexts' commits, machines and run counts, oldest first, each without its config.
+json earlier_runs_context(const std::string& dir, size_t runs_done) {
+  const std::string path = dir + "/context.json";
+  if (!fs::is_regular_file(path)) return json::array();
+  json old = read_json_file(path);
+  if (!old.is_object()) input_error("{}: not an object", path);
+  json earlier = old.value("earlier", json::array());
+  if (!earlier.is_array()) input_error("{}: \"earlier\" is not a list", path);
+  size_t counted = 0;
+  for (const json& e : earlier) counted += e.is_object() ? e.value("runs", size_t(0)) : 0;
+  old.erase("config");
+  old.erase("earlier");
+  old.erase("shard");
+  old["runs"] = runs_done - std::min(counted, runs_done);
+  if (old["runs"] != 0) earlier.push_back(old);  // a resume that ran nothing made no run
+  return earlier;
+}
+
 // Runs the `selected` runs of `config` not yet in DIR/runs.jsonl (with --resume); returns all
 // results in DIR afterwards. A shard's `shard_record` (its index and runs) goes into
 // context.json, so that a merge can tell a complete shard from a cut one.
@@ -165,6 +184,7 @@ std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& d
   const std::set<std::string> done = resuming ? resume_from(jsonl) : std::set<std::string>{};
   json context = machine_context(config.raw);
   if (!shard_record.is_null()) context["shard"] = shard_record;
+  if (resuming) context["earlier"] = earlier_runs_context(dir, done.size());
   // Written first: on a read-only or full file system this is the one-line error, before the
   // old results are touched.
   write_json(dir + "/context.json", context);

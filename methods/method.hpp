@@ -150,6 +150,41 @@ struct MethodInfo {
     std::string source;  // "section 5.5.2"
   };
   std::vector<OtherClaim> other_claims = {};
+  // How the thesis config sweeps this method's own claims (scripts/make_thesis_config.py writes
+  // configs/thesis.json from these): one design per claim and experiment, on the sphere.
+  struct ClaimDesign {
+    std::string claim = "leaf";  // the claim id's suffix: "<id>/leaf"
+    // Methods naming the same experiment share its runs, so their designs must agree (the
+    // generator refuses them if they do not): e.g. every octree splat method in "leaf_K_octree".
+    std::string experiment;
+    std::string structure = {};  // the structure swept on, when not the method's own default
+    std::string variable = {};   // the fit's variable ("K", "k", "I"); empty: a threshold claim
+    std::string param = {};      // the parameter swept through `values`; empty: none swept
+    std::vector<int> values = {};
+    int N = 5000, M = 1024, B = 0;
+    std::vector<const Counter*> metric;  // fitted as their sum per `per`
+    const Counter* per = nullptr;
+    // A run column fitted against instead of the variable. I is not a knob: runs stop when the ray
+    // leaves the local surface whatever the cap, so the I sweeps fit against the measured
+    // iterations per run ("I_run"), where K per iteration is an identity: a loop check.
+    std::string x = {};
+    double max = 0;  // a threshold claim's bound on metric per `per`; 0: a growth claim
+    // Parameters held for the whole experiment: the I sweeps hold tolerance = 0, so that the
+    // iteration cap, not convergence, ends the runs.
+    std::vector<std::pair<std::string, double>> fixed = {};
+    int replicates = 3;  // dataset seeds per grid point (the pure error a fit is tested against)
+    // On the four shapes of the iteration claims (sphere, torus, bumpy sphere, building scan).
+    bool shapes = false;
+  };
+  std::vector<ClaimDesign> designs = {};
+  // Where Table 5.1's real-time claim is judged: one frame at N points, 512x512, 1 spp, 1 bounce,
+  // in the common experiment unless a method needs its own (minutes a frame, the paper's own N).
+  struct RealTimeDesign {
+    std::string experiment = "real_time";
+    int N = 1000000, repetitions = 5;
+    std::string why = {};  // the experiment's description when it is the method's own
+  };
+  std::vector<RealTimeDesign> real_time_designs = {RealTimeDesign{}};
 
   // One of the thesis's surveyed methods (it has a reference number), not a reference oracle.
   [[nodiscard]] bool surveyed() const { return thesis_ref != "-"; }

@@ -52,6 +52,14 @@ def describe(f):
             f"(claimed {f.get('expected_model')}; {f.get('reason', '')})")
 
 
+def earlier_text(ctx):
+    """The commits of runs made before a --resume (context.json's "earlier")."""
+    parts = [f"{e.get('runs', '?')} of them earlier, at `{str(e.get('git_commit', '?'))[:12]}`"
+             f"{', uncommitted changes' if e.get('git_dirty') else ''}"
+             for e in ctx.get("earlier", [])]
+    return "; " + "; ".join(parts) if parts else ""
+
+
 def section(d):
     fits = json.load(open(os.path.join(d, "fits.json")))
     ctx = json.load(open(os.path.join(d, "context.json")))
@@ -65,7 +73,7 @@ def section(d):
                f"{', uncommitted changes' if ctx.get('git_dirty') else ''}"
                + (f", fitted at `{str(fit_ctx.get('git_commit', '?'))[:12]}`"
                   f"{', uncommitted changes' if fit_ctx.get('git_dirty') else ''}" if refit else "")
-               + f"). {tally_text(fits)}")
+               + earlier_text(ctx) + f"). {tally_text(fits)}")
     out.append("")
     out.append("| claims | fits | " + " | ".join(ORDER) + " | holds: faster growth at most (median, worst) |")
     out.append("|---|---|" + "---|" * len(ORDER) + "---|")

@@ -55,6 +55,20 @@ def parameter_rows(params):
     return "\n".join(rows) + "\n"
 
 
+def designs(m):
+    """Where the thesis config judges the method's own claims (its declared designs)."""
+    out = []
+    for d in m["designs"]:
+        what = (f"{d['variable']} through `{d['param']}` = {', '.join(map(str, d['values']))}"
+                if d["param"] else f"at most {d['max']:g}")
+        out.append(f"{d['claim']} in `{d['experiment']}` ({what}; "
+                   f"{' + '.join(d['metric'])} per {d['per']}" +
+                   (f", against {d['x']}" if d["x"] else "") + ")")
+    if m["real_time_claim"]:
+        out += [f"real_time in `{r['experiment']}` (N = {r['N']})" for r in m["real_time_designs"]]
+    return "; ".join(out) or "no claim of its own"
+
+
 def method_section(m):
     claims = "; ".join(f"{c['quantity']} {c['complexity']} in {', '.join(c['variables'])} "
                        f"({c['source']})" for c in m["claims"]) or "none"
@@ -67,7 +81,8 @@ def method_section(m):
              f"{m['iterative_claim'] or 'no'}"
              + (f" (I = {m['iteration_counters']['steps']} / {m['iteration_counters']['runs']})"
                 if m.get("iteration_counters") else ""),
-             f"- work counters: {', '.join(m['work_counters']) or 'traversal only'}"]
+             f"- work counters: {', '.join(m['work_counters']) or 'traversal only'}",
+             f"- swept in configs/thesis.json: {designs(m)}"]
     return (f"\n### {m['id']}\n\n{cell(m['description'])}\n\n" + "\n".join(facts) +
             "\n\nParameters:\n\n" + parameter_rows(m["parameters"]))
 

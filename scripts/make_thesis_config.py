@@ -4,8 +4,10 @@
 the time, a violation a class up at least 90%, a between-class one `holds` at most 5%).
 Growth designs span 2 decades in N and M and at least 1 in K, k, S, B; op-count experiments run
 REPLICATES dataset seeds per grid point, whose scatter is the pure error the claimed model's lack
-of fit is tested against. Which methods are real-time, iterative or build over their own items
-is read from the registry (`pcrt list --json`: what each method declares), never listed here.
+of fit is tested against. Which methods are real-time, iterative or build over their own items,
+and how each method's own claims are swept (MethodInfo::designs, ::real_time_designs), is read
+from the registry (`pcrt list --json`: what each method declares), never listed here; every
+claim the registry says is tested must be judged by some experiment, or this script fails.
 Run it after changing the design or a method's declaration; the config is committed.
 Usage: make_thesis_config.py [--pcrt PCRT] [OUT | --check CONFIG]"""
 import argparse, json, subprocess, sys
@@ -16,8 +18,9 @@ ARGS.add_argument("--check", help="exit 1 unless CONFIG is what this script writ
 ARGS.add_argument("out", nargs="?", default="configs/thesis.json")
 ARGS = ARGS.parse_args()
 try:
-    METHODS = json.loads(subprocess.run([ARGS.pcrt, "list", "--json"], check=True,
-                                        capture_output=True, text=True).stdout)["methods"]
+    CATALOGUE = json.loads(subprocess.run([ARGS.pcrt, "list", "--json"], check=True,
+                                          capture_output=True, text=True).stdout)
+    METHODS = CATALOGUE["methods"]
 except (OSError, subprocess.CalledProcessError) as e:
     sys.exit(f"{ARGS.pcrt}: cannot list the methods ({e}); build pcrt or pass --pcrt")
 
@@ -39,6 +42,80 @@ def fit(claim, variable=None, metric=WORK, per=None, **kw):
     if per: f["per"] = per
     f.update(kw)
     return f
+
+def whole(v):
+    return int(v) if isinstance(v, float) and v.is_integer() else v
+
+AGREE = ("structure", "variable", "param", "values", "N", "M", "B", "per", "x", "max", "fixed", "replicates",
+         "shapes")
+
+def group_designs():
+    """The methods' designs (MethodInfo::designs) by experiment. Methods naming one experiment
+    share its runs: their designs must agree on everything but the counters summed (the union is
+    fitted: a method's own counters are zero on the others' runs), and declare the same claims."""
+    groups = {}
+    for m in METHODS:
+        for d in m["designs"]:
+            g = groups.setdefault(d["experiment"], {"methods": [], "claims": {}, "by": {}})
+            if m["id"] not in g["methods"]:
+                g["methods"].append(m["id"])
+            g["by"].setdefault(m["id"], set()).add(d["claim"])
+            first = g["claims"].setdefault(d["claim"], dict(d, metric=[], first=m["id"]))
+            for k in AGREE:
+                if first[k] != d[k]:
+                    sys.exit(f"{m['id']}: design {d['experiment']}/{d['claim']} has {k} = {d[k]}, "
+                             f"{first['first']} declares {first[k]} for the same experiment")
+            first["metric"] += [c for c in d["metric"] if c not in first["metric"]]
+    for name, g in groups.items():
+        for mid, claims in g["by"].items():
+            if claims != set(g["claims"]):
+                sys.exit(f"{mid}: experiment {name} judges claims {sorted(g['claims'])}, "
+                         f"the method declares {sorted(claims)} in it")
+    return groups
+
+def declared_experiments():
+    out = []
+    for name, g in group_designs().items():
+        d = next(iter(g["claims"].values()))
+        grid = {"N": [d["N"]], "M": [d["M"]], "B": [d["B"]]}
+        if d["param"]:
+            grid["set." + d["param"]] = d["values"]
+        e = {"name": name, "kind": "render", "methods": g["methods"],
+             "datasets": DATA4 if d["shapes"] else ["sphere"], "grid": grid}
+        if d["structure"]:
+            e["structures"] = [d["structure"]]
+        e.update({"set." + k: whole(v) for k, v in d["fixed"].items()})
+        if d["replicates"] != 1:
+            e["replicates"] = d["replicates"]
+        e["fits"] = [fit("{method}/" + claim, c["variable"] or None,
+                         ["ops_" + x for x in c["metric"]] if len(c["metric"]) > 1
+                         else "ops_" + c["metric"][0], "ops_" + c["per"],
+                         **({"x": c["x"]} if c["x"] else {}),
+                         **({"max": whole(c["max"])} if c["max"] else {}))
+                     for claim, c in g["claims"].items()]
+        out.append(e)
+    return out
+
+def real_time_experiments():
+    """Table 5.1's real-time claims, in the experiments each real-time method declares
+    (MethodInfo::real_time_designs): one frame at N points, 512x512, 1 spp, 1 bounce."""
+    groups = {}
+    for m in METHODS:
+        if not m["real_time_claim"]:
+            continue
+        for r in m["real_time_designs"]:
+            g = groups.setdefault(r["experiment"], dict(r, methods=[], first=m["id"]))
+            if (g["N"], g["repetitions"], g["why"]) != (r["N"], r["repetitions"], r["why"]):
+                sys.exit(f"{m['id']}: real-time experiment {r['experiment']} differs from "
+                         f"{g['first']}'s (N, repetitions and description must agree)")
+            g["methods"].append(m["id"])
+    default = (f"Table 5.1's real-time methods at 10^6 points (Wald and Seidel's own N), "
+               f"512x512, 1 spp, 1 bounce")
+    return [{"name": name, "kind": "render", "methods": g["methods"], "datasets": ["sphere"],
+             "description": g["why"] or default,
+             "grid": {"N": [g["N"]], "M": [262144], "B": [1]}, "repetitions": g["repetitions"],
+             "fits": [fit("{method}/real_time", None, "fps", min=1)]}
+            for name, g in groups.items()]
 
 E = []
 for name, ds, ns in [("build_sphere", "sphere", N_BUILD), ("build_scan", SCAN, N_SCAN)]:
@@ -96,44 +173,8 @@ E.append({"name": "frame_in_B", "kind": "render", "methods": ["surveyed"], "data
           "grid": {"N": [5000], "M": [256], "B": [1, 2, 3, 4, 6, 8, 12, 16, 24, 32]},
           "replicates": REPLICATES,
           "fits": [fit("{method}/frame", "B")]})
-E.append({"name": "leaf_K_octree", "kind": "render",
-          "methods": ["goradia_2010", "linsen_2007", "kashyap_2010_splat", "schaufler_jensen_2000", "wand_strasser_2003"],
-          "datasets": ["sphere"], "grid": {"N": [20000], "M": [1024], "B": [0], "set.leaf_size": [2, 4, 8, 16, 32, 64, 128]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "K", ["ops_splat_tests", "ops_projection_tests"], "ops_leaves_visited")]})
-E.append({"name": "leaf_K_kd_tree", "kind": "render", "methods": ["hubo_2006", "wald_seidel_2005", "cai_2011"],
-          "datasets": ["sphere"], "grid": {"N": [20000], "M": [1024], "B": [0], "set.leaf_size": [2, 4, 8, 16, 32, 64, 128, 256, 512]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "K", "ops_weighted_plane_terms", "ops_leaves_visited")]})
-E.append({"name": "leaf_K_mls", "kind": "render", "methods": ["adamson_alexa_2003", "tejada_2006", "tejada_2007"],
-          "datasets": ["sphere"], "grid": {"N": [5000], "M": [1024], "B": [0], "set.K": [6, 8, 12, 16, 24, 32, 48, 64, 96, 128]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "K", "ops_mls_neighbours", "ops_mls_runs")]})
-E.append({"name": "leaf_K_adams", "kind": "render", "methods": ["adams_2005"], "datasets": ["sphere"],
-          "grid": {"N": [5000], "M": [1024], "B": [0], "set.K": [4, 6, 8, 12, 16, 24, 32, 48, 64]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "K", "ops_weighted_plane_terms", "ops_newton_runs")]})
-E.append({"name": "leaf_K_hubo_2007", "kind": "render", "methods": ["hubo_2007"], "datasets": ["sphere"],
-          "grid": {"N": [20000], "M": [1024], "B": [0], "set.patch_points": [4, 8, 16, 32, 64, 128, 256]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "K", "ops_weighted_plane_terms", "ops_patch_runs", x="set_patch_points")]})
-E.append({"name": "leaf_K_cai_2015", "kind": "render", "methods": ["cai_2015"], "datasets": ["sphere"],
-          "grid": {"N": [5000], "M": [1024], "B": [0], "set.K": [3, 4, 6, 8, 12, 16, 24, 32]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "K", ["ops_knn_point_tests", "ops_fan_triangles"], "ops_knn_march_steps"),
-                   fit("cai_2015/fan", "K", "ops_fan_triangles", "ops_knn_march_steps")]})
-E.append({"name": "leaf_k_implicit", "kind": "render", "methods": ["kashyap_2010_implicit", "goradia_2011"],
-          "datasets": ["sphere"], "grid": {"N": [5000], "M": [1024], "B": [0], "set.k": [1, 2, 4, 8, 16, 32, 64]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "k", "ops_implicit_march_steps", "ops_implicit_cells_marched")]})
-E.append({"name": "leaf_k_wald_seidel", "kind": "render", "methods": ["wald_seidel_2005"], "datasets": ["sphere"],
-          "grid": {"N": [5000], "M": [1024], "B": [0], "set.k": [1, 2, 4, 8, 16, 32, 64]}, "replicates": REPLICATES,
-          "fits": [fit("{method}/leaf", "k", "ops_sample_evaluations", "ops_sample_refinements")]})
-# I is not a knob: runs stop when the ray misses the local surface whatever the cap, so the cap
-# does not hold I. Fitted against the measured iterations per run, the leaf cost is K per
-# iteration by construction: an identity (a loop check), reported outside the tally.
-for name, methods, metric, per in [
-        ("leaf_I_mls", ["adamson_alexa_2003", "tejada_2006"], "ops_mls_neighbours", "ops_mls_runs"),
-        ("leaf_I_newton", ["adams_2005", "hubo_2006", "hubo_2007"], "ops_newton_steps", "ops_newton_runs"),
-        ("leaf_I_cai_2011", ["cai_2011"], "ops_height_steps", "ops_height_starts")]:
-    E.append({"name": name, "kind": "render", "methods": methods, "datasets": ["sphere"],
-              "set.tolerance": 0,
-              "grid": {"N": [5000], "M": [1024], "B": [0], "set.max_iterations": [1, 2, 3, 4, 6, 8, 12]},
-              "fits": [fit("{method}/leaf", "I", metric, per, x="I_run")]})
 DATA4 = ["sphere", "torus", "bumpy_sphere", SCAN]
+E.extend(declared_experiments())
 E.append({"name": "mls_iterations", "kind": "render", "methods": ["adamson_alexa_2003", "tejada_2006"],
           "datasets": DATA4, "grid": {"N": [20000], "M": [4096], "B": [1]},
           # The thesis's "2 or 3" sits in Algorithm 3's refinement loop: per intersection run. Per
@@ -144,9 +185,6 @@ E.append({"name": "iterations", "kind": "render", "methods": ITERATIVE, "dataset
           "description": "chapter 6: iterations per iterative run few enough not to matter",
           "grid": {"N": [20000], "M": [4096], "B": [1]},
           "fits": [fit("{method}/iterations", None, "I_run", max=3)]})
-E.append({"name": "tejada_2007_one_step", "kind": "render", "methods": ["tejada_2007"], "datasets": DATA4,
-          "grid": {"N": [20000], "M": [4096], "B": [1]},
-          "fits": [fit("tejada_2007/iterations", None, "ops_mls_fits", "ops_mls_runs", max=1)]})
 E.append({"name": "delaunay_uniform", "kind": "reconstruct", "reconstructions": ["delaunay"],
           "description": "the thesis's precondition: points uniform in a ball",
           "datasets": ["ball"], "grid": {"N": geo(2000, 256000, 8)}, "repetitions": 5,
@@ -165,21 +203,30 @@ E.append({"name": "crossover", "kind": "crossover", "methods": ["adamson_alexa_2
           "replicates": REPLICATES,
           "fits": [fit("direct/total", "N", ["direct_setup_s", "direct_frame_s"]),
                    fit("reconstruction/total", "N", ["mesh_setup_s", "mesh_frame_s"])]})
-E.append({"name": "real_time_brute_force", "kind": "render", "methods": ["tejada_2006"], "datasets": ["sphere"],
-          "description": "Tejada 2006 traces secondary rays through every point (about 90 s a frame here): one repetition",
-          "grid": {"N": [1000000], "M": [262144], "B": [1]}, "repetitions": 1,
-          "fits": [fit("{method}/real_time", None, "fps", min=1)]})
-E.append({"name": "real_time_paper_N", "kind": "render", "methods": ["goradia_2011"], "datasets": ["sphere"],
-          "description": "Goradia 2011 at its paper's own 5 x 10^6 points and 512x512 (about 80 s of preparation here): one repetition",
-          "grid": {"N": [5000000], "M": [262144], "B": [1]}, "repetitions": 1,
-          "fits": [fit("{method}/real_time", None, "fps", min=1)]})
-E.append({"name": "real_time", "kind": "render", "methods": [m for m in REAL_TIME if m != "tejada_2006"], "datasets": ["sphere"],
-          "description": "Table 5.1's real-time methods at 10^6 points (Wald and Seidel's own N), 512x512, 1 spp, 1 bounce",
-          "grid": {"N": [1000000], "M": [262144], "B": [1]}, "repetitions": 5,
-          "fits": [fit("{method}/real_time", None, "fps", min=1)]})
+E.extend(real_time_experiments())
 cfg = {"name": "thesis",
        "description": "Every claim of the registry pcrt can judge (Tables 5.1, 5.4, 5.5, 6.1, sections 5.1.1, 5.4, 5.5.1, 5.5.2, chapters 6 and 7), on a synthetic sphere (and torus, cube, ball) and a real scan (CGAL's building.ply, subsampled). Written by scripts/make_thesis_config.py. Frame claims are judged on each method's declared work, never on rays.",
        "threads": 2, "repetitions": 1, "time_limit_s": 180, "experiments": E}
+def judged(experiments):
+    """The claim ids the experiments' fits judge, their templates expanded."""
+    surveyed = [m["id"] for m in METHODS if m["thesis_ref"] != "-"]
+    ids = set()
+    for e in experiments:
+        methods = surveyed if e.get("methods") == ["surveyed"] else e.get("methods", [])
+        for f in e["fits"]:
+            ids |= {f["claim"].format(method=m, structure=s)
+                    for m in methods or [""] for s in e.get("structures", [""])}
+    return ids
+
+# `pcrt calibrate` judges the calibration workloads, and a crossover experiment measures chapter
+# 7's crossover frames rather than fitting them; every other tested claim is a sweep's fit.
+NOT_SWEPT = {"reconstruction/crossover"} if any(e["kind"] == "crossover" for e in E) else set()
+unjudged = sorted(c["id"] for c in CATALOGUE["claims"]
+                  if c["tested"] and not c["id"].startswith("calibration/") and c["id"] not in NOT_SWEPT)
+unjudged = [c for c in unjudged if c not in judged(E)]
+if unjudged:
+    sys.exit(f"make_thesis_config.py: no experiment judges the registry's tested claims "
+             f"{', '.join(unjudged)}: declare a design for them on their method")
 if ARGS.check:
     if json.load(open(ARGS.check)) != cfg:
         print(f"{ARGS.check}: not what scripts/make_thesis_config.py writes from the registry "

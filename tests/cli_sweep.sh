@@ -23,6 +23,12 @@ JSON
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --fit >/dev/null
 
 test "$(wc -l <"$dir/a/runs.jsonl")" -eq 18
+# The resumed folder's context keeps the first sweep's (its commit and its 18 runs, one of them
+# since torn and redone); the resumes that ran nothing, or only the redone run, add no entry.
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --resume | grep -q "0 runs done (18 already done"
+/usr/bin/python3 -c 'import json, sys; e = json.load(open(sys.argv[1]))["earlier"]
+assert [x["runs"] for x in e] == [18] and "config" not in e[0], e' "$dir/a/context.json" ||
+  { echo "FAIL: --resume lost the earlier runs' context"; exit 1; }
 head -1 "$dir/a/runs.csv" | python3 -c '
 import sys
 cols = sys.stdin.read().strip().split(",")
@@ -75,6 +81,12 @@ mv "$dir/s.ply.away" "$dir/cfg/scans/s.ply"
 head -c -20 "$dir/a/runs.jsonl" >"$dir/t" && mv "$dir/t" "$dir/a/runs.jsonl"
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --resume | grep -q "1 runs done (17 already done"
 test "$(wc -l <"$dir/a/runs.jsonl")" -eq 18
+# The resumed folder's context keeps the first sweep's (its commit and its 18 runs, one of them
+# since torn and redone); the resumes that ran nothing, or only the redone run, add no entry.
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --resume | grep -q "0 runs done (18 already done"
+/usr/bin/python3 -c 'import json, sys; e = json.load(open(sys.argv[1]))["earlier"]
+assert [x["runs"] for x in e] == [18] and "config" not in e[0], e' "$dir/a/context.json" ||
+  { echo "FAIL: --resume lost the earlier runs' context"; exit 1; }
 # Shards and merge give the same runs.
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/s0" --shard 0/2 >/dev/null
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/s1" --shard 1/2 >/dev/null
@@ -179,6 +191,12 @@ cmp -s "$dir/a/runs.jsonl" "$dir/a_runs.before" || { echo "FAIL: runs.jsonl chan
 "$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --overwrite >/dev/null
 cmp -s "$dir/a/previous.1/runs.jsonl" "$dir/a_runs.before"
 test "$(wc -l <"$dir/a/runs.jsonl")" -eq 18
+# The resumed folder's context keeps the first sweep's (its commit and its 18 runs, one of them
+# since torn and redone); the resumes that ran nothing, or only the redone run, add no entry.
+"$pcrt" sweep "$dir/tiny.json" --out "$dir/a" --resume | grep -q "0 runs done (18 already done"
+/usr/bin/python3 -c 'import json, sys; e = json.load(open(sys.argv[1]))["earlier"]
+assert [x["runs"] for x in e] == [18] and "config" not in e[0], e' "$dir/a/context.json" ||
+  { echo "FAIL: --resume lost the earlier runs' context"; exit 1; }
 expect_error "--resume" sweep "$dir/tiny.json" --out "$dir/a" --resume --overwrite
 mkdir -p "$dir/held"
 (flock -x 9; echo 4242 >&9; sleep 30) 9>"$dir/held/.lock" &

@@ -108,7 +108,22 @@ void register_adams_2005(MethodRegistry& registry) {
       .work = {&kKnnResults, &kWeightedPointTerms},
       .iterative_claim = "Table 5.1",
       .iterations = {&kNewtonSteps, &kNewtonRuns},
-      .cost = {.prepare_ns = 107, .ray_ns = 371}});
+      .cost = {.prepare_ns = 107, .ray_ns = 371},
+      .designs = {{.experiment = "leaf_K_adams",
+                   .variable = "K",
+                   .param = "K",
+                   .values = {4, 6, 8, 12, 16, 24, 32, 48, 64},
+                   .metric = {&kWeightedPointTerms},
+                   .per = &kNewtonRuns},
+                  {.experiment = "leaf_I_newton",
+                   .variable = "I",
+                   .param = "max_iterations",
+                   .values = {1, 2, 3, 4, 6, 8, 12},
+                   .metric = {&kNewtonSteps},
+                   .per = &kNewtonRuns,
+                   .x = "I_run",
+                   .fixed = {{"tolerance", 0}},
+                   .replicates = 1}}});
 }
 
 }  // namespace pcrt

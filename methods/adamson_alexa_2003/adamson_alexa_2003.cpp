@@ -58,7 +58,22 @@ void register_adamson_alexa_2003(MethodRegistry& registry) {
       .work = {&kKnnResults, &kMlsNeighbours},
       .iterative_claim = "Table 5.1",
       .iterations = {&kMlsFits, &kMlsRuns},
-      .cost = {.prepare_ns = 58, .ray_ns = 777}});
+      .cost = {.prepare_ns = 58, .ray_ns = 777},
+      .designs = {{.experiment = "leaf_K_mls",
+                   .variable = "K",
+                   .param = "K",
+                   .values = {6, 8, 12, 16, 24, 32, 48, 64, 96, 128},
+                   .metric = {&kMlsNeighbours},
+                   .per = &kMlsRuns},
+                  {.experiment = "leaf_I_mls",
+                   .variable = "I",
+                   .param = "max_iterations",
+                   .values = {1, 2, 3, 4, 6, 8, 12},
+                   .metric = {&kMlsNeighbours},
+                   .per = &kMlsRuns,
+                   .x = "I_run",
+                   .fixed = {{"tolerance", 0}},
+                   .replicates = 1}}});
 }
 
 }  // namespace pcrt

@@ -110,7 +110,23 @@ void register_cai_2011(MethodRegistry& registry) {
       .real_time_claim = "Table 5.1",
       .iterative_claim = "Table 5.1",
       .iterations = {&kHeightSteps, &kHeightStarts},
-      .cost = {.prepare_ns = 116, .ray_ns = 149}});
+      .cost = {.prepare_ns = 116, .ray_ns = 149},
+      .designs = {{.experiment = "leaf_K_kd_tree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128, 256, 512},
+                   .N = 20000,
+                   .metric = {&kWeightedPointTerms},
+                   .per = &kLeavesVisited},
+                  {.experiment = "leaf_I_cai_2011",
+                   .variable = "I",
+                   .param = "max_iterations",
+                   .values = {1, 2, 3, 4, 6, 8, 12},
+                   .metric = {&kHeightSteps},
+                   .per = &kHeightStarts,
+                   .x = "I_run",
+                   .fixed = {{"tolerance", 0}},
+                   .replicates = 1}}});
 }
 
 }  // namespace pcrt

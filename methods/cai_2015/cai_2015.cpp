@@ -172,7 +172,20 @@ void register_cai_2015(MethodRegistry& registry) {
                         "(K-1)K/2 triangles of the k-NN fan per step",
                         "O(K^2)",
                         {"K"},
-                        "section 5.5.2"}}});
+                        "section 5.5.2"}},
+      .designs = {{.experiment = "leaf_K_cai_2015",
+                   .variable = "K",
+                   .param = "K",
+                   .values = {3, 4, 6, 8, 12, 16, 24, 32},
+                   .metric = {&kNeighbourTests, &kFanTriangles},
+                   .per = &kMarchSteps},
+                  {.claim = "fan",
+                   .experiment = "leaf_K_cai_2015",
+                   .variable = "K",
+                   .param = "K",
+                   .values = {3, 4, 6, 8, 12, 16, 24, 32},
+                   .metric = {&kFanTriangles},
+                   .per = &kMarchSteps}}});
 }
 
 }  // namespace pcrt

@@ -68,7 +68,14 @@ void register_goradia_2010(MethodRegistry& registry) {
       .work = {&kProjectionTests, &kSplatTests},
       .family = LeafFamily::kSplatBlend,
       .real_time_claim = "Table 5.1",
-      .cost = {.prepare_ns = 165, .ray_ns = 47}});
+      .cost = {.prepare_ns = 165, .ray_ns = 47},
+      .designs = {{.experiment = "leaf_K_octree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128},
+                   .N = 20000,
+                   .metric = {&kSplatTests},
+                   .per = &kLeavesVisited}}});
 }
 
 }  // namespace pcrt

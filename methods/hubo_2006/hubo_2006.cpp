@@ -189,7 +189,23 @@ void register_hubo_2006(MethodRegistry& registry) {
       },
       .iterative_claim = "Table 5.1",
       .iterations = {&kNewtonSteps, &kNewtonRuns},
-      .cost = {.prepare_ns = 79, .ray_ns = 58}});
+      .cost = {.prepare_ns = 79, .ray_ns = 58},
+      .designs = {{.experiment = "leaf_K_kd_tree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128, 256, 512},
+                   .N = 20000,
+                   .metric = {&kWeightedPointTerms},
+                   .per = &kLeavesVisited},
+                  {.experiment = "leaf_I_newton",
+                   .variable = "I",
+                   .param = "max_iterations",
+                   .values = {1, 2, 3, 4, 6, 8, 12},
+                   .metric = {&kNewtonSteps},
+                   .per = &kNewtonRuns,
+                   .x = "I_run",
+                   .fixed = {{"tolerance", 0}},
+                   .replicates = 1}}});
 }
 
 }  // namespace pcrt

@@ -251,7 +251,24 @@ void register_hubo_2007(MethodRegistry& registry) {
       .real_time_claim = "Table 5.1",
       .iterations = {&kNewtonSteps, &kNewtonRuns},
       .own_items = true,
-      .cost = {.prepare_ns = 58, .ray_ns = 74}});
+      .cost = {.prepare_ns = 58, .ray_ns = 74},
+      .designs = {{.experiment = "leaf_K_hubo_2007",
+                   .variable = "K",
+                   .param = "patch_points",
+                   .values = {4, 8, 16, 32, 64, 128, 256},
+                   .N = 20000,
+                   .metric = {&kWeightedPointTerms},
+                   .per = &kPatchRuns,
+                   .x = "set_patch_points"},
+                  {.experiment = "leaf_I_newton",
+                   .variable = "I",
+                   .param = "max_iterations",
+                   .values = {1, 2, 3, 4, 6, 8, 12},
+                   .metric = {&kNewtonSteps},
+                   .per = &kNewtonRuns,
+                   .x = "I_run",
+                   .fixed = {{"tolerance", 0}},
+                   .replicates = 1}}});
 }
 
 }  // namespace pcrt

@@ -25,7 +25,13 @@ void register_kashyap_2010_implicit(MethodRegistry& registry) {
       .work = {&kMarchingSteps},
       .real_time_claim = "Table 5.1",
       .own_items = true,
-      .cost = {.prepare_ns = 747, .ray_ns = 96}});
+      .cost = {.prepare_ns = 747, .ray_ns = 96},
+      .designs = {{.experiment = "leaf_k_implicit",
+                   .variable = "k",
+                   .param = "k",
+                   .values = {1, 2, 4, 8, 16, 32, 64},
+                   .metric = {&kMarchingSteps},
+                   .per = &kCellsMarched}}});
 }
 
 }  // namespace pcrt

@@ -170,7 +170,14 @@ void register_kashyap_2010_splat(MethodRegistry& registry) {
       .family = LeafFamily::kSplatBlend,
       .real_time_claim = "Table 5.1",
       .own_items = true,
-      .cost = {.prepare_ns = 157, .ray_ns = 38}});
+      .cost = {.prepare_ns = 157, .ray_ns = 38},
+      .designs = {{.experiment = "leaf_K_octree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128},
+                   .N = 20000,
+                   .metric = {&kSplatTests},
+                   .per = &kLeavesVisited}}});
 }
 
 }  // namespace pcrt

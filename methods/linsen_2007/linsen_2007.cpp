@@ -221,7 +221,14 @@ void register_linsen_2007(MethodRegistry& registry) {
       .own_data_bytes_per_point =
           sizeof(Eigen::Matrix3f) + 2 * sizeof(Vec3) + sizeof(float) + sizeof(uint32_t),
       .own_items = true,
-      .cost = {.prepare_ns = 345, .ray_ns = 48}});
+      .cost = {.prepare_ns = 345, .ray_ns = 48},
+      .designs = {{.experiment = "leaf_K_octree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128},
+                   .N = 20000,
+                   .metric = {&kSplatTests},
+                   .per = &kLeavesVisited}}});
 }
 
 }  // namespace pcrt

@@ -86,7 +86,16 @@ void register_reference_splat(MethodRegistry& registry) {
       .cost = {.prepare_ns = 97, .ray_ns = 41},
       // A flat disc carries its centre's normal to its rim: on the torus's tube (radius 0.25) a
       // disc of 8th-neighbour radius tilts about 3 degrees there.
-      .accuracy_misses = {{"torus", "normal median"}}});
+      .accuracy_misses = {{"torus", "normal median"}},
+      // Its own structure lists every item in one leaf: K is swept on a kd-tree's leaves.
+      .designs = {{.experiment = "leaf_K_reference",
+                   .structure = "kd_tree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128, 256, 512},
+                   .N = 20000,
+                   .metric = {&kSplatTests},
+                   .per = &kLeavesVisited}}});
 }
 
 }  // namespace pcrt

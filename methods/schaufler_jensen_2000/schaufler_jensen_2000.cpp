@@ -84,7 +84,14 @@ void register_schaufler_jensen_2000(MethodRegistry& registry) {
       .create = create_from<SchauflerJensen>(schaufler_jensen_params(), "schaufler_jensen_2000"),
       .work = {&kProjectionTests},
       .family = LeafFamily::kProjection,
-      .cost = {.prepare_ns = 130, .ray_ns = 60}});
+      .cost = {.prepare_ns = 130, .ray_ns = 60},
+      .designs = {{.experiment = "leaf_K_octree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128},
+                   .N = 20000,
+                   .metric = {&kProjectionTests},
+                   .per = &kLeavesVisited}}});
 }
 
 }  // namespace pcrt

@@ -34,7 +34,26 @@ void register_tejada_2006(MethodRegistry& registry) {
       .real_time_claim = "Table 5.1",
       .iterative_claim = "Table 5.1",
       .iterations = {&kMlsFits, &kMlsRuns},
-      .cost = {.prepare_ns = 35, .ray_ns = 744}});
+      .cost = {.prepare_ns = 35, .ray_ns = 744},
+      .designs = {{.experiment = "leaf_K_mls",
+                   .variable = "K",
+                   .param = "K",
+                   .values = {6, 8, 12, 16, 24, 32, 48, 64, 96, 128},
+                   .metric = {&kMlsNeighbours},
+                   .per = &kMlsRuns},
+                  {.experiment = "leaf_I_mls",
+                   .variable = "I",
+                   .param = "max_iterations",
+                   .values = {1, 2, 3, 4, 6, 8, 12},
+                   .metric = {&kMlsNeighbours},
+                   .per = &kMlsRuns,
+                   .x = "I_run",
+                   .fixed = {{"tolerance", 0}},
+                   .replicates = 1}},
+      .real_time_designs = {{.experiment = "real_time_brute_force",
+                             .repetitions = 1,
+                             .why = "Tejada 2006 traces secondary rays through every point "
+                                    "(about 90 s a frame here): one repetition"}}});
 }
 
 }  // namespace pcrt

@@ -37,7 +37,23 @@ void register_tejada_2007(MethodRegistry& registry) {
                                    "one MLS step, no iteration (I = 1)",
                                    "I <= 1",
                                    {},
-                                   "Table 6.1 (no I in O(MNK + SBNK))"}}});
+                                   "Table 6.1 (no I in O(MNK + SBNK))"}},
+                 .designs = {{.experiment = "leaf_K_mls",
+                              .variable = "K",
+                              .param = "K",
+                              .values = {6, 8, 12, 16, 24, 32, 48, 64, 96, 128},
+                              .metric = {&kMlsNeighbours},
+                              .per = &kMlsRuns},
+                             {.claim = "iterations",
+                              .experiment = "tejada_2007_one_step",
+                              .N = 20000,
+                              .M = 4096,
+                              .B = 1,
+                              .metric = {&kMlsFits},
+                              .per = &kMlsRuns,
+                              .max = 1,
+                              .replicates = 1,
+                              .shapes = true}}});
 }
 
 }  // namespace pcrt

@@ -185,7 +185,20 @@ void register_wald_seidel_2005(MethodRegistry& registry) {
       .real_time_claim = "Table 5.1",
       .iterative_claim = "Table 5.1",
       .iterations = {&kSampleRefinements, &kSampleRoots},
-      .cost = {.prepare_ns = 77, .ray_ns = 203}});
+      .cost = {.prepare_ns = 77, .ray_ns = 203},
+      .designs = {{.experiment = "leaf_K_kd_tree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128, 256, 512},
+                   .N = 20000,
+                   .metric = {&kWeightedPointTerms},
+                   .per = &kLeavesVisited},
+                  {.experiment = "leaf_k_wald_seidel",
+                   .variable = "k",
+                   .param = "k",
+                   .values = {1, 2, 4, 8, 16, 32, 64},
+                   .metric = {&kSampleEvaluations},
+                   .per = &kSampleRefinements}}});
 }
 
 }  // namespace pcrt

@@ -114,7 +114,14 @@ void register_wand_strasser_2003(MethodRegistry& registry) {
       .create = create_from<WandStrasser>(wand_strasser_params(), "wand_strasser_2003"),
       .work = {&kProjectionTests},
       .family = LeafFamily::kProjection,
-      .cost = {.prepare_ns = 110, .ray_ns = 165}});
+      .cost = {.prepare_ns = 110, .ray_ns = 165},
+      .designs = {{.experiment = "leaf_K_octree",
+                   .variable = "K",
+                   .param = "leaf_size",
+                   .values = {2, 4, 8, 16, 32, 64, 128},
+                   .N = 20000,
+                   .metric = {&kProjectionTests},
+                   .per = &kLeavesVisited}}});
 }
 
 }  // namespace pcrt
