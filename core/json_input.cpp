@@ -60,4 +60,22 @@ nlohmann::json read_json_file(const std::string& path) {
   return parse_json_text(read_file(path), path);
 }
 
+std::string optional_string(const nlohmann::json& obj, const char* key, const std::string& fallback,
+                            const std::string& where) {
+  if (!obj.is_object()) input_error("{}: must be an object", where);
+  const auto it = obj.find(key);
+  if (it == obj.end()) return fallback;
+  if (!it->is_string()) input_error("{}: {} must be a string, not {}", where, key, it->type_name());
+  return it->get<std::string>();
+}
+
+double optional_number(const nlohmann::json& obj, const char* key, double fallback,
+                       const std::string& where) {
+  if (!obj.is_object()) input_error("{}: must be an object", where);
+  const auto it = obj.find(key);
+  if (it == obj.end()) return fallback;
+  if (!it->is_number()) input_error("{}: {} must be a number, not {}", where, key, it->type_name());
+  return it->get<double>();
+}
+
 }  // namespace pcrt

@@ -18,4 +18,12 @@ nlohmann::json parse_json_text(std::string_view text, const std::string& source)
 // read_file (bounded, directories rejected) then parse_json_text.
 nlohmann::json read_json_file(const std::string& path);
 
+// An optional member of an object someone else wrote: `fallback` when absent, else its value.
+// Present with another type is an InputError naming `where` and the key (nlohmann's value()
+// would throw its own type_error, which names neither).
+std::string optional_string(const nlohmann::json& obj, const char* key, const std::string& fallback,
+                            const std::string& where);
+double optional_number(const nlohmann::json& obj, const char* key, double fallback,
+                       const std::string& where);
+
 }  // namespace pcrt

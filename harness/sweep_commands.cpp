@@ -161,7 +161,8 @@ json earlier_runs_context(const std::string& dir, size_t runs_done) {
   json earlier = old.value("earlier", json::array());
   if (!earlier.is_array()) input_error("{}: \"earlier\" is not a list", path);
   size_t counted = 0;
-  for (const json& e : earlier) counted += e.is_object() ? e.value("runs", size_t(0)) : 0;
+  for (const json& e : earlier)
+    counted += size_t(std::max(0.0, optional_number(e, "runs", 0, path + ": earlier")));
   old.erase("config");
   old.erase("earlier");
   old.erase("shard");

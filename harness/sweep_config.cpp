@@ -65,7 +65,7 @@ struct RunDefaults {
 // A count read from a config: a whole number in [lo, hi], else an error naming where it was.
 double whole_number(const json& raw, const char* key, double fallback, double lo, double hi,
                     const std::string& where) {
-  const double v = raw.value(key, fallback);
+  const double v = optional_number(raw, key, fallback, where);
   if (!(v >= lo && v <= hi && v == std::floor(v)))
     input_error("{}: {} = {} is impossible (a whole number from {} to {})", where, key, v, lo, hi);
   return v;
@@ -77,13 +77,13 @@ RunDefaults parse_defaults(const json& raw, const std::string& origin) {
                warmup = whole_number(raw, "warmup", 0, 0, 100, origin),
                seed = whole_number(raw, "seed", 1, 0, 1e15, origin);
   RunDefaults d;
-  d.time_limit_s = raw.value("time_limit_s", 300.0);
+  d.time_limit_s = optional_number(raw, "time_limit_s", 300.0, origin);
   if (!(d.time_limit_s > 0)) input_error("{}: time_limit_s must be positive", origin);
   d.threads = int(threads);
   d.reps = int(reps);
   d.warmup = int(warmup);
   d.seed = uint64_t(seed);
-  const std::string measure = raw.value("measure", std::string("both"));
+  const std::string measure = optional_string(raw, "measure", "both", origin);
   const std::optional<MeasureMode> mode = measure_mode_from_name(measure);
   if (!mode) input_error("{}: measure must be 'ops', 'time' or 'both', not '{}'", origin, measure);
   d.measure = *mode;
@@ -261,7 +261,7 @@ void parse_fit_metric(const json& f, const std::string& where, FitSpec& s) {
   if (!f.contains("metric")) input_error("{}: 'metric' is required", where);
   for (const std::string& m : string_list(f["metric"], where + ".metric"))
     s.metric.push_back(metric_term(m, where));
-  const std::string per = f.value("per", std::string());
+  const std::string per = optional_string(f, "per", "", where);
   if (per.empty()) return;
   if (!is_counter_column(per))
     input_error("{}.per: '{}' is not a counter (ops_NAME, pcrt list)", where, per);
@@ -300,12 +300,12 @@ void parse_fit_variables(const json& f, const std::string& where, FitSpec& s) {
         input_error("{}.free: '{}' is not one of K, k, I_run", where, v);
       s.free.push_back(*run_quantity_from_name(v));
     }
-  const std::string variable = f.value("variable", std::string());
+  const std::string variable = optional_string(f, "variable", "", where);
   if (!s.is_threshold() && variable.empty())
     input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
   if (!variable.empty() && !(s.variable = variable_from_name(variable)))
     input_error("{}: variable '{}' is not one of S M B N K k I", where, variable);
-  const std::string x = f.value("x", variable);
+  const std::string x = optional_string(f, "x", variable, where);
   if (x.empty()) return;
   s.x = run_quantity_from_name(x);
   using Source = RunQuantity::Source;
@@ -328,13 +328,13 @@ FitSpec parse_fit(const json& f, const std::string& experiment, const std::strin
   if (f.contains("by"))
     for (const std::string& b : string_list(f["by"], where + ".by"))
       s.by.push_back(group_column(b, where));
-  const std::string covariate = f.value("covariate", std::string());
+  const std::string covariate = optional_string(f, "covariate", "", where);
   if (!covariate.empty() && covariate != "K")
     input_error("{}.covariate: only K can be a covariate, not '{}'", where, covariate);
   if (!covariate.empty()) s.covariate = Variable::K;
-  s.short_range = f.value("short_range", std::string());
-  s.max = f.value("max", -1.0);
-  s.min = f.value("min", -1.0);
+  s.short_range = optional_string(f, "short_range", "", where);
+  s.max = optional_number(f, "max", -1.0, where);
+  s.min = optional_number(f, "min", -1.0, where);
   parse_fit_variables(f, where, s);
   check_not_rays_only(s, where);
   return s;
@@ -397,7 +397,7 @@ struct Experiment {
 };
 
 RunKind parse_kind(const json& e, const std::string& where) {
-  const std::string kind = e.value("kind", std::string());
+  const std::string kind = optional_string(e, "kind", "", where);
   const std::optional<RunKind> k = run_kind_from_name(kind);
   if (!k)
     input_error("{}: kind must be render, build, reconstruct, workload or crossover, not '{}'",
@@ -414,7 +414,7 @@ RunSpec experiment_base(const Experiment& x, const RunDefaults& d) {
   s.threads = d.threads;
   s.seed = d.seed;
   s.measure = d.measure;
-  const std::string camera = x.e.value("camera", std::string("outside"));
+  const std::string camera = optional_string(x.e, "camera", "outside", x.where);
   if (camera != "outside" && camera != "inside")
     input_error("{}: camera must be 'outside' or 'inside', not '{}'", x.where, camera);
   // Inside a closed surface every bounce hits again, so work per path grows with B.
@@ -489,7 +489,7 @@ std::vector<RunSpec> method_runs(const Experiment& x) {
         if (x.kind == RunKind::kCrossover) {
           spec.reconstruction = string_list(x.e.value("reconstructions", json("afsr")),
                                             x.where + ".reconstructions")[0];
-          spec.engine = x.e.value("engine", std::string("bvh"));
+          spec.engine = optional_string(x.e, "engine", "bvh", x.where);
           (void)ReconstructionRegistry::instance().get(spec.reconstruction, "reconstruction");
           (void)MeshEngineRegistry::instance().get(spec.engine, "mesh engine");
         }
@@ -561,7 +561,7 @@ void parse_experiment(const json& e, const std::string& where, size_t index, con
              where);
   Experiment x{e,
                where,
-               e.value("name", fmt::format("experiment{}", index)),
+               optional_string(e, "name", fmt::format("experiment{}", index), where),
                RunKind::kRender,
                RunSpec{},
                {},
@@ -608,10 +608,10 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin, Datas
              origin);
   if (raw.contains("dataset_dir") && !raw["dataset_dir"].is_string())
     input_error("{}: dataset_dir must be a folder name", origin);
-  const std::string dataset_dir = raw.value("dataset_dir", std::string());
+  const std::string dataset_dir = optional_string(raw, "dataset_dir", "", origin);
   SweepConfig c;
   c.raw = raw;
-  c.name = raw.value("name", fs::path(origin).stem().string());
+  c.name = optional_string(raw, "name", fs::path(origin).stem().string(), origin);
   const RunDefaults defaults = parse_defaults(raw, origin);
   c.time_limit_s = defaults.time_limit_s;
   if (!raw.contains("experiments") || !raw["experiments"].is_array() || raw["experiments"].empty())
@@ -639,7 +639,7 @@ SweepConfig load_sweep_config(const std::string& path) {
     // cluster's config.json) still find them.
     const fs::path folder = fs::absolute(fs::path(path)).parent_path();
     if (!raw.is_object()) input_error("{}: a sweep config is a JSON object", path);
-    const std::string given = raw.value("dataset_dir", std::string());
+    const std::string given = optional_string(raw, "dataset_dir", "", path);
     std::string dir = (folder / given).lexically_normal().string();
     while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
     raw["dataset_dir"] = dir;

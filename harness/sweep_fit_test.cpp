@@ -205,3 +205,39 @@ TEST_CASE("fit names are typed where the config is read", "[sweep][fit]") {
   bad["variable"] = "NK";
   REQUIRE_THAT(error_of(bad), Catch::Contains("variable 'NK' is not one of S M B N K k I"));
 }
+
+TEST_CASE("an optional key of the wrong type is an InputError naming it", "[sweep][config]") {
+  // nlohmann's value() throws its own type_error for these; the fuzzer found "per": {} first.
+  const json fit = {{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}};
+  const json experiment = {{"name", "e"},
+                           {"kind", "render"},
+                           {"methods", {"hubo_2006"}},
+                           {"datasets", {"sphere"}},
+                           {"grid", {{"N", {1000, 2000}}, {"M", {64}}, {"B", {0}}}},
+                           {"fits", {fit}}};
+  const json good = {{"name", "t"}, {"experiments", {experiment}}};
+  REQUIRE_NOTHROW(parse_sweep_config(good, "test"));
+  auto message = [](const json& raw) {
+    try {
+      (void)parse_sweep_config(raw, "test");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  for (const char* key : {"name", "measure", "time_limit_s", "threads", "dataset_dir"}) {
+    json bad = good;
+    bad[key] = json::object();
+    REQUIRE_THAT(message(bad), Catch::StartsWith("test:") && Catch::Contains(key));
+  }
+  for (const char* key : {"name", "kind", "camera", "repetitions", "replicates"}) {
+    json bad = good;
+    bad["experiments"][0][key] = json::object();
+    REQUIRE_THAT(message(bad), Catch::Contains("experiments[0]") && Catch::Contains(key));
+  }
+  for (const char* key : {"per", "variable", "x", "covariate", "short_range", "max", "min"}) {
+    json bad = good;
+    bad["experiments"][0]["fits"][0][key] = json::object();
+    REQUIRE_THAT(message(bad), Catch::Contains("fits[0]") && Catch::Contains(key));
+  }
+}
