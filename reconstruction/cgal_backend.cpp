@@ -212,12 +212,19 @@ TriangleDistanceTree::Closest TriangleDistanceTree::closest(const Vec3& x) const
   return {Vec3(float(p.x()), float(p.y()), float(p.z())), impl_->index(id)};
 }
 
+// The box query finds every triangle meeting the cube of half side r, which reaches r sqrt(3) at
+// its corners; the exact point-triangle distance keeps those of the ball (issue 30). A Sphere_3
+// query would not do: CGAL 5.5's sphere-triangle test is against the sphere's surface and misses a
+// triangle lying wholly inside it.
 void TriangleDistanceTree::triangles_near(const Vec3& x, float r,
                                           std::vector<uint32_t>& out) const {
   const CGAL::Bbox_3 box(x.x() - r, x.y() - r, x.z() - r, x.x() + r, x.y() + r, x.z() + r);
   std::vector<TriangleTree::Primitive::Id> ids;
   impl_->tree.all_intersected_primitives(box, std::back_inserter(ids));
-  for (const auto id : ids) out.push_back(impl_->index(id));
+  const Point c(x.x(), x.y(), x.z());
+  const double r2 = double(r) * double(r);
+  for (const auto id : ids)
+    if (CGAL::squared_distance(c, *id) <= r2) out.push_back(impl_->index(id));
 }
 
 }  // namespace pcrt

@@ -87,10 +87,13 @@ bool MeshSurface::intersect(const Ray& ray, float& t, Vec3& n) const {
   return true;
 }
 
+// The ball is centred on the surface point nearest x, as Surface::smooth_at says: around a point
+// off the surface (a phantom hit) it would otherwise judge the shape at the wrong place.
 bool MeshSurface::smooth_at(const Vec3& x, float radius) const {
-  const Vec3 n = normal(x);
+  const TriangleDistanceTree::Closest c = closest(x);
+  const Vec3 n = mesh_.normal(c.triangle);
   std::vector<uint32_t> near;
-  tree_->triangles_near(x, radius, near);
+  tree_->triangles_near(c.point, radius, near);
   for (const uint32_t i : near)
     if (angle_deg(n, mesh_.normal(i)) > kSmoothAngleDeg) return false;
   return true;

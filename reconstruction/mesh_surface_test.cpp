@@ -3,6 +3,7 @@
 #include "reconstruction/mesh_surface.hpp"
 
 #include <catch2/catch.hpp>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "core/morton.hpp"
@@ -158,4 +159,76 @@ TEST_CASE("Secondary rays: a mesh against itself is exact, a plate without its t
   // Inward rays leaving the bottom face meet the missing top: missed occluders.
   CHECK(r.inward.missed_occluders > 300);
   CHECK(r.outward.self_hits == 0);
+}
+
+namespace {
+
+// A flat square z = 0 and a small fin at right angles to it (normal along y) whose nearest point
+// to p is p + offset * (1, 1, 1): |offset| * sqrt(3) away, inside the cube of half side |offset|.
+TriangleMesh plane_with_fin(const Vec3& p, float offset, float h) {
+  TriangleMesh m;
+  m.vertices = {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const Vec3 c = p + Vec3::Constant(offset);
+  m.vertices.insert(m.vertices.end(), {c, c + Vec3(0.3f * h, 0, 0), c + Vec3(0, 0, 0.3f * h)});
+  m.triangles.push_back({4, 5, 6});
+  return m;
+}
+
+// One ray straight down onto p, judged against the truth traced exactly.
+AccuracyReport judge_down(const MeshSurface& truth, const Vec3& p, double h) {
+  OpCounters prep, c;
+  Timings timings;
+  const MeshScene exact(truth.mesh(), "bvh", prep, timings);
+  return evaluate_accuracy(exact, truth, h, {Ray{p + Vec3(0, 0, 1), Vec3(0, 0, -1)}}, c);
+}
+
+// Two triangles z = z0 over [x0, x1] x [4, 6]: a sheet floating above a 10 x 10 plate.
+TriangleMesh sheet(float x0, float x1, float z0) {
+  TriangleMesh m;
+  m.vertices = {Vec3(x0, 4, z0), Vec3(x1, 4, z0), Vec3(x1, 6, z0), Vec3(x0, 6, z0)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+}  // namespace
+
+// Issue 30: "a crease within 3.5 h" is a ball, not CGAL's box query (which reaches 3.5 h sqrt(3)
+// = 6.1 h along a diagonal). The fin stands 5.2 h away on the diagonal: inside the box only.
+TEST_CASE("The crease neighbourhood is a ball of 3.5 h, not a box", "[mesh_truth][accuracy]") {
+  const float h = 0.01f, reach = FeatureSplit::kFeatureReachH * h;
+  const Vec3 p(0.25f, -0.25f, 0);  // off the square's diagonal seam
+  const MeshSurface far(plane_with_fin(p, 3.0f * h, h), "fin at 5.2 h", "bvh");
+  const MeshSurface near(plane_with_fin(p, 1.5f * h, h), "fin at 2.6 h", "bvh");
+  CHECK(far.smooth_at(p, reach));
+  CHECK_FALSE(near.smooth_at(p, reach));
+  const AccuracyReport r_far = judge_down(far, p, h), r_near = judge_down(near, p, h);
+  REQUIRE(r_far.judged_hits == 1);
+  CHECK(r_far.judged_split.crease == 0);
+  CHECK(r_far.judged_split.open == 1);
+  REQUIRE(r_near.judged_hits == 1);
+  CHECK(r_near.judged_split.crease == 1);
+}
+
+// Issue 30: a phantom is near a crease when one lies within 3.5 h of the phantom's nearest surface
+// point, not within |d| + 3.5 h of the phantom itself. Sheets 20 h above a plate's top face stand
+// over points 7.5 h (not near) and 2 h (near) from its edge x = 10.
+TEST_CASE("Phantoms are judged near a crease at their nearest surface point",
+          "[mesh_truth][accuracy]") {
+  const float h = 0.02f;
+  const MeshSurface truth(box_mesh(Vec3(0, 0, 0), Vec3(10, 10, 1), false), "plate", "bvh");
+  OpCounters prep, c;
+  Timings timings;
+  for (const auto& [x0, x1, near] :
+       {std::tuple{10 - 10 * h, 10 - 5 * h, false}, std::tuple{10 - 3 * h, 10 - 1 * h, true}}) {
+    INFO("sheet over x in [" << x0 << ", " << x1 << "]");
+    const TriangleMesh floating = sheet(x0, x1, 1 + 20 * h);
+    const MeshScene scene(floating, "bvh", prep, timings);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 10; ++i)
+      rays.push_back(Ray{Vec3(0.5f * (x0 + x1), 4.5f + 0.1f * float(i), 5), Vec3(0, 0, -1)});
+    const AccuracyReport r = evaluate_accuracy(scene, truth, h, rays, c);
+    REQUIRE(r.phantom == 10);
+    CHECK(r.phantom_near_crease == (near ? 10u : 0u));
+  }
 }

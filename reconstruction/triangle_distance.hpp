@@ -24,7 +24,7 @@ class TriangleDistanceTree {
     uint32_t triangle;
   };
   [[nodiscard]] Closest closest(const Vec3& x) const;
-  // Appends the triangles whose boxes overlap the cube of half side `r` around x.
+  // Appends the triangles within distance `r` of x (a closed ball: point-to-triangle distance).
   void triangles_near(const Vec3& x, float r, std::vector<uint32_t>& out) const;
 
  private:

@@ -81,9 +81,11 @@ Feature feature_at(const Surface& truth, const Vec3& p, float h) {
   return truth.intersect(inward, t, n) ? Feature::kThin : Feature::kOpen;
 }
 
+// Judged at the phantom's nearest surface point (smooth_at centres its ball there): adding the
+// phantom's distance to the reach, as before issue 30, called a splat standing 20 h off a face
+// "near" every crease within 23.5 h of that face.
 bool near_crease(const Surface& truth, const Vec3& phantom, float h) {
-  const float reach = std::abs(truth.signed_distance(phantom)) + FeatureSplit::kFeatureReachH * h;
-  return !truth.smooth_at(phantom, reach);
+  return !truth.smooth_at(phantom, FeatureSplit::kFeatureReachH * h);
 }
 
 void count_feature(FeatureSplit& split, Feature f) {

@@ -12,8 +12,9 @@
 namespace pcrt {
 
 // Where failures happen, by the shape at the exact front hit: on a wall thinner than kThinWallH
-// (measured along the inward normal to the back side), within kFeatureReachH of a crease (faces
-// more than 15 degrees apart), or on open smooth surface. The same split of every judged hit is
+// (measured along the inward normal to the back side), near a crease (a face within the ball of
+// radius kFeatureReachH around the hit whose normal is more than 15 degrees from the hit's face),
+// or on open smooth surface. The same split of every judged hit is
 // the baseline: a cause is established when the failures crowd where the shape has that feature.
 struct FeatureSplit {
   // Twice the widest kernel reach of the surveyed methods' defaults (3.5 h: Wald and Seidel's
@@ -38,7 +39,7 @@ struct AccuracyReport {
   // crease or a feature thinner than the method's kernel).
   size_t see_through_smooth = 0;
   // Causes: judged hits, see-through hits and holes split by the shape at the exact first hit;
-  // phantom hits within kFeatureReachH (beyond their distance to the surface) of a crease.
+  // phantom hits with a crease within kFeatureReachH of their nearest surface point.
   FeatureSplit judged_split, see_through_split, hole_split;
   size_t phantom_near_crease = 0;
   size_t normal_judged = 0;      // good hits where the surface is smooth within 2h (normals judged)

@@ -120,3 +120,59 @@ TEST_CASE("the implicit octree finds a flat face lying on its grid planes", "[ac
   }
   CHECK(on_base == rays);
 }
+
+namespace {
+
+// The plane z = 0 over [-1, 1]^2 with a crease declared along x = 0: smooth_at answers as the
+// Surface contract says, for the ball of `radius` around the point nearest x.
+struct CreasedPlane final : Surface {
+  [[nodiscard]] std::string describe() const override { return "creased plane"; }
+  [[nodiscard]] float signed_distance(const Vec3& x) const override { return x.z(); }
+  [[nodiscard]] Vec3 normal(const Vec3&) const override { return Vec3::UnitZ(); }
+  [[nodiscard]] Aabb bounds() const override { return Aabb{Vec3(-1, -1, 0), Vec3(1, 1, 0)}; }
+  Vec3 sample(Rng& rng, Vec3& n) const override {
+    n = Vec3::UnitZ();
+    return Vec3(2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 0);
+  }
+  bool intersect(const Ray& ray, float& t, Vec3& n) const override {
+    if (ray.d.z() == 0) return false;
+    t = -ray.o.z() / ray.d.z();
+    n = Vec3::UnitZ();
+    return t >= ray.tmin && t <= ray.tmax;
+  }
+  [[nodiscard]] bool smooth_at(const Vec3& x, float radius) const override {
+    return std::abs(x.x()) > radius;
+  }
+};
+
+// A sheet z = height over x in [x0, x1]: every hit on it is a phantom above the plane.
+struct FloatingSheet final : SceneIntersector {
+  float x0, x1, height;
+  FloatingSheet(float a, float b, float z) : x0(a), x1(b), height(z) {}
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters&) const override {
+    const float t = (height - ray.o.z()) / ray.d.z();
+    const Vec3 p = ray.at(t);
+    if (!(t > 0 && t < hit.t && p.x() >= x0 && p.x() <= x1)) return false;
+    hit = Hit{t, p, Vec3::UnitZ(), 0, 0};
+    return true;
+  }
+};
+
+}  // namespace
+
+// Issue 30: a phantom 20 h above the plane, over a point 7.5 h from the crease, is not near it
+// (3.5 h of its nearest surface point); the old rule looked |d| + 3.5 h = 23.5 h around it.
+TEST_CASE("the evaluator judges a phantom's crease at its nearest surface point", "[accuracy]") {
+  const float h = 0.01f;
+  const CreasedPlane truth;
+  OpCounters c;
+  for (const auto& [x, near] : {std::pair{7.5f * h, false}, std::pair{2.0f * h, true}}) {
+    INFO("phantoms over x = " << x / h << " h");
+    const FloatingSheet sheet(x - 0.5f * h, x + 0.5f * h, 20 * h);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 10; ++i) rays.push_back(Ray{Vec3(x, 0.05f * float(i), 1), Vec3(0, 0, -1)});
+    const AccuracyReport r = evaluate_accuracy(sheet, truth, h, rays, c);
+    REQUIRE(r.phantom == 10);
+    CHECK(r.phantom_near_crease == (near ? 10u : 0u));
+  }
+}
