@@ -26,9 +26,19 @@ class Surface {
   // First intersection in [ray.tmin, ray.tmax]. The default sphere-traces signed_distance (which
   // must be a lower bound on the true distance after division by lipschitz()) and bisects.
   virtual bool intersect(const Ray& ray, float& t, Vec3& n) const;
+  // The largest angle in degrees between the surface's normals within the ball of `radius` around
+  // its point nearest x: a mesh's face normals, two by two. Analytic surfaces answer 0: they are
+  // smooth at every scale the evaluator judges, and have no faces to jump between.
+  [[nodiscard]] virtual float normal_spread_deg(const Vec3& /*x*/, float /*radius*/) const {
+    return 0;
+  }
+  // Faces further apart than this within a ball make a crease there.
+  static constexpr float kSmoothAngleDeg = 15.0f;
   // Whether the surface is smooth within `radius` of its point nearest x, so that a normal there
-  // can be judged (a mesh's face normal jumps at every crease; analytic surfaces are smooth).
-  [[nodiscard]] virtual bool smooth_at(const Vec3& /*x*/, float /*radius*/) const { return true; }
+  // can be judged (a mesh's face normal jumps at every crease).
+  [[nodiscard]] bool smooth_at(const Vec3& x, float radius) const {
+    return normal_spread_deg(x, radius) <= kSmoothAngleDeg;
+  }
   // The normal of the smooth surface the samples stand for (a mesh: vertex normals interpolated).
   [[nodiscard]] virtual Vec3 smooth_normal(const Vec3& x) const { return normal(x); }
 

@@ -409,10 +409,30 @@ json split_json(const FeatureSplit& s) {
 json causes_json(const AccuracyReport& r) {
   return {{"thin_wall_h", FeatureSplit::kThinWallH},
           {"feature_reach_h", FeatureSplit::kFeatureReachH},
+          {"crease_angle_deg", Surface::kSmoothAngleDeg},
           {"judged_hits", split_json(r.judged_split)},
           {"see_through", split_json(r.see_through_split)},
           {"holes", split_json(r.hole_split)},
           {"phantom_near_crease", r.phantom_near_crease}};
+}
+
+// The judged hits and failure rates by the normal spread at the exact hit (SpreadBand).
+json spread_json(const SpreadBands& bands) {
+  json out = json::array();
+  for (const SpreadBand& b : bands)
+    out.push_back({{"lo_deg", b.lo_deg},
+                   {"hi_deg", b.hi_deg},
+                   {"judged_hits", b.judged_hits},
+                   {"holes", b.holes},
+                   {"see_through", b.see_through},
+                   {"early", b.early},
+                   {"phantom", b.phantom},
+                   {"hole_rate", b.rate(b.holes)},
+                   {"see_through_rate", b.rate(b.see_through)},
+                   {"early_rate", b.rate(b.early)},
+                   {"phantom_rate", b.rate(b.phantom)},
+                   {"failure_rate", b.rate(b.failures())}});
+  return {{"reach_h", FeatureSplit::kFeatureReachH}, {"bands", out}};
 }
 
 json accuracy_json(const AccuracyReport& r) {
@@ -432,6 +452,7 @@ json accuracy_json(const AccuracyReport& r) {
           {"see_through_smooth_rate", r.see_through_smooth_rate()},
           {"early_rate", r.early_rate()},
           {"causes", causes_json(r)},
+          {"normal_spread", spread_json(r.spread_bands)},
           {"phantom_rate", r.phantom_rate()},
           {"distance_median_h", num(r.distance_median_h)},
           {"distance_p95_h", num(r.distance_p95_h)},
@@ -479,6 +500,12 @@ void print_accuracy(const std::string& label, const std::string& data, double h,
       100 * r.see_through_smooth_rate(), 100 * r.early_rate(), 100 * r.phantom_rate(),
       r.distance_median_h, r.distance_p95_h, r.normal_median_deg, r.normal_judged,
       r.faceting_floor_deg, AccuracyBounds{}.met_by(r) ? "meets the bounds" : "MISSES the bounds");
+  std::printf("  holes + see-through + phantom by normal spread within %.1f h:",
+              double(FeatureSplit::kFeatureReachH));
+  for (const SpreadBand& b : r.spread_bands)
+    std::printf(" %g-%g deg %.3f%% of %zu%s", double(b.lo_deg), double(b.hi_deg),
+                100 * b.rate(b.failures()), b.judged_hits,
+                &b == &r.spread_bands.back() ? "\n" : ",");
 }
 
 void check_accuracy_options(const AccuracyOptions& o) {

@@ -87,16 +87,23 @@ bool MeshSurface::intersect(const Ray& ray, float& t, Vec3& n) const {
   return true;
 }
 
-// The ball is centred on the surface point nearest x, as Surface::smooth_at says: around a point
-// off the surface (a phantom hit) it would otherwise judge the shape at the wrong place.
-bool MeshSurface::smooth_at(const Vec3& x, float radius) const {
+// The ball is centred on the surface point nearest x, as Surface says: around a point off the
+// surface (a phantom hit) it would otherwise judge the shape at the wrong place. Every pair of
+// faces counts, not only the nearest face against the others: "faces more than 15 degrees apart"
+// (a ridge between two faces each 10 degrees off the nearest one is 20 degrees wide).
+float MeshSurface::normal_spread_deg(const Vec3& x, float radius) const {
   const TriangleDistanceTree::Closest c = closest(x);
-  const Vec3 n = mesh_.normal(c.triangle);
   std::vector<uint32_t> near;
   tree_->triangles_near(c.point, radius, near);
-  for (const uint32_t i : near)
-    if (angle_deg(n, mesh_.normal(i)) > kSmoothAngleDeg) return false;
-  return true;
+  // The widest pair has the smallest dot product; a ball of a few h holds a few dozen faces.
+  Vec3 a = mesh_.normal(c.triangle), b = a;
+  float lowest = 1;
+  for (size_t i = 0; i < near.size(); ++i)
+    for (size_t j = i + 1; j < near.size(); ++j) {
+      const Vec3 u = mesh_.normal(near[i]), v = mesh_.normal(near[j]);
+      if (const float d = u.dot(v); d < lowest) lowest = d, a = u, b = v;
+    }
+  return angle_deg(a, b);
 }
 
 Vec3 MeshSurface::smooth_normal(const Vec3& x) const {

@@ -33,14 +33,11 @@ class MeshSurface final : public Surface {
   [[nodiscard]] Aabb bounds() const override { return bounds_; }
   Vec3 sample(Rng& rng, Vec3& normal) const override;
   bool intersect(const Ray& ray, float& t, Vec3& n) const override;
-  [[nodiscard]] bool smooth_at(const Vec3& x, float radius) const override;
+  [[nodiscard]] float normal_spread_deg(const Vec3& x, float radius) const override;
   [[nodiscard]] Vec3 smooth_normal(const Vec3& x) const override;
 
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
   [[nodiscard]] double area() const { return cumulative_area_.back(); }
-
-  // Largest angle between face normals in a ball of radius r that still counts as smooth.
-  static constexpr float kSmoothAngleDeg = 15.0f;
 
  private:
   [[nodiscard]] TriangleDistanceTree::Closest closest(const Vec3& x) const;

@@ -3,6 +3,7 @@
 #include "reconstruction/mesh_surface.hpp"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <tuple>
 
 #include "core/error.hpp"
@@ -231,4 +232,69 @@ TEST_CASE("Phantoms are judged near a crease at their nearest surface point",
     REQUIRE(r.phantom == 10);
     CHECK(r.phantom_near_crease == (near ? 10u : 0u));
   }
+}
+
+namespace {
+
+// A valley: a strip z = 0 for |x| <= h between two faces rising at 10 degrees on either side.
+// Each side is 10 degrees from the strip and 20 degrees from the other side.
+TriangleMesh valley(float h) {
+  const float rise = (1 - h) * std::tan(float(10 * M_PI / 180));
+  TriangleMesh m;
+  for (const float y : {-1.0f, 1.0f})
+    m.vertices.insert(m.vertices.end(),
+                      {Vec3(-1, y, rise), Vec3(-h, y, 0), Vec3(h, y, 0), Vec3(1, y, rise)});
+  for (uint32_t i = 0; i < 3; ++i) {  // the quad between columns i and i + 1
+    m.triangles.push_back({i, i + 1, i + 5});
+    m.triangles.push_back({i, i + 5, i + 4});
+  }
+  return m;
+}
+
+}  // namespace
+
+// Issue 30: the normal spread is the widest pair of faces in the ball, not the widest angle to
+// the nearest face: the valley floor is a 20-degree crease though no face is 15 degrees off it.
+TEST_CASE("The normal spread is the widest pair of faces within the ball",
+          "[mesh_truth][accuracy]") {
+  const float h = 0.01f, reach = FeatureSplit::kFeatureReachH * h;
+  const MeshSurface v(valley(h), "valley", "bvh");
+  CHECK(v.normal_spread_deg(Vec3(0, 0.1f, 0), reach) == Approx(20.0f).margin(0.01));
+  CHECK_FALSE(v.smooth_at(Vec3(0, 0.1f, 0), reach));
+  CHECK(v.normal_spread_deg(Vec3(0.5f, 0.1f, 0.1f), reach) == Approx(0.0f).margin(0.01));
+  const MeshSurface box(box_mesh(Vec3(0, 0, 0), Vec3(2, 1, 1), false), "box", "bvh");
+  CHECK(box.normal_spread_deg(Vec3(1, 0.5f, 1), 0.1f) == Approx(0.0f).margin(0.01));
+  CHECK(box.normal_spread_deg(Vec3(1.95f, 0.5f, 1), 0.1f) == Approx(90.0f).margin(0.01));
+}
+
+// Every judged hit is in one band of the normal spread, and so is every failure on a ray that hits
+// the surface; a box has faces 0 or 90 degrees apart, nothing between.
+TEST_CASE("Judged hits and failures are counted by the normal spread at the exact hit",
+          "[mesh_truth][accuracy]") {
+  const auto truth = std::make_shared<MeshSurface>(box_mesh(Vec3(0, 0, 0), Vec3(10, 10, 1), false),
+                                                   "plate", "bvh");
+  const double h = 0.02;
+  const auto rays = accuracy_rays(*truth, h, 2000, 3);
+  TriangleMesh bottom = truth->mesh();
+  std::erase_if(bottom.triangles, [&](const auto& t) {
+    return bottom.vertices[t[0]].z() + bottom.vertices[t[1]].z() + bottom.vertices[t[2]].z() > 0;
+  });
+  OpCounters prep, c;
+  Timings timings;
+  const MeshScene back(bottom, "bvh", prep, timings);
+  const AccuracyReport r = evaluate_accuracy(back, *truth, h, rays, c);
+  SpreadBand sum;
+  for (const SpreadBand& b : r.spread_bands) {
+    sum.judged_hits += b.judged_hits, sum.holes += b.holes, sum.see_through += b.see_through;
+    sum.early += b.early, sum.phantom += b.phantom;
+  }
+  CHECK(sum.judged_hits == r.judged_hits);
+  CHECK(sum.holes == r.holes);
+  CHECK(sum.see_through == r.see_through);
+  CHECK(r.spread_bands.front().lo_deg == 0);
+  CHECK(r.spread_bands.back().hi_deg == 180);
+  CHECK(r.spread_bands[0].see_through > 100);  // the missing top face, away from its edges
+  CHECK(r.spread_bands[4].judged_hits > 0);    // within 3.5 h of the plate's edges
+  for (size_t k = 1; k < 4; ++k) CHECK(r.spread_bands[k].judged_hits == 0);
+  CHECK(r.spread_bands[4].judged_hits == r.judged_split.crease);
 }

@@ -32,6 +32,7 @@ struct RayOutcome {
   Feature feature = Feature::kOpen;  // of the shape at the exact first hit
   bool phantom_near_crease = false;
   bool normal_judged = false;  // the surface is smooth within 2h of the exact hit
+  float spread_deg = 0;        // normal spread within kFeatureReachH of the exact hit
   float distance_h = 0;
   float normal_deg = 0;         // to the true normal (judged only where smooth)
   float smooth_normal_deg = 0;  // to the smooth normal
@@ -70,10 +71,11 @@ float closest_approach(const Surface& truth, const Ray& ray, float scale) {
   return best;
 }
 
-// The shape at an exact hit p: the wall's thickness is the distance to the back side along the
-// inward normal (rays leaving p inward, like a shadow ray's exit).
-Feature feature_at(const Surface& truth, const Vec3& p, float h) {
-  if (!truth.smooth_at(p, FeatureSplit::kFeatureReachH * h)) return Feature::kCrease;
+// The shape at an exact hit p whose normal spread within kFeatureReachH is `spread_deg`: the
+// wall's thickness is the distance to the back side along the inward normal (rays leaving p
+// inward, like a shadow ray's exit).
+Feature feature_at(const Surface& truth, const Vec3& p, float h, float spread_deg) {
+  if (spread_deg > Surface::kSmoothAngleDeg) return Feature::kCrease;
   const Vec3 n_out = truth.normal(p);
   float t = 0;
   Vec3 n;
@@ -103,6 +105,13 @@ void count_feature(FeatureSplit& split, Feature f) {
 }
 
 }  // namespace
+
+SpreadBands empty_spread_bands() {
+  SpreadBands bands;
+  for (size_t k = 0; k < bands.size(); ++k)
+    bands[k].lo_deg = kSpreadEdgesDeg[k], bands[k].hi_deg = kSpreadEdgesDeg[k + 1];
+  return bands;
+}
 
 std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uint64_t seed) {
   const Aabb b = truth.bounds();
@@ -141,7 +150,8 @@ RayOutcome judge_ray(const SceneIntersector& scene, const Surface& truth, const 
   }
   if (std::abs(n_true.dot(ray.d)) < 0.1f) return o;  // grazing: not judged
   const Vec3 p_true = ray.at(t_true);
-  o.feature = feature_at(truth, p_true, hf);
+  o.spread_deg = truth.normal_spread_deg(p_true, FeatureSplit::kFeatureReachH * hf);
+  o.feature = feature_at(truth, p_true, hf, o.spread_deg);
   o.normal_judged = truth.smooth_at(p_true, 2.0f * hf);  // (for a false hit: smooth where missed?)
   if (!found) {
     o.verdict = Verdict::kHole;
@@ -179,7 +189,23 @@ void count_false_hit(const RayOutcome& o, AccuracyReport& r) {
   }
 }
 
+// A ray with an exact hit, counted in the band of the normal spread there.
+void count_band(const RayOutcome& o, AccuracyReport& r) {
+  if (o.verdict == Verdict::kIgnored || o.verdict == Verdict::kGoodMiss ||
+      o.verdict == Verdict::kMissPhantom)
+    return;
+  size_t k = 0;
+  while (k + 1 < r.spread_bands.size() && o.spread_deg >= r.spread_bands[k].hi_deg) ++k;
+  SpreadBand& b = r.spread_bands[k];
+  ++b.judged_hits;
+  b.holes += o.verdict == Verdict::kHole;
+  b.see_through += o.verdict == Verdict::kSeeThrough;
+  b.early += o.verdict == Verdict::kEarly;
+  b.phantom += o.verdict == Verdict::kPhantom;
+}
+
 void count_outcome(const RayOutcome& o, AccuracyReport& r, HitSamples& samples) {
+  count_band(o, r);
   switch (o.verdict) {
     case Verdict::kIgnored:
       return;

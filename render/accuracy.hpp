@@ -3,6 +3,7 @@
 // true surface and normal error, in units of the mean spacing h.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -11,10 +12,10 @@
 
 namespace pcrt {
 
-// Where failures happen, by the shape at the exact front hit: on a wall thinner than kThinWallH
-// (measured along the inward normal to the back side), near a crease (a face within the ball of
-// radius kFeatureReachH around the hit whose normal is more than 15 degrees from the hit's face),
-// or on open smooth surface. The same split of every judged hit is
+// Where failures happen, by the shape at the exact front hit: near a crease (two faces more than
+// Surface::kSmoothAngleDeg = 15 degrees apart within the ball of radius kFeatureReachH around the
+// hit), on a wall thinner than kThinWallH (measured along the inward normal to the back side), or
+// on open smooth surface. The same split of every judged hit is
 // the baseline: a cause is established when the failures crowd where the shape has that feature.
 struct FeatureSplit {
   // Twice the widest kernel reach of the surveyed methods' defaults (3.5 h: Wald and Seidel's
@@ -24,6 +25,25 @@ struct FeatureSplit {
   size_t thin = 0, crease = 0, open = 0;
   [[nodiscard]] size_t total() const { return thin + crease + open; }
 };
+
+// The judged hits and their failures by the normal spread at the exact first hit (the largest
+// angle between face normals within kFeatureReachH, Surface::normal_spread_deg): one crease/open
+// split cannot tell the faceting of smooth organic surface (15-30 degrees on coarse meshes) from
+// a sharp edge, and failures rise steadily with the spread (issue 30). A band holds spreads in
+// [lo_deg, hi_deg); the last one includes 180.
+struct SpreadBand {
+  float lo_deg = 0, hi_deg = 0;
+  size_t judged_hits = 0, holes = 0, see_through = 0, early = 0, phantom = 0;
+  // What the 1% bounds are about: holes, see-through and phantom hits.
+  [[nodiscard]] size_t failures() const { return holes + see_through + phantom; }
+  [[nodiscard]] double rate(size_t n) const {
+    return judged_hits ? double(n) / double(judged_hits) : 0.0;
+  }
+};
+inline constexpr std::array<float, 6> kSpreadEdgesDeg = {0, 5, 15, 30, 60, 180};
+using SpreadBands = std::array<SpreadBand, kSpreadEdgesDeg.size() - 1>;
+// The bands with their edges set and nothing counted.
+SpreadBands empty_spread_bands();
 
 struct AccuracyReport {
   size_t rays = 0;
@@ -42,6 +62,9 @@ struct AccuracyReport {
   // phantom hits with a crease within kFeatureReachH of their nearest surface point.
   FeatureSplit judged_split, see_through_split, hole_split;
   size_t phantom_near_crease = 0;
+  // Rays with an exact hit by the normal spread there (phantoms on rays that miss the surface
+  // have no exact hit and are in no band).
+  SpreadBands spread_bands = empty_spread_bands();
   size_t normal_judged = 0;      // good hits where the surface is smooth within 2h (normals judged)
   double mean_spacing = 0;       // h
   double hole_rate = 0;          // holes / judged_hits

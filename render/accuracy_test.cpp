@@ -123,8 +123,8 @@ TEST_CASE("the implicit octree finds a flat face lying on its grid planes", "[ac
 
 namespace {
 
-// The plane z = 0 over [-1, 1]^2 with a crease declared along x = 0: smooth_at answers as the
-// Surface contract says, for the ball of `radius` around the point nearest x.
+// The plane z = 0 over [-1, 1]^2 with a crease declared along x = 0: the normal spread answers as
+// the Surface contract says, for the ball of `radius` around the point nearest x.
 struct CreasedPlane final : Surface {
   [[nodiscard]] std::string describe() const override { return "creased plane"; }
   [[nodiscard]] float signed_distance(const Vec3& x) const override { return x.z(); }
@@ -140,8 +140,8 @@ struct CreasedPlane final : Surface {
     n = Vec3::UnitZ();
     return t >= ray.tmin && t <= ray.tmax;
   }
-  [[nodiscard]] bool smooth_at(const Vec3& x, float radius) const override {
-    return std::abs(x.x()) > radius;
+  [[nodiscard]] float normal_spread_deg(const Vec3& x, float radius) const override {
+    return std::abs(x.x()) > radius ? 0.0f : 90.0f;
   }
 };
 

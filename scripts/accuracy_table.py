@@ -7,6 +7,9 @@ Usage: scripts/accuracy_table.py [DIR=results/accuracy] [--csv FILE] [--markdown
 Reads DIR/<shape>/<method>.json (one `pcrt accuracy --truth ... --json` each), writes every figure
 as CSV and a markdown summary: per method the worst rate over the shapes (and which shape), the
 median distance and normal error, and how many shapes meet all bounds. Rates are in percent.
+A second table gives the failure rate (holes + see-through + phantom, of the judged hits) by the
+normal spread at the exact hit (`normal_spread` in the JSON), and the bands where a method stays
+under 1% on every shape.
 With --before, a second table gives each method's worst rates in DIR2 (an earlier build's results)
 beside DIR's.
 """
@@ -25,6 +28,13 @@ FIELDS = ["shape", "method", "structure", "N", "mean_spacing", "judged_hits", "j
           "secondary_outward_false_occluder_rate", "secondary_inward_self_hit_rate",
           "secondary_inward_missed_occluder_rate", "secondary_inward_false_occluder_rate",
           "sample", "truth"]
+# The normal-spread bands of `pcrt accuracy` (render/accuracy.hpp, kSpreadEdgesDeg), in degrees.
+SPREAD_BANDS = [(0, 5), (5, 15), (15, 30), (30, 60), (60, 180)]
+SPREAD_KEYS = ["judged_share", "failure_rate", "hole_rate", "see_through_rate", "phantom_rate"]
+FIELDS += [f"spread_{lo}_{hi}_{k}" for lo, hi in SPREAD_BANDS for k in SPREAD_KEYS]
+# A band's rate is left out of a worst-over-shapes cell below this many judged hits there (one
+# failure in 50 hits would read 2%).
+MIN_BAND_HITS = 200
 
 
 def load(directory):
@@ -39,10 +49,55 @@ def load(directory):
         if causes:  # failures on open smooth surface, as rates of the judged hits
             for kind, key in (("see_through", "see_through_open_rate"), ("holes", "hole_open_rate")):
                 j[key] = causes[kind]["open"] / j["judged_hits"] if j["judged_hits"] else 0.0
+        flatten_spread(j)
         rows.append(j)
     if not rows:
         sys.exit(f"accuracy_table.py: no results under {directory}")
     return rows
+
+
+def flatten_spread(j):
+    """spread_<lo>_<hi>_<key> columns from the JSON's normal_spread bands (absent before them)."""
+    for b in j.get("normal_spread", {}).get("bands", []):
+        key = f"spread_{b['lo_deg']:g}_{b['hi_deg']:g}"
+        j[f"{key}_judged_hits"] = b["judged_hits"]
+        j[f"{key}_judged_share"] = b["judged_hits"] / j["judged_hits"] if j["judged_hits"] else 0.0
+        for k in SPREAD_KEYS[1:]:
+            j[f"{key}_{k}"] = b[k]
+
+
+def spread(rows):
+    """Per method the worst failure rate over the shapes in each normal-spread band."""
+    rows = [r for r in rows if "normal_spread" in r]
+    shares = []
+    for lo, hi in SPREAD_BANDS:
+        v = sorted(pct(r[f"spread_{lo}_{hi}_judged_share"]) for r in rows)
+        shares.append(f"{v[0]:.0f}-{v[-1]:.0f}%")
+    reach = rows[0]["normal_spread"]["reach_h"]
+    out = [f"Failures (holes + see-through + phantom, % of the judged hits in the band) by the "
+           f"normal spread at the exact hit: the largest angle between face normals within "
+           f"{reach} h. Worst over the shapes, leaving out a shape with fewer than {MIN_BAND_HITS} "
+           f"judged hits in the band; the header gives the band's share of all judged hits over "
+           f"the shapes. Faces more than 15 degrees apart are the causes table's creases.",
+           "",
+           "| method | " + " | ".join(f"{lo}-{hi} deg ({s})" for (lo, hi), s in
+                                     zip(SPREAD_BANDS, shares)) + " | under 1% on every shape |",
+           "|---|" + "---|" * (len(SPREAD_BANDS) + 1)]
+    for m in sorted({r["method"] for r in rows}):
+        rs = [r for r in rows if r["method"] == m]
+        cells, under = [], []
+        for lo, hi in SPREAD_BANDS:
+            key = f"spread_{lo}_{hi}"
+            ok = [r for r in rs if r[f"{key}_judged_hits"] >= MIN_BAND_HITS]
+            if not ok:
+                cells.append("-")
+                continue
+            w = max(ok, key=lambda r: r[f"{key}_failure_rate"])
+            cells.append(f"{pct(w[key + '_failure_rate']):.2f} ({w['shape']})")
+            if pct(w[key + "_failure_rate"]) < BOUND:
+                under.append(f"{lo}-{hi}")
+        out.append(f"| {m} | " + " | ".join(cells) + f" | {', '.join(under) or 'none'} |")
+    return "\n".join(out) + "\n"
 
 
 def pct(v):
@@ -148,6 +203,8 @@ def main():
     text = markdown(rows)
     if any("causes" in r for r in rows):
         text += "\n" + causes(rows)
+    if any("normal_spread" in r for r in rows):
+        text += "\n" + spread(rows)
     if "--before" in args:
         text += "\nWorst over the shapes, before -> after:\n\n"
         text += before_after(load(args[args.index("--before") + 1]), rows)
