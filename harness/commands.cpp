@@ -427,6 +427,8 @@ json spread_json(const SpreadBands& bands) {
                    {"see_through", b.see_through},
                    {"early", b.early},
                    {"phantom", b.phantom},
+                   {"thin_hits", b.thin_hits},
+                   {"thin_failures", b.thin_failures},
                    {"hole_rate", b.rate(b.holes)},
                    {"see_through_rate", b.rate(b.see_through)},
                    {"early_rate", b.rate(b.early)},

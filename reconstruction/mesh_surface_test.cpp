@@ -267,6 +267,16 @@ TEST_CASE("The normal spread is the widest pair of faces within the ball",
   CHECK(box.normal_spread_deg(Vec3(1.95f, 0.5f, 1), 0.1f) == Approx(90.0f).margin(0.01));
 }
 
+namespace {
+
+size_t sum_thin_hits(const AccuracyReport& r) {
+  size_t n = 0;
+  for (const SpreadBand& b : r.spread_bands) n += b.thin_hits;
+  return n;
+}
+
+}  // namespace
+
 // Every judged hit is in one band of the normal spread, and so is every failure on a ray that hits
 // the surface; a box has faces 0 or 90 degrees apart, nothing between.
 TEST_CASE("Judged hits and failures are counted by the normal spread at the exact hit",
@@ -297,4 +307,12 @@ TEST_CASE("Judged hits and failures are counted by the normal spread at the exac
   CHECK(r.spread_bands[4].judged_hits > 0);    // within 3.5 h of the plate's edges
   for (size_t k = 1; k < 4; ++k) CHECK(r.spread_bands[k].judged_hits == 0);
   CHECK(r.spread_bands[4].judged_hits == r.judged_split.crease);
+  CHECK(sum_thin_hits(r) == 0);  // the plate is 50 h thick
+  // At h = 0.2 the plate is 5 h thick, a thin wall: the see-through of its missing top is counted
+  // on it, in the band of its flat faces.
+  const AccuracyReport coarse = evaluate_accuracy(back, *truth, 0.2, rays, c);
+  REQUIRE(coarse.judged_split.thin > 100);
+  CHECK(sum_thin_hits(coarse) == coarse.judged_split.thin);
+  CHECK(coarse.spread_bands[0].thin_failures == coarse.spread_bands[0].see_through);
+  CHECK(coarse.spread_bands[4].thin_hits == 0);  // a crease comes before a thin wall
 }

@@ -202,6 +202,10 @@ void count_band(const RayOutcome& o, AccuracyReport& r) {
   b.see_through += o.verdict == Verdict::kSeeThrough;
   b.early += o.verdict == Verdict::kEarly;
   b.phantom += o.verdict == Verdict::kPhantom;
+  if (o.feature != Feature::kThin) return;
+  ++b.thin_hits;
+  b.thin_failures += o.verdict == Verdict::kHole || o.verdict == Verdict::kSeeThrough ||
+                     o.verdict == Verdict::kPhantom;
 }
 
 void count_outcome(const RayOutcome& o, AccuracyReport& r, HitSamples& samples) {

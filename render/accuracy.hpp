@@ -34,6 +34,9 @@ struct FeatureSplit {
 struct SpreadBand {
   float lo_deg = 0, hi_deg = 0;
   size_t judged_hits = 0, holes = 0, see_through = 0, early = 0, phantom = 0;
+  // Of those, on a wall thinner than kThinWallH (only below the crease angle: a crease comes
+  // first), which a kernel wider than the wall sees through at any spread.
+  size_t thin_hits = 0, thin_failures = 0;
   // What the 1% bounds are about: holes, see-through and phantom hits.
   [[nodiscard]] size_t failures() const { return holes + see_through + phantom; }
   [[nodiscard]] double rate(size_t n) const {

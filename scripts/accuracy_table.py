@@ -2,19 +2,21 @@
 """The real-shape accuracy table from `scripts/accuracy_meshes.sh` output.
 
 Usage: scripts/accuracy_table.py [DIR=results/accuracy] [--csv FILE] [--markdown FILE]
-                                 [--before DIR2]
+                                 [--before DIR2] [--plot PNG]
 
 Reads DIR/<shape>/<method>.json (one `pcrt accuracy --truth ... --json` each), writes every figure
 as CSV and a markdown summary: per method the worst rate over the shapes (and which shape), the
 median distance and normal error, and how many shapes meet all bounds. Rates are in percent.
-A second table gives the failure rate (holes + see-through + phantom, of the judged hits) by the
-normal spread at the exact hit (`normal_spread` in the JSON), and the bands where a method stays
-under 1% on every shape.
+Two more tables give the failure rate (holes + see-through + phantom, of the judged hits) by the
+normal spread at the exact hit (`normal_spread` in the JSON), with and without the hits on thin
+walls, and per band whether a method stays under 1% on every shape by the 95% bounds; --plot
+draws the second, pooled over the shapes.
 With --before, a second table gives each method's worst rates in DIR2 (an earlier build's results)
 beside DIR's.
 """
 import csv
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -66,38 +68,99 @@ def flatten_spread(j):
             j[f"{key}_{k}"] = b[k]
 
 
-def spread(rows):
-    """Per method the worst failure rate over the shapes in each normal-spread band."""
-    rows = [r for r in rows if "normal_spread" in r]
+def wilson(k, n, z=1.96):
+    """The 95% Wilson score interval of a rate k / n, in percent."""
+    if n == 0:
+        return 0.0, 100.0
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return pct(max(0.0, centre - half)), pct(min(1.0, centre + half))
+
+
+def band_counts(r, lo, hi, thin):
+    """(failures, judged hits) of shape r in a band; without its thin walls unless `thin`."""
+    b = next(b for b in r["normal_spread"]["bands"] if (b["lo_deg"], b["hi_deg"]) == (lo, hi))
+    fails = b["holes"] + b["see_through"] + b["phantom"]
+    if thin:
+        return fails, b["judged_hits"]
+    return fails - b["thin_failures"], b["judged_hits"] - b["thin_hits"]
+
+
+def band_verdict(rs, lo, hi, thin):
+    """'under' when every shape's 95% upper bound is below the bound, 'over' when some shape's
+    lower bound is above it, else 'inconclusive'; shapes without hits in the band are left out."""
+    counts = [band_counts(r, lo, hi, thin) for r in rs]
+    counts = [(k, n) for k, n in counts if n > 0]
+    if not counts:
+        return "no hits"
+    bounds = [wilson(k, n) for k, n in counts]
+    if all(up < BOUND for _, up in bounds):
+        return "under"
+    if any(low > BOUND for low, _ in bounds):
+        return "over"
+    return "inconclusive"
+
+
+def spread_table(rows, thin):
+    """Per method and band: the worst failure rate over the shapes and the band's verdict."""
+    reach = rows[0]["normal_spread"]["reach_h"]
     shares = []
     for lo, hi in SPREAD_BANDS:
-        v = sorted(pct(r[f"spread_{lo}_{hi}_judged_share"]) for r in rows)
+        v = sorted(100.0 * band_counts(r, lo, hi, thin)[1] / r["judged_hits"] for r in rows)
         shares.append(f"{v[0]:.0f}-{v[-1]:.0f}%")
-    reach = rows[0]["normal_spread"]["reach_h"]
-    out = [f"Failures (holes + see-through + phantom, % of the judged hits in the band) by the "
-           f"normal spread at the exact hit: the largest angle between face normals within "
-           f"{reach} h. Worst over the shapes, leaving out a shape with fewer than {MIN_BAND_HITS} "
-           f"judged hits in the band; the header gives the band's share of all judged hits over "
-           f"the shapes. Faces more than 15 degrees apart are the causes table's creases.",
+    what = "all judged hits" if thin else "judged hits not on a thin wall"
+    out = [f"Failures (holes + see-through + phantom) as % of the {what} in the band, by the "
+           f"normal spread at the exact hit (the largest angle between face normals within "
+           f"{reach} h). A cell is the worst rate over the shapes with at least {MIN_BAND_HITS} "
+           f"such hits in the band, and its verdict against {BOUND:g}%: under (every shape's 95% "
+           f"upper bound below it), over (some shape's lower bound above it) or inconclusive. The "
+           f"header gives the band's share of those hits over the shapes.",
            "",
            "| method | " + " | ".join(f"{lo}-{hi} deg ({s})" for (lo, hi), s in
-                                     zip(SPREAD_BANDS, shares)) + " | under 1% on every shape |",
-           "|---|" + "---|" * (len(SPREAD_BANDS) + 1)]
+                                     zip(SPREAD_BANDS, shares)) + " |",
+           "|---|" + "---|" * len(SPREAD_BANDS)]
     for m in sorted({r["method"] for r in rows}):
         rs = [r for r in rows if r["method"] == m]
-        cells, under = [], []
+        cells = []
         for lo, hi in SPREAD_BANDS:
-            key = f"spread_{lo}_{hi}"
-            ok = [r for r in rs if r[f"{key}_judged_hits"] >= MIN_BAND_HITS]
-            if not ok:
-                cells.append("-")
-                continue
-            w = max(ok, key=lambda r: r[f"{key}_failure_rate"])
-            cells.append(f"{pct(w[key + '_failure_rate']):.2f} ({w['shape']})")
-            if pct(w[key + "_failure_rate"]) < BOUND:
-                under.append(f"{lo}-{hi}")
-        out.append(f"| {m} | " + " | ".join(cells) + f" | {', '.join(under) or 'none'} |")
+            rates = [(100.0 * k / n, r["shape"]) for r in rs
+                     for k, n in [band_counts(r, lo, hi, thin)] if n >= MIN_BAND_HITS]
+            worst_cell = "%.2f (%s)" % max(rates) if rates else "-"
+            cells.append(f"{worst_cell} {band_verdict(rs, lo, hi, thin)}")
+        out.append(f"| {m} | " + " | ".join(cells) + " |")
     return "\n".join(out) + "\n"
+
+
+def spread(rows):
+    """The normal-spread tables: all judged hits, then without the thin walls."""
+    rows = [r for r in rows if "normal_spread" in r]
+    return spread_table(rows, True) + "\n" + spread_table(rows, False)
+
+
+def spread_plot(rows, path):
+    """Failure rate against the normal spread, pooled over the shapes, one line per method."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = [r for r in rows if "normal_spread" in r]
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    x = range(len(SPREAD_BANDS))
+    for m in sorted({r["method"] for r in rows}):
+        rs = [r for r in rows if r["method"] == m]
+        k = [sum(band_counts(r, lo, hi, False)[0] for r in rs) for lo, hi in SPREAD_BANDS]
+        n = [sum(band_counts(r, lo, hi, False)[1] for r in rs) for lo, hi in SPREAD_BANDS]
+        ax.plot(x, [max(100.0 * a / b, 1e-3) if b else float("nan") for a, b in zip(k, n)],
+                marker="o", label=m)
+    ax.axhline(BOUND, color="black", linestyle="--", linewidth=1)
+    ax.set_yscale("log")
+    ax.set_xticks(list(x), [f"{lo}-{hi}" for lo, hi in SPREAD_BANDS])
+    ax.set_xlabel("normal spread at the exact hit (degrees between faces within 3.5 h)")
+    ax.set_ylabel("holes + see-through + phantom (%)")
+    ax.set_title("Failures by normal spread, thin walls left out, pooled over the shapes")
+    ax.legend(fontsize=6, ncol=3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
 
 
 def pct(v):
@@ -205,6 +268,8 @@ def main():
         text += "\n" + causes(rows)
     if any("normal_spread" in r for r in rows):
         text += "\n" + spread(rows)
+        if "--plot" in args:
+            spread_plot(rows, args[args.index("--plot") + 1])
     if "--before" in args:
         text += "\nWorst over the shapes, before -> after:\n\n"
         text += before_after(load(args[args.index("--before") + 1]), rows)
