@@ -17,9 +17,12 @@ beside DIR's.
 import csv
 import json
 import math
+import statistics
 import sys
 from pathlib import Path
 
+# Folders of DIR that hold a study of their own (scripts/kernel_width.sh), not a shape.
+STUDIES = {"kernel_width"}
 BOUND = 1.0  # percent: the bound on holes, see-through and phantom hits
 FIELDS = ["shape", "method", "structure", "N", "mean_spacing", "judged_hits", "judged_misses",
           "hole_rate", "see_through_rate", "see_through_smooth_rate", "see_through_open_rate",
@@ -34,14 +37,13 @@ FIELDS = ["shape", "method", "structure", "N", "mean_spacing", "judged_hits", "j
 SPREAD_BANDS = [(0, 5), (5, 15), (15, 30), (30, 60), (60, 180)]
 SPREAD_KEYS = ["judged_share", "failure_rate", "hole_rate", "see_through_rate", "phantom_rate"]
 FIELDS += [f"spread_{lo}_{hi}_{k}" for lo, hi in SPREAD_BANDS for k in SPREAD_KEYS]
-# A band's rate is left out of a worst-over-shapes cell below this many judged hits there (one
-# failure in 50 hits would read 2%).
-MIN_BAND_HITS = 200
 
 
 def load(directory):
     rows = []
     for f in sorted(Path(directory).glob("*/*.json")):
+        if f.parent.name in STUDIES:
+            continue
         j = json.loads(f.read_text())
         j["shape"] = f.parent.name
         for side, v in j.get("secondary", {}).items():  # flattened for the CSV and the table
@@ -68,8 +70,8 @@ def flatten_spread(j):
             j[f"{key}_{k}"] = b[k]
 
 
-def wilson(k, n, z=1.96):
-    """The 95% Wilson score interval of a rate k / n, in percent."""
+def wilson(k, n, z):
+    """The Wilson score interval of a rate k / n at z standard errors, in percent."""
     if n == 0:
         return 0.0, 100.0
     p = k / n
@@ -87,47 +89,58 @@ def band_counts(r, lo, hi, thin):
     return fails - b["thin_failures"], b["judged_hits"] - b["thin_hits"]
 
 
-def band_verdict(rs, lo, hi, thin):
-    """'under' when every shape's 95% upper bound is below the bound, 'over' when some shape's
-    lower bound is above it, else 'inconclusive'; shapes without hits in the band are left out."""
-    counts = [band_counts(r, lo, hi, thin) for r in rs]
-    counts = [(k, n) for k, n in counts if n > 0]
-    if not counts:
+def band_cell(rs, lo, hi, thin):
+    """A method's band over its shapes: 'over' when some shape's lower bound is above BOUND,
+    'under' when the upper bound of every shape that could show it (zero failures there would put
+    the upper bound below BOUND) is below it, else 'inconclusive'. The intervals are 95% for the
+    band as a whole (Bonferroni over the shapes: one shape in eight would otherwise cross the
+    bound by chance more often than one time in twenty). The cell names the deciding shape (the
+    highest lower bound for 'over', else the highest upper bound of the shapes that could decide)
+    and how many shapes had too few hits in the band to decide 'under'."""
+    judged = [(r["shape"],) + band_counts(r, lo, hi, thin) for r in rs]
+    judged = [(shape, k, n) for shape, k, n in judged if n > 0]
+    if not judged:
         return "no hits"
-    bounds = [wilson(k, n) for k, n in counts]
-    if all(up < BOUND for _, up in bounds):
-        return "under"
-    if any(low > BOUND for low, _ in bounds):
-        return "over"
-    return "inconclusive"
+    z = statistics.NormalDist().inv_cdf(1 - 0.025 / len(judged))
+    bounds = [(wilson(k, n, z), shape, k, n) for shape, k, n in judged]
+    able = [b for b in bounds if wilson(0, b[3], z)[1] < BOUND]
+    small = len(bounds) - len(able)
+    worst = max(able or bounds, key=lambda b: b[2] / b[3])  # the tiny shapes only if all are
+    worst_text = f"worst {100.0 * worst[2] / worst[3]:.2f} {worst[1]} ({worst[2]}/{worst[3]})"
+    if any(low > BOUND for (low, _), *_ in bounds):
+        (low, _), shape, *_ = max(bounds, key=lambda b: b[0][0])
+        return f"over (lower bound {low:.2f}, {shape}); {worst_text}"
+    if not able:
+        return f"inconclusive ({len(bounds)} shapes, each with too few hits)"
+    (_, up), shape, *_ = max(able, key=lambda b: b[0][1])
+    verdict = "under" if up < BOUND else "inconclusive"
+    note = f"; {small} shape{'s' if small > 1 else ''} with too few hits" if small else ""
+    return f"{verdict} (upper bound {up:.2f}, {shape}{note}); {worst_text}"
 
 
 def spread_table(rows, thin):
-    """Per method and band: the worst failure rate over the shapes and the band's verdict."""
+    """Per method and band: the verdict against BOUND and the shape that decides it."""
     reach = rows[0]["normal_spread"]["reach_h"]
     shares = []
     for lo, hi in SPREAD_BANDS:
         v = sorted(100.0 * band_counts(r, lo, hi, thin)[1] / r["judged_hits"] for r in rows)
         shares.append(f"{v[0]:.0f}-{v[-1]:.0f}%")
-    what = "all judged hits" if thin else "judged hits not on a thin wall"
-    out = [f"Failures (holes + see-through + phantom) as % of the {what} in the band, by the "
-           f"normal spread at the exact hit (the largest angle between face normals within "
-           f"{reach} h). A cell is the worst rate over the shapes with at least {MIN_BAND_HITS} "
-           f"such hits in the band, and its verdict against {BOUND:g}%: under (every shape's 95% "
-           f"upper bound below it), over (some shape's lower bound above it) or inconclusive. The "
-           f"header gives the band's share of those hits over the shapes.",
+    what = "all judged hits" if thin else "the judged hits not on a thin wall"
+    out = [f"Failures (holes + see-through + phantom) as % of {what} in the band, by the normal "
+           f"spread at the exact hit (the largest angle between face normals within {reach} h). "
+           f"Per method and band, against {BOUND:g}%: over (some shape's lower bound above it), "
+           f"under (the upper bound below it on every shape with hits enough to show that) or "
+           f"inconclusive, with 95% Wilson intervals for the band as a whole (Bonferroni over the "
+           f"shapes); then the deciding bound and its shape, how many shapes had too few hits in "
+           f"the band to take part in 'under', and the worst rate over the other shapes (failures/hits). The header gives the band's share of those hits, "
+           f"lowest to highest over the shapes.",
            "",
            "| method | " + " | ".join(f"{lo}-{hi} deg ({s})" for (lo, hi), s in
                                      zip(SPREAD_BANDS, shares)) + " |",
            "|---|" + "---|" * len(SPREAD_BANDS)]
     for m in sorted({r["method"] for r in rows}):
         rs = [r for r in rows if r["method"] == m]
-        cells = []
-        for lo, hi in SPREAD_BANDS:
-            rates = [(100.0 * k / n, r["shape"]) for r in rs
-                     for k, n in [band_counts(r, lo, hi, thin)] if n >= MIN_BAND_HITS]
-            worst_cell = "%.2f (%s)" % max(rates) if rates else "-"
-            cells.append(f"{worst_cell} {band_verdict(rs, lo, hi, thin)}")
+        cells = [band_cell(rs, lo, hi, thin) for lo, hi in SPREAD_BANDS]
         out.append(f"| {m} | " + " | ".join(cells) + " |")
     return "\n".join(out) + "\n"
 
@@ -144,21 +157,22 @@ def spread_plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     rows = [r for r in rows if "normal_spread" in r]
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, ax = plt.subplots(figsize=(10, 4.8))
     x = range(len(SPREAD_BANDS))
-    for m in sorted({r["method"] for r in rows}):
+    methods = sorted({r["method"] for r in rows})
+    for i, m in enumerate(methods):
         rs = [r for r in rows if r["method"] == m]
         k = [sum(band_counts(r, lo, hi, False)[0] for r in rs) for lo, hi in SPREAD_BANDS]
         n = [sum(band_counts(r, lo, hi, False)[1] for r in rs) for lo, hi in SPREAD_BANDS]
         ax.plot(x, [max(100.0 * a / b, 1e-3) if b else float("nan") for a, b in zip(k, n)],
-                marker="o", label=m)
+                marker="osD^v"[i % 5], color=plt.cm.tab20(i % 20), label=m)
     ax.axhline(BOUND, color="black", linestyle="--", linewidth=1)
     ax.set_yscale("log")
     ax.set_xticks(list(x), [f"{lo}-{hi}" for lo, hi in SPREAD_BANDS])
     ax.set_xlabel("normal spread at the exact hit (degrees between faces within 3.5 h)")
     ax.set_ylabel("holes + see-through + phantom (%)")
     ax.set_title("Failures by normal spread, thin walls left out, pooled over the shapes")
-    ax.legend(fontsize=6, ncol=3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
