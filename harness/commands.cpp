@@ -694,6 +694,9 @@ json comparison_json(const FrameComparison& c) {
           {"extra_rate", c.extra_rate()},
           {"normal_off_rate", c.normal_off_rate()},
           {"normal_off_deg", FrameComparison::kNormalOffDeg},
+          {"lit_pixels", c.lit_pixels},
+          {"false_shadow", c.false_shadow},
+          {"false_shadow_rate", c.false_shadow_rate()},
           {"rmse", c.rmse}};
 }
 
@@ -733,10 +736,11 @@ void print_comparison(const std::string& out, const json& j, const RenderSetting
               j["truth"].get<std::string>().c_str(), rs.width, rs.height, c.object_pixels);
   std::printf(
       "  missing %.3f%% (%zu of %zu at silhouettes and contours, which hold %.1f%% of the object)  "
-      "extra %.3f%%  normal > %.0f deg %.3f%%  RMSE %.4f\n",
+      "extra %.3f%%  normal > %.0f deg %.3f%%  false shadows %.3f%% of %zu lit  RMSE %.4f\n",
       100 * c.missing_rate(), c.missing_at_edges, c.missing,
       c.object_pixels ? 100.0 * double(c.edge_pixels) / double(c.object_pixels) : 0.0,
-      100 * c.extra_rate(), FrameComparison::kNormalOffDeg, 100 * c.normal_off_rate(), c.rmse);
+      100 * c.extra_rate(), FrameComparison::kNormalOffDeg, 100 * c.normal_off_rate(),
+      100 * c.false_shadow_rate(), c.lit_pixels, c.rmse);
 }
 
 }  // namespace

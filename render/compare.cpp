@@ -31,6 +31,24 @@ bool at_edge(const RenderResult& truth, int width, int height, int x, int y) {
   return false;
 }
 
+float brightest_object_pixel(const RenderResult& truth) {
+  float brightest = 0;
+  for (size_t i = 0; i < truth.primary_t.size(); ++i)
+    if (std::isfinite(truth.primary_t[i]))
+      brightest = std::max(brightest, truth.image.pixels()[i].mean());
+  return brightest;
+}
+
+// Lit in the truth's frame, and whether the method's agreeing hit is dark there (FrameComparison).
+void count_shadow(const RenderResult& truth, const RenderResult& method, size_t i, float lit_from,
+                  PixelVerdict v, FrameComparison& c) {
+  const float t = truth.image.pixels()[i].mean();
+  if (!std::isfinite(truth.primary_t[i]) || !(t >= lit_from) || t <= 0) return;
+  ++c.lit_pixels;
+  c.false_shadow += v == PixelVerdict::kAgree &&
+                    method.image.pixels()[i].mean() < FrameComparison::kDarkFraction * t;
+}
+
 }  // namespace
 
 FrameComparison compare_frames(const RenderResult& truth, const RenderResult& method) {
@@ -41,12 +59,15 @@ FrameComparison compare_frames(const RenderResult& truth, const RenderResult& me
   const auto& ti = truth.image.pixels();
   const auto& mi = method.image.pixels();
   const int w = truth.image.width(), h = truth.image.height();
+  const float lit_from = FrameComparison::kLitFraction * brightest_object_pixel(truth);
   for (size_t i = 0; i < c.pixels; ++i) {
     const bool object = std::isfinite(truth.primary_t[i]);
     const bool edge = object && at_edge(truth, w, h, int(i % size_t(w)), int(i / size_t(w)));
     c.object_pixels += object;
     c.edge_pixels += edge;
-    switch (judge(truth, method, i)) {
+    const PixelVerdict v = judge(truth, method, i);
+    count_shadow(truth, method, i, lit_from, v, c);
+    switch (v) {
       case PixelVerdict::kMissing:
         ++c.missing;
         c.missing_at_edges += edge;

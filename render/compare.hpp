@@ -21,13 +21,21 @@ struct FrameComparison {
   // contours), and the missing pixels among them: where a frame loses its pixels.
   size_t edge_pixels = 0, missing_at_edges = 0;
   double rmse = 0;  // root mean square radiance error over all pixels (per channel)
+  // Lit pixels: object pixels where the truth's radiance is at least kLitFraction of its brightest
+  // object pixel's. False shadows among them: the method hits too, with a normal within
+  // kNormalOffDeg, but returns less than kDarkFraction of the truth's radiance, so its shadow ray
+  // was stopped where the mesh's was not (the shading itself agrees).
+  size_t lit_pixels = 0, false_shadow = 0;
 
   static constexpr float kNormalOffDeg = 30.0f;
   static constexpr int kEdgeReachPx = 2;
   static constexpr float kContourJump = 0.02f;
+  static constexpr float kLitFraction = 0.1f;
+  static constexpr float kDarkFraction = 0.25f;
   [[nodiscard]] double missing_rate() const { return rate(missing, object_pixels); }
   [[nodiscard]] double extra_rate() const { return rate(extra, object_pixels); }
   [[nodiscard]] double normal_off_rate() const { return rate(normal_off, object_pixels); }
+  [[nodiscard]] double false_shadow_rate() const { return rate(false_shadow, lit_pixels); }
 
  private:
   static double rate(size_t n, size_t of) { return of ? double(n) / double(of) : 0.0; }

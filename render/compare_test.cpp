@@ -53,3 +53,23 @@ TEST_CASE("Missing pixels at silhouettes and contours are told from interior one
   // Not at an edge: x, y in 3..8 (2 from the background), less 6..8 x 6..8 (near the patch).
   CHECK(c.edge_pixels == 100 - (36 - 9));
 }
+
+TEST_CASE("False shadows: lit truth pixels the method hits alike but leaves dark", "[compare]") {
+  RenderResult truth = frame(5, 1), method = frame(5, 1);
+  for (size_t i = 0; i < 5; ++i) {
+    truth.primary_t[i] = method.primary_t[i] = 1;
+    truth.primary_n[i] = method.primary_n[i] = Vec3::UnitZ();
+  }
+  // Truth radiance 1, 1, 0.05 (below a tenth of the brightest: not lit), 1, 1. The method: dark
+  // on a lit pixel (0: a false shadow), dim but above a quarter (1), dark where the truth is dim
+  // too (2), the same (3), dark but with its normal 45 degrees off (4: a normal error).
+  const float t[5] = {1, 1, 0.05f, 1, 1}, m[5] = {0, 0.3f, 0, 1, 0};
+  for (int x = 0; x < 5; ++x)
+    truth.image.at(x, 0) = Vec3::Constant(t[x]), method.image.at(x, 0) = Vec3::Constant(m[x]);
+  method.primary_n[4] = Vec3(1, 0, 1).normalized();
+  const FrameComparison c = compare_frames(truth, method);
+  CHECK(c.lit_pixels == 4);
+  CHECK(c.false_shadow == 1);
+  CHECK(c.normal_off == 1);
+  CHECK(c.false_shadow_rate() == Approx(0.25));
+}
