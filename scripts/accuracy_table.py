@@ -105,9 +105,11 @@ def band_cell(rs, lo, hi, thin):
     bounds = [(wilson(k, n, z), shape, k, n) for shape, k, n in judged]
     able = [b for b in bounds if wilson(0, b[3], z)[1] < BOUND]
     small = len(bounds) - len(able)
-    worst = max(able or bounds, key=lambda b: b[2] / b[3])  # the tiny shapes only if all are
+    over = any(low > BOUND for (low, _), *_ in bounds)
+    # The worst rate of the shapes that take part: all for 'over', else those that could decide.
+    worst = max(bounds if over or not able else able, key=lambda b: b[2] / b[3])
     worst_text = f"worst {100.0 * worst[2] / worst[3]:.2f} {worst[1]} ({worst[2]}/{worst[3]})"
-    if any(low > BOUND for (low, _), *_ in bounds):
+    if over:
         (low, _), shape, *_ = max(bounds, key=lambda b: b[0][0])
         return f"over (lower bound {low:.2f}, {shape}); {worst_text}"
     if not able:
@@ -132,7 +134,7 @@ def spread_table(rows, thin):
            f"under (the upper bound below it on every shape with hits enough to show that) or "
            f"inconclusive, with 95% Wilson intervals for the band as a whole (Bonferroni over the "
            f"shapes); then the deciding bound and its shape, how many shapes had too few hits in "
-           f"the band to take part in 'under', and the worst rate over the other shapes (failures/hits). The header gives the band's share of those hits, "
+           f"the band to take part in 'under', and the worst rate over the shapes that take part (failures/hits). The header gives the band's share of those hits, "
            f"lowest to highest over the shapes.",
            "",
            "| method | " + " | ".join(f"{lo}-{hi} deg ({s})" for (lo, hi), s in

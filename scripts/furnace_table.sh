@@ -13,11 +13,13 @@
 # the mesh as the floor row: what the shape loses with no method in between.
 # One JSON per (case, method) under OUT; then scripts/furnace_table.py writes OUT/table.md.
 # Usage: scripts/furnace_table.sh [build/bin/pcrt] [OUT=results/furnace]
+# PCRT_METHODS="id ..." reruns those methods only (and the mesh and exact rows); the table is
+# written from every JSON under OUT.
 set -euo pipefail
 pcrt=${1:-build/bin/pcrt}
 out=${2:-results/furnace}
 threads=${PCRT_THREADS:-2}
-methods=$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')
+methods=${PCRT_METHODS:-$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')}
 frame=(--width 128 --height 128 --spp 4 --threads "$threads" --json)
 bunny=data/bunny/bunny.off
 # name|bounces|input
