@@ -12,7 +12,8 @@ set -euo pipefail
 pcrt=${1:-build/bin/pcrt}
 out=${2:-results/light_transport}
 threads=${PCRT_THREADS:-2}
-methods=$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')
+# PCRT_METHODS="id ..." reruns those methods only; the table is written from every JSON under OUT.
+methods=${PCRT_METHODS:-$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')}
 mkdir -p "$out/analytic_points"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

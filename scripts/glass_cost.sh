@@ -13,7 +13,8 @@ out=${2:-results/light_transport}
 reps=${3:-3}
 threads=${PCRT_THREADS:-2}
 root=$(cd "$(dirname "$0")/.." && pwd)
-methods=$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')
+# PCRT_METHODS="id ..." reruns those methods only; the table is written from every JSON under OUT.
+methods=${PCRT_METHODS:-$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')}
 mkdir -p "$out/glass_cost"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
