@@ -52,10 +52,18 @@ def describe(f):
             f"(claimed {f.get('expected_model')}; {f.get('reason', '')})")
 
 
+def dropped_text(e):
+    """Runs of an earlier commit taken out of runs.jsonl to be made again (and why)."""
+    if not e.get("dropped_runs"):
+        return ""
+    return f" ({e['dropped_runs']} more dropped to be made again: {e.get('dropped_why', '?')})"
+
+
 def earlier_text(ctx):
     """The commits of runs made before a --resume (context.json's "earlier")."""
     parts = [f"{e.get('runs', '?')} of them earlier, at `{str(e.get('git_commit', '?'))[:12]}`"
              f"{', uncommitted changes' if e.get('git_dirty') else ''}"
+             f"{dropped_text(e)}"
              for e in ctx.get("earlier", [])]
     return "; " + "; ".join(parts) if parts else ""
 
