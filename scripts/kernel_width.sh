@@ -63,7 +63,14 @@ def early_by_spread(j):
             f"{rate([b for b in bands if b['lo_deg'] >= 15]):.2f}")
 
 
-for f in sorted(out.glob("*.json")):
+def order(f):
+    """Runs by method, shape and setting, the parameter's values in numeric order."""
+    m, shape, setting = f.stem.split(".", 2)
+    name, _, value = setting.rpartition("=")
+    return m, shape, name, float(value)
+
+
+for f in sorted(out.glob("*.json"), key=order):
     m, shape, setting = f.stem.split(".", 2)
     j = json.loads(f.read_text())
     if "missing_rate" in j:
