@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <memory>
 #include <ostream>
+#include <sstream>
 
 #include "core/error.hpp"
 
@@ -15,7 +17,8 @@ namespace pcrt {
 bool is_exr_path(const std::string& path) {
   if (path.size() < 4) return false;
   std::string ext = path.substr(path.size() - 4);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext == ".exr";
 }
 
@@ -37,8 +40,8 @@ std::string encode_exr(int width, int height, const std::vector<FloatChannel>& c
     std::memset(&info[size_t(i)], 0, sizeof(EXRChannelInfo));
     std::strncpy(info[size_t(i)].name, sorted[size_t(i)]->name.c_str(), 255);
     // tinyexr reads the planes and never writes them.
-    planes[size_t(i)] = reinterpret_cast<unsigned char*>(
-        const_cast<float*>(sorted[size_t(i)]->values.data()));
+    planes[size_t(i)] =
+        reinterpret_cast<unsigned char*>(const_cast<float*>(sorted[size_t(i)]->values.data()));
   }
   EXRImage image;
   InitEXRImage(&image);
@@ -70,6 +73,93 @@ StreamWriter exr_writer(int width, int height, std::vector<FloatChannel> channel
     const std::string bytes = encode_exr(width, height, channels);
     out.write(bytes.data(), std::streamsize(bytes.size()));
   };
+}
+
+namespace {
+
+// tinyexr's C structures, freed however decoding ends.
+struct ExrParts {
+  EXRHeader header;
+  EXRImage image;
+  bool header_parsed = false, image_loaded = false;
+  ExrParts() {
+    InitEXRHeader(&header);
+    InitEXRImage(&image);
+  }
+  ~ExrParts() {
+    if (image_loaded) FreeEXRImage(&image);
+    if (header_parsed) FreeEXRHeader(&header);
+  }
+  ExrParts(const ExrParts&) = delete;
+  ExrParts& operator=(const ExrParts&) = delete;
+};
+
+[[noreturn]] void exr_refused(const std::string& source, const char* err) {
+  const std::string why = err ? err : "not an EXR file";
+  if (err) FreeEXRErrorMessage(err);
+  input_error("{}: not a readable EXR image ({})", source, why);
+}
+
+// One channel's values, row-major from the top row: scanline images hold one plane per channel,
+// tiled ones a plane per tile.
+std::vector<float> channel_values(const EXRImage& image, int c) {
+  std::vector<float> v(size_t(image.width) * size_t(image.height));
+  if (!image.tiles) {
+    const auto* p = reinterpret_cast<const float*>(image.images[c]);
+    std::copy(p, p + v.size(), v.begin());
+    return v;
+  }
+  for (int t = 0; t < image.num_tiles; ++t) {
+    const EXRTile& tile = image.tiles[t];
+    const auto* p = reinterpret_cast<const float*>(tile.images[c]);
+    for (int y = 0; y < tile.height; ++y)
+      for (int x = 0; x < tile.width; ++x) {
+        const size_t gx = size_t(tile.offset_x) * size_t(tile.width) + size_t(x);
+        const size_t gy = size_t(tile.offset_y) * size_t(tile.height) + size_t(y);
+        if (gx < size_t(image.width) && gy < size_t(image.height))
+          v[gy * size_t(image.width) + gx] = p[size_t(y) * size_t(tile.width) + size_t(x)];
+      }
+  }
+  return v;
+}
+
+}  // namespace
+
+ExrImage decode_exr(const std::string& bytes, const std::string& source) {
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  EXRVersion version;
+  if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS)
+    exr_refused(source, nullptr);
+  if (version.multipart || version.non_image)
+    input_error("{}: a multi-part or deep EXR file (one flat image is read)", source);
+  ExrParts parts;
+  const char* err = nullptr;
+  if (ParseEXRHeaderFromMemory(&parts.header, &version, data, bytes.size(), &err) !=
+      TINYEXR_SUCCESS)
+    exr_refused(source, err);
+  parts.header_parsed = true;
+  for (int c = 0; c < parts.header.num_channels; ++c)
+    parts.header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+  if (LoadEXRImageFromMemory(&parts.image, &parts.header, data, bytes.size(), &err) !=
+      TINYEXR_SUCCESS)
+    exr_refused(source, err);
+  parts.image_loaded = true;
+  if (parts.image.width <= 0 || parts.image.height <= 0 || parts.header.num_channels <= 0)
+    input_error("{}: an EXR image of {}x{} pixels and {} channels", source, parts.image.width,
+                parts.image.height, parts.header.num_channels);
+  ExrImage out{parts.image.width, parts.image.height, {}};
+  for (int c = 0; c < parts.header.num_channels; ++c)
+    out.channels.push_back({parts.header.channels[c].name, channel_values(parts.image, c)});
+  return out;
+}
+
+ExrImage read_exr(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) input_error("{}: cannot open the EXR file", path);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (in.bad()) input_error("{}: cannot read the EXR file", path);
+  return decode_exr(bytes.str(), path);
 }
 
 std::vector<FloatChannel> rgb_channels(const Image& image) {

@@ -1,4 +1,4 @@
-#include <tinyexr.h>
+#include "core/exr_output.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -6,34 +6,18 @@
 #include <map>
 
 #include "core/error.hpp"
-#include "core/exr_output.hpp"
 
 using namespace pcrt;
 
 namespace {
 
-// The channels of an EXR file in memory, read back with tinyexr's own reader.
+// The channels of an EXR file in memory, read back with pcrt's reader.
 std::map<std::string, std::vector<float>> decode(const std::string& bytes, int& w, int& h) {
-  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-  EXRVersion version;
-  REQUIRE(ParseEXRVersionFromMemory(&version, data, bytes.size()) == TINYEXR_SUCCESS);
-  EXRHeader header;
-  InitEXRHeader(&header);
-  const char* err = nullptr;
-  REQUIRE(ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &err) == TINYEXR_SUCCESS);
-  EXRImage image;
-  InitEXRImage(&image);
-  REQUIRE(LoadEXRImageFromMemory(&image, &header, data, bytes.size(), &err) == TINYEXR_SUCCESS);
+  const ExrImage image = decode_exr(bytes, "test.exr");
   w = image.width;
   h = image.height;
   std::map<std::string, std::vector<float>> out;
-  for (int c = 0; c < header.num_channels; ++c) {
-    REQUIRE(header.pixel_types[c] == TINYEXR_PIXELTYPE_FLOAT);
-    const auto* p = reinterpret_cast<const float*>(image.images[c]);
-    out[header.channels[c].name].assign(p, p + size_t(w) * size_t(h));
-  }
-  FreeEXRImage(&image);
-  FreeEXRHeader(&header);
+  for (const FloatChannel& c : image.channels) out[c.name] = c.values;
   return out;
 }
 
@@ -63,4 +47,17 @@ TEST_CASE("EXR output: paths and malformed channels") {
   CHECK_FALSE(is_exr_path("b.png"));
   CHECK_FALSE(is_exr_path("exr"));
   CHECK_THROWS_AS(encode_exr(2, 2, {{"Z", {1, 2, 3}}}), InputError);
+}
+
+TEST_CASE("EXR input: truncated, garbage and missing files are one InputError naming them") {
+  const std::string bytes = encode_exr(4, 3, {{"Y", std::vector<float>(12, 0.25f)}});
+  int w = 0, h = 0;
+  CHECK(decode(bytes, w, h).at("Y") == std::vector<float>(12, 0.25f));
+  CHECK((w == 4 && h == 3));
+  for (size_t keep : {size_t(0), size_t(3), size_t(40), bytes.size() / 2, bytes.size() - 1}) {
+    INFO("bytes kept: " << keep);
+    CHECK_THROWS_WITH(decode_exr(bytes.substr(0, keep), "cut.exr"), Catch::Contains("cut.exr"));
+  }
+  CHECK_THROWS_WITH(decode_exr(std::string(200, 'x'), "junk.exr"), Catch::Contains("junk.exr"));
+  CHECK_THROWS_WITH(read_exr("/nonexistent/a.exr"), Catch::Contains("/nonexistent/a.exr"));
 }

@@ -16,6 +16,7 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/exr_output.hpp"
 #include "core/memory_budget.hpp"
 #include "core/ray_io.hpp"
 #include "harness/catalogue.hpp"
@@ -388,6 +389,24 @@ auto on_scene(R (Scene::*f)(A...) const) {
   };
 }
 
+// An EXR file's channels as a dict of (height, width) float32 arrays: what `pcrt render` writes
+// for .exr names (R, G, B radiance; Z depth; normals as R, G, B).
+py::dict read_exr_channels(const std::string& path) {
+  text_arg(path, "path");
+  ExrImage image;
+  {
+    py::gil_scoped_release unlocked;
+    image = read_exr(path);
+  }
+  py::dict out;
+  for (const FloatChannel& c : image.channels) {
+    py::array_t<float> a({image.height, image.width});
+    std::copy(c.values.begin(), c.values.end(), a.mutable_data());
+    out[py::str(c.name)] = a;
+  }
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_pcrt, m) {
@@ -427,6 +446,8 @@ PYBIND11_MODULE(_pcrt, m) {
       .def_property_readonly("counters", on_scene(&Scene::counters),
                              "operation counters of the last trace or render");
 
+  m.def("read_exr", &read_exr_channels, py::arg("path"),
+        "An EXR file's channels: a dict of name -> (height, width) float32 array");
   m.def("methods", &methods, "every method with its parameters and the thesis's claims");
   m.def("structures", &structures, "every structure with its parameters and claims");
 }

@@ -11,7 +11,7 @@ packages=(
   libcli11-dev
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   clang libclang-rt-14-dev
-  python3 python3-numpy python3-matplotlib
+  python3 python3-numpy python3-matplotlib python3-skimage
   python3-dev pybind11-dev python3-pybind11 python3-pytest python3-pandas
   slurm-wlm munge
   ca-certificates

@@ -12,9 +12,10 @@ Errors are pcrt.Error (a ValueError) with the one-line message the command line 
 import csv
 import os
 
-from ._pcrt import Cloud, Error, Scene, from_arrays, load, methods, structures
+from ._pcrt import Cloud, Error, Scene, from_arrays, load, methods, read_exr, structures
 
-__all__ = ["Cloud", "Error", "Scene", "from_arrays", "load", "methods", "structures", "read_sweep"]
+__all__ = ["Cloud", "Error", "Scene", "from_arrays", "load", "methods", "read_exr", "structures",
+           "read_sweep"]
 
 
 def read_sweep(directory):

@@ -262,3 +262,20 @@ def test_a_nul_in_a_text_argument_is_refused_whole():
     cloud = pcrt.load("sphere:n=100")
     with pytest.raises(pcrt.Error, match=r"method: contains a NUL byte at position 9"):
         pcrt.Scene(cloud, method="reference\0_splat")
+
+
+def test_read_exr_gives_the_frame_the_command_line_wrote(tmp_path):
+    data = "sphere:n=2000,seed=3"
+    frame, depth = tmp_path / "f.exr", tmp_path / "d.exr"
+    subprocess.run([EXE, "render", "--method", "reference_splat", "--data", data, "--width", "24",
+                    "--height", "16", "--out", str(frame), "--depth", str(depth)], check=True,
+                   stdout=subprocess.DEVNULL)
+    rgb = pcrt.read_exr(str(frame))
+    assert sorted(rgb) == ["B", "G", "R"] and rgb["R"].shape == (16, 24)
+    direct = pcrt.Scene(pcrt.load(data), "reference_splat").render(width=24, height=16)
+    assert np.array_equal(np.stack([rgb[c] for c in "RGB"], axis=-1), direct)
+    z = pcrt.read_exr(str(depth))["Z"]
+    assert np.isinf(z).any() and np.isfinite(z).any()
+    (tmp_path / "cut.exr").write_bytes(frame.read_bytes()[:50])
+    with pytest.raises(pcrt.Error, match="cut.exr"):
+        pcrt.read_exr(str(tmp_path / "cut.exr"))
