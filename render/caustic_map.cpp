@@ -127,11 +127,11 @@ CausticMapStats collect(std::span<const PhotonSlot> slots, std::vector<CausticPh
   CausticMapStats st;
   st.photons = slots.size();
   for (const PhotonSlot& slot : slots) {
-    st.emitted_power += slot.emitted;
+    st.emitted_power += slot.emitted.cast<double>();
     switch (slot.fate) {
       case Fate::kStored:
         stored.push_back(slot.photon);
-        st.stored_power += slot.photon.power;
+        st.stored_power += slot.photon.power.cast<double>();
         break;
       case Fate::kDiffuseFirst:
         ++st.diffuse_first;
@@ -141,7 +141,7 @@ CausticMapStats collect(std::span<const PhotonSlot> slots, std::vector<CausticPh
         break;
       case Fate::kCut:
         ++st.cut;
-        st.cut_power += slot.photon.power;
+        st.cut_power += slot.photon.power.cast<double>();
         break;
     }
   }

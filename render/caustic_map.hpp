@@ -48,9 +48,9 @@ struct CausticMapStats {
   uint64_t diffuse_first = 0;  // landed on a non-delta surface first: direct light, not stored
   uint64_t escaped = 0;        // left the scene or ended on a sphere light
   uint64_t cut = 0;            // still specular after the chain bound
-  Vec3 emitted_power = Vec3::Zero();
-  Vec3 stored_power = Vec3::Zero();
-  Vec3 cut_power = Vec3::Zero();  // what the cut photons carried when cut
+  Vec3d emitted_power = Vec3d::Zero();  // summed in double, photon by photon
+  Vec3d stored_power = Vec3d::Zero();
+  Vec3d cut_power = Vec3d::Zero();  // what the cut photons carried when cut
   double seconds = 0;
 };
 
