@@ -214,7 +214,8 @@ void method_claims(std::vector<Claim>& c) {
                    {"N"},
                    "Table 5.4"});
     for (const MethodInfo::OtherClaim& o : m.other_claims)
-      c.push_back({m.id + "/" + o.name, m.id, o.statement, o.complexity, o.variables, o.source});
+      c.push_back({m.id + "/" + o.name, m.id, o.statement, o.complexity, o.variables, o.source,
+                   o.not_tested});
   }
 }
 

@@ -259,6 +259,7 @@ int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   apply_scene_camera(*file, rs);
   RenderResult r = render(file->scene, rs);
   file->timings["render"] = r.seconds;
+  if (r.csm_seconds > 0) file->timings["csm"] = r.csm_seconds;
   OutputFiles outputs;  // all or none
   stage_render_images(outputs, r, o.out, o.depth.value_or(""), o.normals.value_or(""));
   if (o.stats) outputs.stage(*o.stats, json_writer(scene_file_stats(*file, rs, r)));

@@ -81,6 +81,17 @@ inline bool splat_family(LeafFamily f) {
   return f == LeafFamily::kDisc || f == LeafFamily::kSplatBlend;
 }
 
+// A caustic sample map (Goradia et al. 2011): before a frame of a scene holding an object of this
+// method, photons from the scene's point and sphere lights are traced through its specular
+// surfaces and stored where they first land on a non-specular one (render/caustic_map.hpp); the
+// frame adds their density estimate at the non-specular vertices the camera reaches directly or
+// through specular vertices only.
+struct CausticMapSpec {
+  int photons = 0;       // photons emitted over all lights
+  int k = 1;             // nearest photons per density estimate
+  float max_radius = 0;  // bound on the estimate's radius, as a fraction of the scene diagonal
+};
+
 // A complexity claim of the thesis about one method.
 struct MethodClaim {
   std::string quantity;                // "leaf intersection" or "frame"
@@ -127,6 +138,8 @@ struct MethodInfo {
   // Its structure is built over items of its own making (implicit cells, patches, fitted or
   // reduced splats: Table 5.4's "other preprocessing"), so its build is a claim of its own.
   bool own_items = false;
+  // Methods whose paper adds a caustic sample map: its settings from the method's parameters.
+  std::function<CausticMapSpec(const ParamValues&)> caustic_map = {};
   // What its runs cost, for balancing a sweep's shards (harness/shard_plan): nanoseconds per
   // N log2 N of preparation and build, and per ray and log2 N of a frame, medians over
   // results/thesis at 2 threads. The defaults are the splat oracle's order of magnitude.
@@ -148,6 +161,9 @@ struct MethodInfo {
     std::string complexity;  // "O(K^2)", or a threshold such as "I <= 1"
     std::vector<std::string> variables;
     std::string source;  // "section 5.5.2"
+    // Why the sweep harness cannot judge it (its variables are none of the harness's), and where
+    // it is measured instead; empty: a design of this method judges it.
+    std::string not_tested = {};
   };
   std::vector<OtherClaim> other_claims = {};
   // How the thesis config sweeps this method's own claims (scripts/make_thesis_config.py writes

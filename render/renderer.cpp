@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/rng.hpp"
+#include "render/caustic_map.hpp"
 #include "render/sampling.hpp"
 
 namespace pcrt {
@@ -28,6 +29,7 @@ struct PathContext {
   const RenderScene& scene;
   float epsilon;  // the smallest lift of a secondary ray's origin off the surface
   int bounces;
+  const CausticMap* csm = nullptr;  // the frame's caustic sample map, if its scene declares one
 };
 
 // The previous vertex of a path: how the ray now traced was drawn, for the MIS weight of the
@@ -45,9 +47,11 @@ float bsdf_weight(const Light& light, const Bounce& b, const Vec3& d) {
 }
 
 // Radiance from a sphere light in front of the hit (closest_t), or from the environments when
-// nothing was hit; true when the ray ended on a light (lights do not reflect).
+// nothing was hit; true when the ray ended on a light (lights do not reflect). `mapped`: the
+// caustic map holds what a sphere light gives this ray (environments emit no photons).
 bool reach_lights(const PathContext& c, const Ray& ray, float closest_t, bool found,
-                  const Bounce& b, const Vec3& throughput, Vec3& result, OpCounters& counters) {
+                  const Bounce& b, const Vec3& throughput, bool mapped, Vec3& result,
+                  OpCounters& counters) {
   const Light* nearest = nullptr;
   float t = closest_t;
   for (const Light& l : c.scene.lights) {
@@ -56,6 +60,7 @@ bool reach_lights(const PathContext& c, const Ray& ray, float closest_t, bool fo
   }
   if (nearest) {
     counters.add(kLightHits);
+    if (mapped) return true;
     result += bsdf_weight(*nearest, b, ray.d) * throughput.cwiseProduct(nearest->power);
     return true;
   }
@@ -115,11 +120,26 @@ bool draws_lobe(const Material& m) {
   return m.kind == MaterialKind::kDielectric || m.kind == MaterialKind::kRoughDielectric;
 }
 
-// The shading normal of a hit: towards the incoming ray for one-sided materials; dielectrics keep
-// the surface's own (outward) normal, so that wo.z < 0 says the ray arrived from inside.
-Vec3 shading_normal(const Hit& hit, const Ray& ray, const Material& m) {
-  if (m.kind == MaterialKind::kDielectric || m.kind == MaterialKind::kRoughDielectric) return hit.n;
-  return hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
+// Where a path stands towards the caustic sample map: the map serves the first non-delta vertex
+// reached through delta vertices only (the camera's, or behind mirrors and glass), and the paths
+// it estimates (light, one or more delta vertices, that vertex) must not be counted again by a
+// bounce from it that reaches a photon-emitting light through delta vertices.
+struct CausticState {
+  bool direct = true;           // every vertex so far was delta
+  bool guard = false;           // the last non-delta vertex used the map
+  bool specular_after = false;  // a delta vertex followed it
+};
+
+// The map's estimate at a vertex of material m, when the path may use it; updates the state.
+Vec3 caustic_term(const PathContext& c, const Hit& hit, const Frame3& frame, const Material& m,
+                  const Vec3& wo, CausticState& st, OpCounters& counters) {
+  if (is_delta(m)) {
+    st.specular_after = true;
+    return Vec3::Zero();
+  }
+  const bool use = c.csm && st.direct;
+  st = CausticState{false, use, false};
+  return use ? c.csm->radiance(hit.p, frame, m, wo, counters) : Vec3::Zero();
 }
 
 // Algorithm 2, unrolled: radiance along `ray` whose closest hit (if `found`) is `hit` on
@@ -129,9 +149,10 @@ Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool foun
   Vec3 result = Vec3::Zero();
   Vec3 throughput = Vec3::Ones();
   Bounce bounce;
+  CausticState caustic;
   for (int depth = 0;; ++depth) {
-    if (reach_lights(c, ray, found ? hit.t : kInfinity, found, bounce, throughput, result,
-                     counters))
+    if (reach_lights(c, ray, found ? hit.t : kInfinity, found, bounce, throughput,
+                     caustic.guard && caustic.specular_after, result, counters))
       break;
     const Material m = c.scene.material_at(object, hit.prim);
     result += throughput.cwiseProduct(m.emission);  // emitting surfaces: reached only by rays
@@ -140,6 +161,7 @@ Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool foun
     const Vec3 wo = frame.to_local(-ray.d);
     if (!is_delta(m))
       result += throughput.cwiseProduct(direct_light(c, hit, n, frame, m, wo, rng, counters));
+    result += throughput.cwiseProduct(caustic_term(c, hit, frame, m, wo, caustic, counters));
     if (depth == c.bounces) break;
     const Vec2 u = uniform2(rng);
     const float uc = draws_lobe(m) ? rng.uniform() : 0.5f;
@@ -159,6 +181,11 @@ Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool foun
 }
 
 }  // namespace
+
+Vec3 shading_normal(const Hit& hit, const Ray& ray, const Material& m) {
+  if (m.kind == MaterialKind::kDielectric || m.kind == MaterialKind::kRoughDielectric) return hit.n;
+  return hit.n.dot(ray.d) > 0 ? Vec3(-hit.n) : hit.n;
+}
 
 Vec3 cosine_direction(const Vec3& n, Rng& rng) {
   return Frame3(n).to_world(cosine_hemisphere(uniform2(rng))).normalized();
@@ -263,21 +290,40 @@ std::unique_ptr<PrimaryPass> scene_primary_pass(const RenderScene& scene, const 
   return scene.objects[0].geometry->primary_pass(camera, counters);
 }
 
+// The caustic sample map of the frame, when an object's method declares one and the scene can
+// hold an entry (a delta object, a point or sphere light): photons bounded by B specular vertices.
+std::unique_ptr<CausticMap> frame_caustic_map(const RenderScene& scene, const RenderSettings& s,
+                                              float epsilon, OpCounters& counters) {
+  const CausticMapSpec* spec = scene_caustic_map(scene);
+  if (!spec || !caustic_map_possible(scene)) return nullptr;
+  const CausticMapSettings settings{*spec, s.bounces, s.seed, s.threads, epsilon};
+  return std::make_unique<CausticMap>(scene, settings, counters);
+}
+
 }  // namespace
 
 RenderResult render(const RenderScene& scene, const RenderSettings& s) {
   const Aabb bounds = scene.bounds();
   const Camera camera =
       s.camera ? *s.camera : Camera::framing(bounds, s.width, s.height, s.view, s.up);
-  RenderResult out{
-      Image(s.width, s.height), Image(s.width, s.height), Image(s.width, s.height), {}, 0, {}, {}};
+  RenderResult out{Image(s.width, s.height),
+                   Image(s.width, s.height),
+                   Image(s.width, s.height),
+                   {},
+                   0,
+                   0,
+                   {},
+                   {}};
   std::vector<float> depth(size_t(s.width) * s.height, kInfinity);
   out.primary_n.assign(depth.size(), Vec3::Zero());
   const auto start = std::chrono::steady_clock::now();
   OpCounters frame_counters;
   const std::unique_ptr<PrimaryPass> primary = scene_primary_pass(scene, camera, frame_counters);
   const float diag = std::max(bounds.diagonal(), 1e-6f);
-  const PathContext path{scene, s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag, s.bounces};
+  const float epsilon = s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag;
+  const std::unique_ptr<CausticMap> csm = frame_caustic_map(scene, s, epsilon, frame_counters);
+  if (csm) out.csm_seconds = csm->stats().seconds;
+  const PathContext path{scene, epsilon, s.bounces, csm.get()};
   const Frame frame{path, s, camera, primary.get(), out, depth};
   render_tiles(frame, out.counters);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -51,12 +51,17 @@ struct RenderResult {
   Image depth;    // primary-hit distance of the centre sample, scaled to [0,1] over the image
   Image normals;  // primary-hit normal of the centre sample as (n + 1) / 2
   OpCounters counters;
-  double seconds = 0;
+  double seconds = 0;      // the whole frame, the caustic map's prepass included
+  double csm_seconds = 0;  // the caustic map's prepass (photons and octree), when the scene has one
   // Per pixel (row-major) the centre sample's primary hit distance (+inf: no hit) and its normal
   // facing the camera: what `pcrt compare` judges against a mesh rendered with the same camera.
   std::vector<float> primary_t;
   std::vector<Vec3> primary_n;
 };
+
+// The shading normal of a hit: towards the incoming ray for one-sided materials; dielectrics keep
+// the surface's own (outward) normal, so that wo.z < 0 says the ray arrived from inside.
+Vec3 shading_normal(const Hit& hit, const Ray& ray, const Material& m);
 
 // A direction around the unit normal n with density cos/pi (the renderer's bounce rays).
 Vec3 cosine_direction(const Vec3& n, Rng& rng);

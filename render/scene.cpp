@@ -52,6 +52,7 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   require_memory(estimated_bytes_, fmt::format("{} with {} on {} points", cloud.name,
                                                method_info_->id, cloud.size()));
   method_ = method_info_->create(method_params_);
+  if (method_info_->caustic_map) caustic_map_ = method_info_->caustic_map(method_params_);
   {
     PrepareContext ctx{counters, timings};
     ScopedTimer t(timings, "prepare");

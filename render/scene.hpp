@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -29,6 +30,8 @@ class SceneIntersector {
                                                                   OpCounters& /*counters*/) const {
     return nullptr;
   }
+  // The caustic sample map a frame holding this object builds (MethodInfo::caustic_map), or null.
+  [[nodiscard]] virtual const CausticMapSpec* caustic_map() const { return nullptr; }
 };
 
 struct SceneOptions {
@@ -50,6 +53,9 @@ class PointScene final : public SceneIntersector {
                                                           OpCounters& counters) const override {
     return method_->primary_pass(camera, counters);
   }
+  [[nodiscard]] const CausticMapSpec* caustic_map() const override {
+    return caustic_map_ ? &*caustic_map_ : nullptr;
+  }
 
   [[nodiscard]] const MethodInfo& method_info() const { return *method_info_; }
   // The structure's id, or the method's own acceleration (e.g. "embree_bvh").
@@ -70,6 +76,7 @@ class PointScene final : public SceneIntersector {
   std::unique_ptr<Method> method_;
   std::unique_ptr<Structure> structure_;
   size_t estimated_bytes_ = 0;
+  std::optional<CausticMapSpec> caustic_map_;
 };
 
 // Closest hits of `rays` on all threads TBB may use (a tbb::global_control bounds them);
