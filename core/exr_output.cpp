@@ -77,18 +77,20 @@ StreamWriter exr_writer(int width, int height, std::vector<FloatChannel> channel
 
 namespace {
 
-// tinyexr's C structures, freed however decoding ends.
+// tinyexr's C structures, freed however decoding ends: a header that failed to parse may hold
+// allocations already (FreeEXRHeader accepts it), an image that failed to load was freed by
+// tinyexr itself.
 struct ExrParts {
   EXRHeader header;
   EXRImage image;
-  bool header_parsed = false, image_loaded = false;
+  bool image_loaded = false;
   ExrParts() {
     InitEXRHeader(&header);
     InitEXRImage(&image);
   }
   ~ExrParts() {
     if (image_loaded) FreeEXRImage(&image);
-    if (header_parsed) FreeEXRHeader(&header);
+    FreeEXRHeader(&header);
   }
   ExrParts(const ExrParts&) = delete;
   ExrParts& operator=(const ExrParts&) = delete;
@@ -137,7 +139,6 @@ ExrImage decode_exr(const std::string& bytes, const std::string& source) {
   if (ParseEXRHeaderFromMemory(&parts.header, &version, data, bytes.size(), &err) !=
       TINYEXR_SUCCESS)
     exr_refused(source, err);
-  parts.header_parsed = true;
   for (int c = 0; c < parts.header.num_channels; ++c)
     parts.header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
   if (LoadEXRImageFromMemory(&parts.image, &parts.header, data, bytes.size(), &err) !=
