@@ -281,10 +281,11 @@ Vec3 CausticMap::radiance(const Vec3& p, const Frame3& frame, const Material& m,
   // Fewer than k within the bound: the bound is the estimate's radius.
   const float r2 = n == size_t(k_) ? *std::max_element(d2.begin(), d2.begin() + n) : max_d2;
   if (!(r2 > 0) || !std::isfinite(r2)) return Vec3::Zero();
+  const float inv_r2 = 1.0f / r2;  // one division per lookup, none per photon
   Vec3 sum = Vec3::Zero();
   for (size_t i = 0; i < n; ++i) {
     const CausticPhoton& ph = photons_[index[i]];
-    const float w = 1.0f - d2[i] / r2;
+    const float w = 1.0f - d2[i] * inv_r2;
     if (w > 0) sum += w * bsdf_f(m, wo, frame.to_local(ph.wi)).cwiseProduct(ph.power);
   }
   return sum * (2.0f / (kPi * r2));
