@@ -298,12 +298,15 @@ const CausticMapSpec* scene_caustic_map(const RenderScene& scene) {
 }
 
 bool caustic_map_possible(const RenderScene& scene) {
-  const bool specular = std::any_of(scene.objects.begin(), scene.objects.end(),
-                                    [](const SceneObject& o) { return is_delta(o.material); });
+  const auto delta = [](const SceneObject& o) { return is_delta(o.material); };
+  const bool specular = std::any_of(scene.objects.begin(), scene.objects.end(), delta);
+  // A photon is stored only where it lands on a non-delta surface: a scene of mirrors alone
+  // (the closed mirror sphere of configs/bounces.json) would trace every photon to its cut.
+  const bool receives = !std::all_of(scene.objects.begin(), scene.objects.end(), delta);
   const bool emits = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
     return l.kind == LightKind::kPoint || l.kind == LightKind::kSphere;
   });
-  return specular && emits;
+  return specular && receives && emits;
 }
 
 }  // namespace pcrt

@@ -105,7 +105,8 @@ class CausticMap {
 // The first caustic sample map an object of the scene declares (its method's), or null.
 const CausticMapSpec* scene_caustic_map(const RenderScene& scene);
 // Whether a caustic map of the scene can hold an entry: some object is delta (mirror or smooth
-// glass) and some light emits photons. A frame skips the prepass when not.
+// glass), some other is not (where photons land) and some light emits photons. A frame skips
+// the prepass when not.
 bool caustic_map_possible(const RenderScene& scene);
 
 }  // namespace pcrt

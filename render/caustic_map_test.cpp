@@ -1,8 +1,8 @@
 // The caustic sample map (render/caustic_map.hpp) against what a mirror must give: a point light
 // beside a perfect mirror lights the floor as its mirror image does, I cos(theta) / d^2; no
-// mirror, no entries; photons are conserved in a closed mirror box; the map does not depend on
-// the thread count; and a frame of goradia_2011 differs from kashyap_2010_implicit's (the same
-// intersection) only where a caustic lands.
+// mirror, no entries; no receiver, no prepass; photons are conserved in a closed mirror box; the
+// map does not depend on the thread count; and a frame of goradia_2011 differs from
+// kashyap_2010_implicit's (the same intersection) only where a caustic lands.
 #include "render/caustic_map.hpp"
 
 #include <catch2/catch.hpp>
@@ -123,6 +123,21 @@ TEST_CASE("without the mirror the map is empty", "[caustic_map]") {
   CHECK(map.stats().diffuse_first > 40000);  // about half go down
   CHECK(map.stats().stored_power.isZero(0));
   CHECK(irradiance(map, Vec3::Zero()) == 0.0f);
+}
+
+// The prepass runs only where an entry can be stored: a delta object to bend the photons, a
+// non-delta one to receive them, and a light that emits them.
+TEST_CASE("a frame traces photons only where one can be stored", "[caustic_map]") {
+  CHECK(caustic_map_possible(mirror_scene(true)));
+  CHECK_FALSE(caustic_map_possible(mirror_scene(false)));  // nothing bends them
+  RenderScene mirrors;                                     // nothing receives them
+  add(mirrors, kWall, mirror());
+  add(mirrors, kFloor, mirror());
+  mirrors.lights.push_back(point_light(Vec3(0, 0, 1), kIntensity));
+  CHECK_FALSE(caustic_map_possible(mirrors));
+  RenderScene sky = mirror_scene(true);  // nothing emits them
+  sky.lights.front().kind = LightKind::kEnvironment;
+  CHECK_FALSE(caustic_map_possible(sky));
 }
 
 TEST_CASE("the map does not depend on the thread count", "[caustic_map]") {
