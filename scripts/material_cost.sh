@@ -9,11 +9,11 @@
 # The ratios of rays cast, items visited and render seconds to the diffuse frame are what a user
 # pays for the material. One JSON per (method, material, rep) under
 # OUT/material_cost, then scripts/material_cost.py writes OUT/material_cost.md and .json.
-# Usage: scripts/material_cost.sh [build/bin/pcrt] [OUT=results/light_transport] [REPS=3]
+# Usage: scripts/material_cost.sh [build/bin/pcrt] [OUT=results/light_transport] [REPS=5]
 set -euo pipefail
 pcrt=${1:-build/bin/pcrt}
 out=${2:-results/light_transport}
-reps=${3:-3}
+reps=${3:-5}
 threads=${PCRT_THREADS:-2}
 root=$(cd "$(dirname "$0")/.." && pwd)
 materials="glass mirror glossy diffuse"
@@ -45,8 +45,8 @@ for m in $methods; do
   for material in $materials; do scene "$m" "$material" >"$tmp/$m.$material.json"; done
   for r in $(seq 1 "$reps"); do
     for material in $materials; do
-      "$pcrt" render --scene "$tmp/$m.$material.json" --out "$tmp/frame.exr" --width 96 \
-        --height 72 --spp 2 --bounces 6 --threads "$threads" \
+      "$pcrt" render --scene "$tmp/$m.$material.json" --out "$tmp/frame.exr" --width 160 \
+        --height 120 --spp 4 --bounces 6 --threads "$threads" \
         --stats "$out/material_cost/$m.$material.$r.json" >/dev/null
     done
   done
