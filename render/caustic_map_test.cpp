@@ -244,3 +244,61 @@ TEST_CASE("goradia_2011 adds a caustic where kashyap_2010_implicit has none", "[
   CHECK(std::memcmp(g1.image.pixels().data(), g.image.pixels().data(),
                     g.image.pixels().size() * sizeof(Vec3)) == 0);
 }
+
+namespace {
+
+// A mirror rectangle that declares a caustic sample map, as a goradia_2011 object does.
+class MappedRect final : public SceneIntersector {
+ public:
+  MappedRect(const Rect& r, CausticMapSpec spec) : rect_(r), spec_(spec) {}
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
+    return rect_.closest_hit(ray, hit, counters);
+  }
+  [[nodiscard]] const CausticMapSpec* caustic_map() const override { return &spec_; }
+
+ private:
+  const Rect& rect_;
+  CausticMapSpec spec_;
+};
+
+// The floor's radiance summed over a frame looking down on it beside the mirror wall, under a
+// sphere light: the wall declares the map (`mapped`) or not; `with_wall` false leaves it out.
+double floor_sum(bool with_wall, bool mapped) {
+  const MappedRect wall(kWall, CausticMapSpec{400000, 256, 0.05f});
+  RenderScene scene;
+  add(scene, kFloor, diffuse(1));
+  if (with_wall) {
+    scene.objects.push_back(SceneObject{mapped ? static_cast<const SceneIntersector*>(&wall)
+                                               : static_cast<const SceneIntersector*>(&kWall),
+                                        nullptr, mirror(), Transform{}, kWall.bounds(), "wall"});
+  }
+  Light sphere;
+  sphere.kind = LightKind::kSphere;
+  sphere.position = Vec3(0, 0, 1);
+  sphere.radius = 0.15f;
+  sphere.power = Vec3::Constant(20);
+  scene.lights.push_back(sphere);
+  RenderSettings s;
+  s.width = 40, s.height = 30, s.spp = 256, s.bounces = 3, s.threads = 2;
+  s.camera = Camera(Vec3(-1.5f, 0, 7), Vec3(-1.5f, 0, 0), Vec3::UnitX(), 50, s.width, s.height);
+  const RenderResult r = render(scene, s);
+  double sum = 0;
+  for (const Vec3& p : r.image.pixels()) sum += p.x();
+  return sum;
+}
+
+}  // namespace
+
+// What the mirror adds to the floor under a sphere light (the caustic: light, mirror, floor) is
+// estimated once: by the map where the wall declares one, by the paths otherwise. A frame that
+// also let its paths from the floor reach the light through the mirror would count it twice
+// (ratio 2); one that suppressed them without the map, not at all (ratio 0). Measured: 0.944
+// at 256 spp (0.925 and 0.969 with seeds 2 and 3, the path-traced caustic's noise), 0.969 at
+// 2048 spp: the map is about 3% low, its kernels half empty at the mirror's foot.
+TEST_CASE("a sphere light's caustic is counted once, by the map or by the paths", "[caustic_map]") {
+  const double direct = floor_sum(false, false);
+  const double paths = floor_sum(true, false) - direct;
+  const double map = floor_sum(true, true) - direct;
+  REQUIRE(paths > 0.15 * direct);  // the caustic is a quarter of the floor's light
+  CHECK(map / paths == Approx(1.0).margin(0.15));
+}
