@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The material cost table from scripts/material_cost.sh's stats: per method, for glass, mirror
 and glossy, the ratio to the diffuse frame of rays cast, items visited (both exact, the same every
-rep) and the median render seconds, and the diffuse median seconds. Writes OUT.md and OUT.json
+rep) and the median render seconds, and the diffuse median seconds; beside each time ratio, the range of the ratios of
+the reps paired within one pass of the loop. Writes OUT.md and OUT.json
 beside it (per method and material: the counters, the median seconds and the ratios). A missing
 or unreadable stats file is an error naming it.
 Usage: material_cost.py DIR REPS OUT.md
@@ -46,14 +47,19 @@ def measure(folder, method, reps):
             sys.exit(f"material_cost: {method} {mat}: counters differ between reps")
         # The render phase includes a caustic map prepass (goradia_2011 before a delta object).
         out[mat] = {**row, "render_seconds": statistics.median(r[1] for r in runs),
-                    "csm_seconds": statistics.median(r[2] for r in runs)}
+                    "csm_seconds": statistics.median(r[2] for r in runs),
+                    "rep_seconds": [r[1] for r in runs]}
     return out
 
 
 def ratios(row, diffuse):
     keys = COUNTERS[:4] + ("render_seconds",)
-    return {k: row[k] / diffuse[k] if row[k] is not None and diffuse[k] else None
-            for k in keys}
+    out = {k: row[k] / diffuse[k] if row[k] is not None and diffuse[k] else None for k in keys}
+    # Rep r of every material ran in the same pass of the loop: the spread of these paired
+    # ratios is how far the machine moved the median's.
+    paired = [a / b for a, b in zip(row["rep_seconds"], diffuse["rep_seconds"])]
+    out["render_seconds_range"] = [min(paired), max(paired)]
+    return out
 
 
 def fmt(x):
@@ -68,7 +74,9 @@ def table(results):
         cells = [method]
         for m in SPECULAR:
             r = mats[m]["ratio_to_diffuse"]
-            cells += [fmt(r["rays_cast"]), fmt(r["items_visited"]), fmt(r["render_seconds"])]
+            lo, hi = r["render_seconds_range"]
+            cells += [fmt(r["rays_cast"]), fmt(r["items_visited"]),
+                      f"{fmt(r['render_seconds'])} ({fmt(lo)}-{fmt(hi)})"]
         cells.append(f"{mats['diffuse']['render_seconds']:.3f}")
         lines.append("| " + " | ".join(cells) + " |")
     return lines
@@ -112,8 +120,9 @@ def main():
               f"{reps} reps alternated glass (dielectric, eta 1.5)/mirror/glossy (rough_conductor, "
               "roughness 0.15)/diffuse (albedo 0.75) in one loop; each cell is the "
               "material's value over the diffuse frame's: rays cast, items visited (exact; - "
-              "where the method does not count them) and median render seconds (render phase "
-              "only: the structure build is the same for every material). Load average "
+              "where the method does not count them) and median render seconds, with the range "
+              "of the ratios of the reps paired in one pass of the loop (render phase only: the "
+              "structure build is the same for every material). Load average "
               f"(1/5/15 min) when written: {' / '.join(map(str, load_avg))}.")
     out.write_text("\n".join(table(results) + csm_notes(results) + ["", footer, ""]))
     summary = {"params": {k: p.get(k) for k in ("width", "height", "S", "B", "threads")},

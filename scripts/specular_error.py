@@ -178,6 +178,27 @@ def references(args, tmp):
     return refs
 
 
+def saved_references(args):
+    """The references a previous run wrote (OUT/reference/*.exr, their noise in OUT/metrics.json):
+    a frame of the exact mesh does not change with the point methods, so a rerun after a
+    method's change need not converge them again."""
+    metrics = args.out / "metrics.json"
+    if not metrics.exists():
+        sys.exit(f"specular_error: --reuse-references: {metrics} is missing")
+    run = json.loads(metrics.read_text())
+    for key in ("width", "height", "ref_spp", "bounces"):
+        if run["settings"].get(key) != getattr(args, key):
+            sys.exit(f"specular_error: --reuse-references: {metrics} has {key} "
+                     f"{run['settings'].get(key)}, this run {getattr(args, key)}")
+    saved, refs = run["reference"], {}
+    for mat in MATERIALS:
+        path = args.out / "reference" / f"{mat}.exr"
+        if not path.exists() or mat not in saved:
+            sys.exit(f"specular_error: --reuse-references: {path} or its entry is missing")
+        refs[mat] = {**saved[mat], "image": rgb(path)}
+    return refs
+
+
 def frame_row(args, tmp, mat, method, ref, bunny):
     """One frame at --spp against the reference: its errors, time and rays."""
     out = tmp / f"{mat}.{method or 'mesh'}.exr"
@@ -268,6 +289,8 @@ def main():
     p.add_argument("--ref-spp", type=int, default=4096)
     p.add_argument("--bounces", type=int, default=8)
     p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--reuse-references", action="store_true",
+                   help="keep OUT/reference and its noise from the last run (same --ref-spp)")
     args = p.parse_args()
     if not BUNNY.exists():
         sys.exit(f"specular_error: {BUNNY} is missing (bash scripts/fetch_data.sh)")
@@ -275,7 +298,7 @@ def main():
     (args.out / "reference").mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as t:
         tmp = Path(t)
-        refs = references(args, tmp)
+        refs = saved_references(args) if args.reuse_references else references(args, tmp)
         render(args, normals_scene(None), tmp / "n.mesh.exr", 1, 1, 0,
                ("--normals", str(tmp / "n.mesh.normals.exr"), "--depth",
                 str(tmp / "n.mesh.depth.exr")))
