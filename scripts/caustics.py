@@ -133,7 +133,7 @@ def main():
     ap.add_argument("--width", type=int, default=400)
     ap.add_argument("--height", type=int, default=300)
     ap.add_argument("--spp", type=int, default=32)
-    ap.add_argument("--ref-spp", type=int, default=8192)
+    ap.add_argument("--ref-spp", type=int, default=16384)
     ap.add_argument("--bounces", type=int, default=8)
     ap.add_argument("--threads", type=int, default=2)
     args = ap.parse_args()
