@@ -10,7 +10,7 @@ from the registry (`pcrt list --json`: what each method declares), never listed 
 claim the registry says is tested must be judged by some experiment, or this script fails.
 Run it after changing the design or a method's declaration; the config is committed.
 Usage: make_thesis_config.py [--pcrt PCRT] [OUT | --check CONFIG]"""
-import argparse, json, subprocess, sys
+import argparse, json, pathlib, subprocess, sys
 
 ARGS = argparse.ArgumentParser()
 ARGS.add_argument("--pcrt", default="build/bin/pcrt")
@@ -174,6 +174,11 @@ E.append({"name": "frame_in_B", "kind": "render", "methods": ["surveyed"], "data
           "replicates": REPLICATES,
           "fits": [fit("{method}/frame", "B")]})
 DATA4 = ["sphere", "torus", "bumpy_sphere", SCAN]
+# The frame claims in B again on paths that really bounce (a closed mirror sphere, two facing
+# mirrors, glass on a mesh floor): configs/bounces.json's experiments, taken from that file so
+# the two configs cannot disagree.
+BOUNCES = pathlib.Path(__file__).resolve().parent.parent / "configs/bounces.json"
+E.extend(json.load(open(BOUNCES))["experiments"])
 E.extend(declared_experiments())
 E.append({"name": "mls_iterations", "kind": "render", "methods": ["adamson_alexa_2003", "tejada_2006"],
           "datasets": DATA4, "grid": {"N": [20000], "M": [4096], "B": [1]},
