@@ -73,7 +73,8 @@ def floor_mask(args, tmp):
         render(args, scene, tmp / f"{name}.exr", 1, 1, 0, ("--depth", str(z)))
         depth[name] = pcrt.read_exr(str(z))["Z"]
     z, zb = depth["scene"], depth["bunny"]
-    bunny = np.isfinite(zb) & (np.abs(zb - z) <= 1e-4 * np.maximum(z, 1))
+    with np.errstate(invalid="ignore"):  # inf - inf where both miss
+        bunny = np.isfinite(zb) & (np.abs(zb - z) <= 1e-4 * np.maximum(z, 1))
     return np.isfinite(z) & ~bunny
 
 
@@ -112,6 +113,20 @@ def reference(args, tmp):
     return ref, stats["timings"]["render"], noise
 
 
+def saved_reference(args):
+    """The reference and its noise as the last run wrote them (OUT/reference, OUT/metrics.json):
+    the mesh frame does not change with the point methods, so a rerun need not converge it."""
+    path, metrics = args.out / "reference" / "caustic_bunny_mesh.exr", args.out / "metrics.json"
+    if not path.exists() or not metrics.exists():
+        sys.exit(f"caustics: --reuse-reference: {path} or {metrics} is missing")
+    run = json.loads(metrics.read_text())
+    for key in ("width", "height", "ref_spp", "bounces"):
+        if run["settings"].get(key) != str(getattr(args, key)):
+            sys.exit(f"caustics: --reuse-reference: {metrics} has {key} "
+                     f"{run['settings'].get(key)}, this run {getattr(args, key)}")
+    return rgb(path), run["reference_seconds"], run["reference_noise_rmse"]
+
+
 def write_table(args, rows, ref_seconds, noise):
     lines = [f"{args.width}x{args.height}, B = {args.bounces}, {args.threads} threads: frames at "
              f"S = {args.spp} (seed 1) against the mesh at S = {args.ref_spp} (seed 2, "
@@ -136,6 +151,8 @@ def main():
     ap.add_argument("--ref-spp", type=int, default=16384)
     ap.add_argument("--bounces", type=int, default=8)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--reuse-reference", action="store_true",
+                    help="keep OUT/reference and its noise from the last run (same size, S, B)")
     args = ap.parse_args()
     if args.ref_spp < 4 or args.spp < 1:
         sys.exit(f"caustics: --ref-spp {args.ref_spp} / --spp {args.spp}: need >= 4 and >= 1")
@@ -143,7 +160,8 @@ def main():
     with tempfile.TemporaryDirectory() as t:
         tmp = Path(t)
         floor = floor_mask(args, tmp)
-        ref, ref_seconds, noise = reference(args, tmp)
+        ref, ref_seconds, noise = (saved_reference(args) if args.reuse_reference
+                                   else reference(args, tmp))
         rows, frames = [], {}
         for frame, scene in SCENES.items():
             stats = render(args, scene, tmp / f"{scene}.exr", args.spp, 1, args.bounces)
@@ -151,7 +169,7 @@ def main():
             frames[frame] = rgb(tmp / f"{scene}.exr")
             rows.append({"frame": frame, **errors(frames[frame], ref, floor),
                          "seconds": stats["timings"]["render"],
-                         "csm_seconds": stats.get("csm_seconds", 0.0)})
+                         "csm_seconds": stats["timings"].get("csm", 0.0)})
     figure(args.out / "caustic_bunny.png",
            [frames["goradia_2011"], frames["kashyap_2010_implicit"], ref],
            [f"goradia_2011 (caustic sample map), S = {args.spp}",
@@ -160,8 +178,8 @@ def main():
     write_table(args, rows, ref_seconds, noise)
     (args.out / "metrics.json").write_text(json.dumps(
         {"rows": rows, "reference_seconds": ref_seconds, "reference_noise_rmse": noise,
-         "floor_pixels": int(floor.sum()), "settings": {k: str(v) for k, v in vars(args).items()
-                                                        if k not in ("pcrt", "out")}},
+         "floor_pixels": int(floor.sum()),
+         "settings": {k: str(v) for k, v in vars(args).items() if k not in ("pcrt", "out")}},
         indent=2) + "\n")
     print(f"caustics: {args.out}/caustic_bunny.png, {args.out}/table.md")
 
