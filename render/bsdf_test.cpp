@@ -21,9 +21,9 @@ namespace {
 
 // Uniform floats in [0, 1) from the top 24 bits of a 64-bit Mersenne twister (the standard
 // float distributions may round up to 1).
-class Rng {
+class TestRng {
  public:
-  explicit Rng(uint64_t seed) : engine_(seed) {}
+  explicit TestRng(uint64_t seed) : engine_(seed) {}
   float uniform() { return float(engine_() >> 40) * 0x1p-24f; }
   Vec2 uniform2() {
     const float x = uniform();
@@ -85,7 +85,7 @@ int cell_of(const Vec3& w) {
 }
 
 // Counts of non-delta sampled directions per cell.
-std::vector<double> sampled_counts(const Material& m, const Vec3& wo, int n, Rng& rng) {
+std::vector<double> sampled_counts(const Material& m, const Vec3& wo, int n, TestRng& rng) {
   std::vector<double> counts(kThetaRes * kPhiRes, 0.0);
   for (int s = 0; s < n; ++s) {
     const float uc = rng.uniform();
@@ -223,7 +223,7 @@ struct Estimate {
   double importance = 0;  // the same with transmitted weights times eta'^2 (see the energy test)
 };
 
-Estimate estimate(const Material& m, const Vec3& wo, int n, Rng& rng) {
+Estimate estimate(const Material& m, const Vec3& wo, int n, TestRng& rng) {
   Estimate e;
   const float etap = transmitted_eta(m, wo);
   for (int s = 0; s < n; ++s) {
@@ -253,7 +253,7 @@ TEST_CASE("bsdf_sample draws directions with the density bsdf_pdf reports (chi-s
   const std::vector<Chi2Case> cases = chi2_cases();
   const int runs = int(cases.size()) * kChi2Runs;
   const double alpha = 1 - std::pow(1 - kSignificance, 1.0 / runs);
-  Rng rng(7);
+  TestRng rng(7);
   for (const Chi2Case& c : cases)
     for (int k = 0; k < kChi2Runs; ++k) {
       Vec3 wo = cosine_hemisphere(rng.uniform2());
@@ -286,7 +286,7 @@ std::vector<Material> non_delta_materials() {
 TEST_CASE("the pdf integrates to the fraction of samples drawn; samples agree with f and pdf",
           "[bsdf]") {
   const std::vector<Material> materials = non_delta_materials();
-  Rng rng(11);
+  TestRng rng(11);
   constexpr int kSamples = 200000;
   for (const Material& m : materials)
     for (float cos_o : {0.95f, 0.6f, 0.2f, -0.9f, -0.4f}) {
@@ -332,7 +332,7 @@ TEST_CASE("no material reflects or transmits more energy than arrives (white fur
   for (float eta : {1.5f, 1 / 1.5f})
     for (float alpha : {1e-4f, 0.05f, 0.2f, 0.5f})
       materials.push_back(make(MaterialKind::kRoughDielectric, eta, alpha));
-  Rng rng(13);
+  TestRng rng(13);
   constexpr int kSamples = 100000;
   for (const Material& m : materials)
     for (float cos_o : {0.95f, 0.5f, 0.1f, -0.95f, -0.5f, -0.1f}) {
@@ -377,7 +377,7 @@ TEST_CASE("the albedo tints every lobe but the conductor's, coloured by eta and 
       const Vec3 wo = direction(cos_o);
       INFO(describe(white, wo));
       const Vec3 scale = white.kind == MaterialKind::kRoughConductor ? Vec3::Ones() : tint;
-      Rng rng(19);
+      TestRng rng(19);
       int reflected = 0, transmitted = 0, mismatched = 0;
       for (int s = 0; s < 2000; ++s) {
         const float uc = rng.uniform();
@@ -401,7 +401,7 @@ TEST_CASE("the albedo tints every lobe but the conductor's, coloured by eta and 
 }
 
 TEST_CASE("one-sided materials neither scatter from below nor into it", "[bsdf]") {
-  Rng rng(23);
+  TestRng rng(23);
   for (const Material& m : {make(MaterialKind::kDiffuse), make(MaterialKind::kMirror),
                             make(MaterialKind::kRoughConductor, 1.5f, 0.3f),
                             make(MaterialKind::kRoughConductor, 1.5f, 1e-4f)}) {
@@ -424,7 +424,7 @@ TEST_CASE("BSDFs are reciprocal; transmission in the generalised form f / eta_o^
   // are the absolute IORs on wo's and wi's side (Veach 1997, eq. 5.14 with the roles of the
   // arguments as in pbrt: light arrives along wi). Reflection is plainly symmetric.
   const std::vector<Material> materials = non_delta_materials();
-  Rng rng(17);
+  TestRng rng(17);
   for (const Material& m : materials) {
     INFO(describe(m, Vec3::Zero()));
     int nonzero = 0;

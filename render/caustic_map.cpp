@@ -12,6 +12,7 @@
 
 #include "core/rng.hpp"
 #include "render/renderer.hpp"
+#include "render/sampling.hpp"
 
 namespace pcrt {
 namespace {
@@ -19,12 +20,6 @@ namespace {
 constexpr uint64_t kPhotonStream = 0x43534d;  // "CSM": apart from the camera samples' streams
 constexpr uint32_t kLeafSize = 8;
 constexpr int kMaxDepth = 24;
-
-Vec2 uniform2(Rng& rng) {
-  const float a = rng.uniform();
-  const float b = rng.uniform();
-  return {a, b};
-}
 
 // A light that emits photons, its flux and the probability a photon is drawn from it.
 struct Emitter {

@@ -17,13 +17,6 @@ namespace {
 
 constexpr int kTile = 16;
 
-// Two uniform numbers in the order drawn (a constructor's arguments have no evaluation order).
-Vec2 uniform2(Rng& rng) {
-  const float a = rng.uniform();
-  const float b = rng.uniform();
-  return {a, b};
-}
-
 // What every path of a frame shares.
 struct PathContext {
   const RenderScene& scene;

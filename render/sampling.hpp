@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/geometry.hpp"
+#include "core/rng.hpp"
 
 namespace pcrt {
 
@@ -13,6 +14,13 @@ using Vec2 = Eigen::Vector2f;
 
 inline constexpr float kPi = 3.14159265358979f;
 inline constexpr float kInvPi = 0.318309886183791f;
+
+// Two uniform numbers in the order drawn (a constructor's arguments have no evaluation order).
+inline Vec2 uniform2(Rng& rng) {
+  const float a = rng.uniform();
+  const float b = rng.uniform();
+  return {a, b};
+}
 
 // Cosine-weighted direction about +z (Malley's method on a concentric disk would also do; the
 // polar map keeps the renderer's random-number use and its images unchanged). pdf = cos / pi.
