@@ -31,6 +31,9 @@ import numpy as np
 
 import pcrt
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from specular_error import rgb  # noqa: E402  (an EXR's RGB as float64)
+
 HERE = Path(__file__).resolve().parent.parent
 SCENES = {"goradia_2011": "caustic_bunny", "kashyap_2010_implicit": "caustic_bunny_kashyap",
           "mesh": "caustic_bunny_mesh"}
@@ -45,11 +48,6 @@ def render(args, scene, out, spp, seed, bounces, extra=()):
                     "--threads", str(args.threads), "--stats", str(stats), *extra],
                    check=True, stdout=subprocess.DEVNULL)
     return json.loads(stats.read_text())
-
-
-def rgb(path):
-    c = pcrt.read_exr(str(path))
-    return np.stack([c["R"], c["G"], c["B"]], axis=-1).astype(np.float64)
 
 
 def srgb(v):
