@@ -11,7 +11,10 @@ pcrt, config, results = sys.argv[1:4]
 
 def key(spec):
     spec = dict(spec)
-    spec.pop("dataset_path", None)  # where this machine keeps the scan: not the run's identity
+    # Where this machine keeps the scan or the scene file is not the run's identity (run_key in
+    # harness/run_spec.cpp drops the same two).
+    spec.pop("dataset_path", None)
+    spec.pop("scene_path", None)
     return json.dumps(spec, sort_keys=True)
 
 
