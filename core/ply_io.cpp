@@ -228,6 +228,7 @@ struct VertexSink {
   VertexLayout layout;
   PointCloud& cloud;
   std::vector<double> values;
+  LocalFrame frame;
 
   void reserve(uint64_t n) {
     cloud.positions.reserve(n);
@@ -238,12 +239,13 @@ struct VertexSink {
   void emit(const std::string& path, uint64_t index) {
     auto v = [&](int i) { return values[size_t(i)]; };
     auto f = [&](int i) { return static_cast<float>(v(i)); };
-    Vec3 p(f(layout.x), f(layout.y), f(layout.z));
-    if (!p.allFinite())
+    const Vec3d world(v(layout.x), v(layout.y), v(layout.z));
+    if (!world.cast<float>().allFinite())
       input_error("{}: vertex {} has a non-finite or out-of-range coordinate", path, index);
-    if (!within_coordinate_range(p))
+    if (!within_coordinate_range(world))
       input_error("{}: vertex {} has a coordinate beyond +-{:g}", path, index, kMaxCoordinate);
-    cloud.positions.push_back(p);
+    cloud.positions.push_back(frame.place(world));
+    cloud.origin = frame.origin;
     if (layout.nx >= 0) cloud.normals.emplace_back(f(layout.nx), f(layout.ny), f(layout.nz));
     if (layout.r >= 0) {
       const auto& ps = element.properties;
@@ -455,46 +457,70 @@ void put_binary(std::ostream& out, T v, bool big_endian) {
   out.write(b, sizeof(T));
 }
 
+void write_ply_header(std::ostream& out, const PointCloud& cloud, PlyFormat format) {
+  out << "ply\nformat "
+      << (format == PlyFormat::kAscii                ? "ascii"
+          : format == PlyFormat::kBinaryLittleEndian ? "binary_little_endian"
+                                                     : "binary_big_endian")
+      << " 1.0\ncomment written by pcrt\nelement vertex " << cloud.size() << "\n";
+  // A georeferenced cloud goes back to its file's coordinates, which float cannot hold.
+  const char* type = cloud.origin.isZero() ? "float" : "double";
+  out << fmt::format("property {0} x\nproperty {0} y\nproperty {0} z\n", type);
+  if (cloud.has_normals()) out << "property float nx\nproperty float ny\nproperty float nz\n";
+  if (cloud.has_colours()) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (cloud.has_radii()) out << "property float radius\n";
+  out << "end_header\n";
+}
+
+void write_ascii_vertex(std::ostream& out, const PointCloud& cloud, size_t i) {
+  if (cloud.origin.isZero()) {
+    const Vec3& p = cloud.positions[i];
+    out << fmt::format("{} {} {}", p.x(), p.y(), p.z());
+  } else {
+    const Vec3d p = to_world(cloud.positions[i], cloud.origin);
+    out << fmt::format("{} {} {}", p.x(), p.y(), p.z());
+  }
+  if (cloud.has_normals()) {
+    const Vec3& n = cloud.normals[i];
+    out << fmt::format(" {} {} {}", n.x(), n.y(), n.z());
+  }
+  if (cloud.has_colours()) {
+    const Rgb8& c = cloud.colours[i];
+    out << ' ' << int(c.r) << ' ' << int(c.g) << ' ' << int(c.b);
+  }
+  if (cloud.has_radii()) out << ' ' << fmt::format("{}", cloud.radii[i]);
+  out << '\n';
+}
+
+void write_binary_vertex(std::ostream& out, const PointCloud& cloud, size_t i, bool big) {
+  if (cloud.origin.isZero()) {
+    for (int k = 0; k < 3; ++k) put_binary(out, cloud.positions[i][k], big);
+  } else {
+    const Vec3d p = to_world(cloud.positions[i], cloud.origin);
+    for (int k = 0; k < 3; ++k) put_binary(out, p[k], big);
+  }
+  if (cloud.has_normals())
+    for (int k = 0; k < 3; ++k) put_binary(out, cloud.normals[i][k], big);
+  if (cloud.has_colours()) {
+    const Rgb8& c = cloud.colours[i];
+    out.put(static_cast<char>(c.r)).put(static_cast<char>(c.g)).put(static_cast<char>(c.b));
+  }
+  if (cloud.has_radii()) put_binary(out, cloud.radii[i], big);
+}
+
 }  // namespace
 
 void write_ply(const std::string& path, const PointCloud& cloud, PlyFormat format) {
   write_file_atomically(
       path,
       [&](std::ostream& out) {
-        out << "ply\nformat "
-            << (format == PlyFormat::kAscii                ? "ascii"
-                : format == PlyFormat::kBinaryLittleEndian ? "binary_little_endian"
-                                                           : "binary_big_endian")
-            << " 1.0\ncomment written by pcrt\nelement vertex " << cloud.size() << "\n";
-        out << "property float x\nproperty float y\nproperty float z\n";
-        if (cloud.has_normals()) out << "property float nx\nproperty float ny\nproperty float nz\n";
-        if (cloud.has_colours())
-          out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-        if (cloud.has_radii()) out << "property float radius\n";
-        out << "end_header\n";
+        write_ply_header(out, cloud, format);
         const bool big = format == PlyFormat::kBinaryBigEndian;
         for (size_t i = 0; i < cloud.size(); ++i) {
-          std::vector<float> f(cloud.positions[i].data(), cloud.positions[i].data() + 3);
-          if (cloud.has_normals())
-            f.insert(f.end(), cloud.normals[i].data(), cloud.normals[i].data() + 3);
-          if (format == PlyFormat::kAscii) {
-            for (size_t k = 0; k < f.size(); ++k) out << (k ? " " : "") << fmt::format("{}", f[k]);
-            if (cloud.has_colours()) {
-              const Rgb8& c = cloud.colours[i];
-              out << ' ' << int(c.r) << ' ' << int(c.g) << ' ' << int(c.b);
-            }
-            if (cloud.has_radii()) out << ' ' << fmt::format("{}", cloud.radii[i]);
-            out << '\n';
-          } else {
-            for (float v : f) put_binary(out, v, big);
-            if (cloud.has_colours()) {
-              const Rgb8& c = cloud.colours[i];
-              out.put(static_cast<char>(c.r))
-                  .put(static_cast<char>(c.g))
-                  .put(static_cast<char>(c.b));
-            }
-            if (cloud.has_radii()) put_binary(out, cloud.radii[i], big);
-          }
+          if (format == PlyFormat::kAscii)
+            write_ascii_vertex(out, cloud, i);
+          else
+            write_binary_vertex(out, cloud, i, big);
         }
       },
       format != PlyFormat::kAscii);

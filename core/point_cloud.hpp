@@ -22,6 +22,44 @@ inline constexpr float kMaxCoordinate = 1e12f;
 inline bool within_coordinate_range(const Vec3& p) {
   return p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxCoordinate;
 }
+inline bool within_coordinate_range(const Vec3d& p) {
+  return p.allFinite() && p.cwiseAbs().maxCoeff() <= double(kMaxCoordinate);
+}
+
+// Georeferenced scans arrive at coordinates near 10^5-10^7, where a float's spacing is centimetres
+// to metres. pcrt keeps positions in float relative to a local origin, chosen at load in double
+// and recorded: a file whose first point lies farther than kLocalOriginReach from zero in some
+// coordinate is read relative to that point rounded to integers, so its float positions are
+// within its own extent of zero wherever it sits. Closer files keep their coordinates as written
+// (below 1024 a float's spacing is at most 1.2e-4), and so do generated clouds.
+inline constexpr double kLocalOriginReach = 1024;
+
+// The origin a file is read relative to, given its first point (in the file's coordinates).
+inline Vec3d local_origin_for(const Vec3d& first) {
+  if (first.cwiseAbs().maxCoeff() <= kLocalOriginReach) return Vec3d::Zero();
+  return first.array().round().matrix();
+}
+inline Vec3 to_local(const Vec3d& world, const Vec3d& origin) {
+  return (world - origin).cast<float>();
+}
+inline Vec3d to_world(const Vec3& local, const Vec3d& origin) {
+  return local.cast<double>() + origin;
+}
+
+// What a reader keeps while it turns a file's coordinates into local ones: the origin, chosen at
+// the first point.
+struct LocalFrame {
+  Vec3d origin = Vec3d::Zero();
+  bool chosen = false;
+
+  Vec3 place(const Vec3d& world) {
+    if (!chosen) origin = local_origin_for(world), chosen = true;
+    return to_local(world, origin);
+  }
+};
+
+// Moves positions given relative to `from` so that they are relative to `to` (in double).
+void rebase_positions(std::vector<Vec3>& positions, const Vec3d& from, const Vec3d& to);
 
 struct Rgb8 {
   uint8_t r = 0, g = 0, b = 0;
@@ -33,6 +71,9 @@ struct PointCloud {
   std::vector<float> radii;   // splat radius per point, or empty
   std::vector<Rgb8> colours;  // or empty
   std::string name;           // file path or dataset spec it came from
+  // Where the positions' zero lies in the file's coordinates (see kLocalOriginReach); every
+  // position pcrt writes out is positions[i] + origin, in double.
+  Vec3d origin = Vec3d::Zero();
 
   [[nodiscard]] size_t size() const { return positions.size(); }
   [[nodiscard]] bool has_normals() const { return !normals.empty(); }

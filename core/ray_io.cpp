@@ -26,11 +26,25 @@ Ray user_ray(const Vec3& o, const Vec3& d) {
   return r;
 }
 
-std::vector<Ray> read_rays_csv(const std::string& path) {
-  return parse_rays_csv(read_file(path), path);
+std::vector<Ray> read_rays_csv(const std::string& path, const Vec3d& origin) {
+  return parse_rays_csv(read_file(path), path, origin);
 }
 
-std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path) {
+namespace {
+
+// The origin columns relative to `origin`: straight to float near zero, as always; in double for
+// a georeferenced cloud's rays. An origin beyond the range stays beyond it, for user_ray_problem.
+Vec3 scan_ray_origin(const TextScanner& lines, const Vec3d& origin) {
+  if (origin.isZero())
+    return Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
+  const Vec3d world(lines.number<double>(0), lines.number<double>(1), lines.number<double>(2));
+  return within_coordinate_range(world) ? to_local(world, origin) : Vec3(world.cast<float>());
+}
+
+}  // namespace
+
+std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path,
+                                const Vec3d& origin) {
   std::vector<Ray> rays;
   bool header = false;
   // CSV: split on commas by turning them into blanks for the scanner; the header is checked first.
@@ -48,7 +62,7 @@ std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path
     }
     if (tok.size() != 6)
       input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
-    const Vec3 o(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
+    const Vec3 o = scan_ray_origin(lines, origin);
     const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
     if (const char* why = user_ray_problem(o, d))
       input_error("{}: line {}: {}", path, lines.line(), why);

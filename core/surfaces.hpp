@@ -41,6 +41,9 @@ class Surface {
   }
   // The normal of the smooth surface the samples stand for (a mesh: vertex normals interpolated).
   [[nodiscard]] virtual Vec3 smooth_normal(const Vec3& x) const { return normal(x); }
+  // Where the surface's zero lies in its file's coordinates (a georeferenced mesh's local origin,
+  // see kLocalOriginReach); clouds sampled on it share it.
+  [[nodiscard]] virtual Vec3d origin() const { return Vec3d::Zero(); }
 
  protected:
   [[nodiscard]] virtual float lipschitz() const { return 1.0f; }

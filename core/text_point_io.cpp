@@ -61,12 +61,36 @@ void normalize_loaded_normals(PointCloud& cloud) {
   }
 }
 
+namespace {
+
+// Columns 0-2 of the line as a local position. Files near zero are parsed straight to float, as
+// they always were; a georeferenced one in double, relative to its origin. A coordinate beyond
+// the range or not finite comes back as such for the caller's error.
+Vec3 scan_position(const TextScanner& scan, LocalFrame& frame) {
+  auto world = [&] {
+    return Vec3d(scan.number<double>(0), scan.number<double>(1), scan.number<double>(2));
+  };
+  if (!frame.chosen) {
+    const Vec3d first = world();
+    if (!within_coordinate_range(first)) return first.cast<float>();
+    frame.place(first);
+  }
+  if (frame.origin.isZero())
+    return Vec3(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
+  const Vec3d w = world();
+  if (!within_coordinate_range(w)) return w.cast<float>();
+  return frame.place(w);
+}
+
+}  // namespace
+
 PointCloud read_xyz(const std::string& path) { return parse_xyz(read_file(path), path); }
 
 PointCloud parse_xyz(const std::string& text, const std::string& path) {
   TextScanner scan(text, path);
   PointCloud cloud;
   cloud.name = path;
+  LocalFrame frame;
   size_t columns = 0;
   while (scan.next_line()) {
     const auto& tok = scan.tokens();
@@ -79,11 +103,12 @@ PointCloud parse_xyz(const std::string& text, const std::string& path) {
       input_error("{}: line {}: {} columns where earlier lines have {}", path, scan.line(),
                   tok.size(), columns);
     }
-    Vec3 p(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
+    const Vec3 p = scan_position(scan, frame);
     if (!p.allFinite()) input_error("{}: line {}: non-finite coordinate", path, scan.line());
     if (!within_coordinate_range(p))
       input_error("{}: line {}: a coordinate beyond +-{:g}", path, scan.line(), kMaxCoordinate);
     cloud.positions.push_back(p);
+    cloud.origin = frame.origin;
     if (columns == 6)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
                                  scan.number<float>(5));
@@ -134,6 +159,7 @@ void read_off_vertices(TextScanner& scan, const OffHeader& h, const std::string&
                        PointCloud& cloud) {
   const size_t min_cols = 3 + (h.has_normals ? 3 : 0);
   cloud.positions.reserve(static_cast<size_t>(h.vertices));
+  LocalFrame frame;
   for (long long i = 0; i < h.vertices; ++i) {
     if (!scan.next_line())
       input_error("{}: truncated: file ends at vertex {} of {}", path, i, h.vertices);
@@ -141,13 +167,14 @@ void read_off_vertices(TextScanner& scan, const OffHeader& h, const std::string&
     if (tok.size() < min_cols || (!h.has_colour && tok.size() != min_cols))
       input_error("{}: line {}: vertex {} has {} values, expected {}", path, scan.line(), i,
                   tok.size(), min_cols);
-    Vec3 p(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
+    const Vec3 p = scan_position(scan, frame);
     if (!p.allFinite())
       input_error("{}: line {}: vertex {} has a non-finite coordinate", path, scan.line(), i);
     if (!within_coordinate_range(p))
       input_error("{}: line {}: vertex {} has a coordinate beyond +-{:g}", path, scan.line(), i,
                   kMaxCoordinate);
     cloud.positions.push_back(p);
+    cloud.origin = frame.origin;
     if (h.has_normals)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
                                  scan.number<float>(5));

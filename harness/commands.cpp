@@ -49,6 +49,8 @@ json scene_json(const PointScene& scene, const PointCloud& cloud, const std::str
                  {"structure", scene.structure_id()},
                  {"dataset", data},
                  {"N", cloud.size()}};
+  if (!cloud.origin.isZero())  // positions are relative to it (kLocalOriginReach)
+    params["origin"] = {cloud.origin.x(), cloud.origin.y(), cloud.origin.z()};
   for (const auto& [k, v] : scene.method_params()) params["method_params"][k] = v;
   for (const auto& [k, v] : scene.structure_params()) params["structure_params"][k] = v;
   return params;
@@ -108,6 +110,7 @@ std::unique_ptr<LoadedScene> load_scene(const SceneArgs& a, const char* command,
       s->mesh = read_mesh(*a.mesh);
     }
     s->mesh_vertices.positions = s->mesh.vertices;
+    s->mesh_vertices.origin = s->mesh.origin;
     s->triangles = std::make_unique<MeshScene>(s->mesh, engine, s->prepare, s->timings);
     s->params = {{"mesh", *a.mesh},
                  {"engine", engine},
@@ -309,6 +312,31 @@ int command_render(const RenderOptions& o) {
   return 0;
 }
 
+namespace {
+
+// One line per ray; hit positions in the file's coordinates (local + origin, in double).
+void write_hits_csv(std::ostream& csv, const std::vector<Hit>& hits, const std::vector<char>& found,
+                    const Vec3d& origin) {
+  csv << "ray,hit,t,px,py,pz,nx,ny,nz\n";
+  // Nine significant digits hold a float; a georeferenced position needs its double's.
+  const bool local = origin.isZero();
+  for (size_t i = 0; i < hits.size(); ++i) {
+    const Hit& h = hits[i];
+    if (!found[i]) {
+      csv << i << ",0,,,,,,,\n";
+      continue;
+    }
+    const Vec3d p = to_world(h.p, origin);
+    if (local)
+      csv << fmt::format("{},1,{:.9g},{:.9g},{:.9g},{:.9g},", i, h.t, p.x(), p.y(), p.z());
+    else
+      csv << fmt::format("{},1,{:.9g},{:.17g},{:.17g},{:.17g},", i, h.t, p.x(), p.y(), p.z());
+    csv << fmt::format("{:.9g},{:.9g},{:.9g}\n", h.n.x(), h.n.y(), h.n.z());
+  }
+}
+
+}  // namespace
+
 int command_trace(const TraceOptions& o) {
   auto limit = limit_threads(o.scene.threads);
   auto inputs = scene_inputs(o.scene);
@@ -317,8 +345,10 @@ int command_trace(const TraceOptions& o) {
   check_not_an_input(o.out, "--out", inputs);
   if (o.stats)
     check_output_path(*o.stats, "--stats"), check_not_an_input(*o.stats, "--stats", inputs);
-  const std::vector<Ray> rays = read_rays_csv(o.rays);
+  std::vector<Ray> rays = read_rays_csv(o.rays);  // checked before the load
   const auto loaded = load_scene(o.scene, "trace", TraceOptions::usage);
+  const Vec3d& origin = loaded->cloud().origin;
+  if (!origin.isZero()) rays = read_rays_csv(o.rays, origin);  // in the cloud's local frame
   Timings& timings = loaded->timings;
   const SceneIntersector& scene = loaded->scene();
   std::vector<Hit> hits(rays.size());
@@ -329,17 +359,7 @@ int command_trace(const TraceOptions& o) {
     counters = trace_rays(scene, rays, hits, found);
   }
   OutputFiles outputs;  // all or none
-  outputs.stage(o.out, [&](std::ostream& csv) {
-    csv << "ray,hit,t,px,py,pz,nx,ny,nz\n";
-    for (size_t i = 0; i < rays.size(); ++i) {
-      const Hit& h = hits[i];
-      if (found[i])
-        csv << fmt::format("{},1,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", i, h.t,
-                           h.p.x(), h.p.y(), h.p.z(), h.n.x(), h.n.y(), h.n.z());
-      else
-        csv << i << ",0,,,,,,,\n";
-    }
-  });
+  outputs.stage(o.out, [&](std::ostream& csv) { write_hits_csv(csv, hits, found, origin); });
   if (o.stats) {
     json params = loaded->params;
     params["rays"] = rays.size();

@@ -27,7 +27,9 @@ int command_reconstruct(const ReconstructOptions& o) {
   if (o.out) {
     if (r.mesh.triangles.empty())
       input_error("pcrt reconstruct: --out: '{}' makes no triangle mesh", info.id);
-    write_mesh_ply(*o.out, r.mesh);
+    TriangleMesh mesh = r.mesh;
+    mesh.origin = d.cloud.origin;  // written back in the cloud's file coordinates
+    write_mesh_ply(*o.out, mesh);
   }
   auto opt = [](const std::optional<uint64_t>& v) { return v ? json(*v) : json(nullptr); };
   const json j = {{"method", r.method},

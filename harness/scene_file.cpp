@@ -16,6 +16,8 @@ namespace {
 
 using nlohmann::json;
 
+constexpr float kBig = 1e30f;
+
 // Where a value sits, for errors: "scene.json: objects[1].transform.scale".
 struct Where {
   const std::string& file;
@@ -45,6 +47,26 @@ float number(const json& j, const Where& w, float lo, float hi) {
   return float(v);
 }
 
+// A position in the scene file's coordinates, in double: georeferenced scenes need it.
+double coordinate(const json& j, const Where& w) {
+  if (!j.is_number()) w.fail("must be a number");
+  const double v = j.get<double>();
+  if (!std::isfinite(v) || std::abs(v) > double(kBig))
+    w.fail(fmt::format("must lie in [{:g}, {:g}]", -kBig, kBig));
+  return v;
+}
+
+Vec3d position_in_file(const json& j, const Where& w) {
+  if (j.is_number()) return Vec3d::Constant(coordinate(j, w));
+  if (!j.is_array() || j.size() != 3) w.fail("must be a number or an array of 3 numbers");
+  return Vec3d(coordinate(j[0], w.at(0)), coordinate(j[1], w.at(1)), coordinate(j[2], w.at(2)));
+}
+
+// The same relative to the scene's origin (SceneFile::origin), as the renderer takes it.
+Vec3 position(const json& j, const Where& w, const Vec3d& origin) {
+  return to_local(position_in_file(j, w), origin);
+}
+
 // A vector of three numbers, or one number for all three.
 Vec3 vec3(const json& j, const Where& w, float lo, float hi) {
   if (j.is_number()) return Vec3::Constant(number(j, w, lo, hi));
@@ -57,8 +79,6 @@ std::string text(const json& j, const Where& w) {
   if (!j.is_string() || j.get<std::string>().empty()) w.fail("must be a non-empty string");
   return j.get<std::string>();
 }
-
-constexpr float kBig = 1e30f;
 
 // What `make` throws for a value of the file (an unknown method or material, an unreadable
 // cloud), prefixed with the file and the key unless it names the file already.
@@ -107,7 +127,8 @@ Transform parse_transform(const json& j, const Where& w) {
   return t;
 }
 
-Light parse_light(const json& j, const Where& w, const std::filesystem::path& dir) {
+Light parse_light(const json& j, const Where& w, const std::filesystem::path& dir,
+                  const Vec3d& origin) {
   only_keys(j, w, {"type", "position", "intensity", "radius", "radiance", "file", "sampled"});
   if (!j.contains("type")) w.fail("needs a \"type\"");
   const std::string type = text(j["type"], w / "type");
@@ -117,11 +138,11 @@ Light parse_light(const json& j, const Where& w, const std::filesystem::path& di
     return j[key];
   };
   if (type == "point") {
-    l.position = vec3(need("position"), w / "position", -kBig, kBig);
+    l.position = position(need("position"), w / "position", origin);
     l.power = vec3(need("intensity"), w / "intensity", 0, kBig);
   } else if (type == "sphere") {
     l.kind = LightKind::kSphere;
-    l.position = vec3(need("position"), w / "position", -kBig, kBig);
+    l.position = position(need("position"), w / "position", origin);
     l.radius = number(need("radius"), w / "radius", 1e-9f, kBig);
     l.power = vec3(need("radiance"), w / "radiance", 0, kBig);
   } else if (type == "environment") {
@@ -143,12 +164,12 @@ Light parse_light(const json& j, const Where& w, const std::filesystem::path& di
   return l;
 }
 
-CameraSpec parse_camera(const json& j, const Where& w) {
+CameraSpec parse_camera(const json& j, const Where& w, const Vec3d& origin) {
   only_keys(j, w, {"eye", "target", "up", "fov"});
   if (!j.contains("eye") || !j.contains("target")) w.fail("needs \"eye\" and \"target\"");
   CameraSpec c;
-  c.eye = vec3(j["eye"], w / "eye", -kBig, kBig);
-  c.target = vec3(j["target"], w / "target", -kBig, kBig);
+  c.eye = position(j["eye"], w / "eye", origin);
+  c.target = position(j["target"], w / "target", origin);
   if (j.contains("up")) c.up = vec3(j["up"], w / "up", -kBig, kBig);
   if (j.contains("fov")) c.fov_degrees = number(j["fov"], w / "fov", 1, 170);
   if (!((c.target - c.eye).norm() > 0)) w.fail("eye and target must differ");
@@ -253,8 +274,17 @@ void add_geometry(SceneFile& s, const json& j, const Where& w, const std::filesy
   o.geometry = s.geometry.back().get();
 }
 
+// What placing an object in the scene's frame needs once every object is loaded: where its
+// geometry's zero lies in the file's coordinates, its translation there, its own bounds.
+struct Placement {
+  Vec3d origin = Vec3d::Zero();
+  Vec3d translate = Vec3d::Zero();
+  Aabb bounds;
+};
+
 void add_object(SceneFile& s, const json& j, const Where& w, const std::filesystem::path& dir,
-                const std::map<std::string, Material>& materials, const SweptCloud* swept) {
+                const std::map<std::string, Material>& materials, const SweptCloud* swept,
+                Placement& placement) {
   only_keys(j, w,
             {"name", "points", "sample", "sampling", "method", "structure", "set", "mesh", "engine",
              "quad", "material", "transform", "swept"});
@@ -277,12 +307,38 @@ void add_object(SceneFile& s, const json& j, const Where& w, const std::filesyst
     o.material = it->second;
     record["material"] = name;
   }
-  if (j.contains("transform")) o.transform = parse_transform(j["transform"], w / "transform");
-  o.bounds = o.transform.to_world(o.bounds);
+  placement.origin = o.points ? o.points->origin : s.meshes.back().origin;
+  placement.bounds = o.bounds;
+  if (j.contains("transform")) {
+    o.transform = parse_transform(j["transform"], w / "transform");
+    if (j["transform"].contains("translate"))  // checked by parse_transform; again in double
+      placement.translate =
+          position_in_file(j["transform"]["translate"], w / "transform" / "translate");
+  }
   o.name = j.contains("name") ? text(j["name"], w / "name") : w.key;
   record["name"] = o.name;
   s.params["objects"].push_back(record);
   s.scene.objects.push_back(o);
+}
+
+// Every object in the frame of the first one read in a local frame (kLocalOriginReach), or of
+// the file's own coordinates when none is: objects apart by less than their float range meet.
+void place_objects(SceneFile& s, const std::vector<Placement>& placements) {
+  for (const Placement& p : placements)
+    if (!p.origin.isZero()) {
+      s.origin = p.origin;
+      break;
+    }
+  if (!s.origin.isZero()) s.params["origin"] = {s.origin.x(), s.origin.y(), s.origin.z()};
+  for (size_t i = 0; i < placements.size(); ++i) {
+    SceneObject& o = s.scene.objects[i];
+    Transform& t = o.transform;
+    const Placement& p = placements[i];
+    const Vec3d shift =
+        double(t.scale) * (t.rotate.cast<double>() * p.origin) + p.translate - s.origin;
+    t.translate = shift.cast<float>();
+    o.bounds = t.to_world(p.bounds);
+  }
 }
 
 }  // namespace
@@ -312,16 +368,19 @@ std::unique_ptr<SceneFile> load_scene_file(const std::string& path, const SweptC
   const Where objects{path, "objects"};
   if (!j.contains("objects") || !j["objects"].is_array() || j["objects"].empty())
     objects.fail("must be a non-empty array");
+  std::vector<Placement> placements(j["objects"].size());
   for (size_t i = 0; i < j["objects"].size(); ++i)
-    named(objects.at(i),
-          [&] { add_object(*s, j["objects"][i], objects.at(i), dir, materials, swept); });
+    named(objects.at(i), [&] {
+      add_object(*s, j["objects"][i], objects.at(i), dir, materials, swept, placements[i]);
+    });
+  place_objects(*s, placements);
   if (swept && !s->swept) objects.fail("mark no point cloud \"swept\": true, as a sweep needs");
   const Where lights{path, "lights"};
   if (!j.contains("lights") || !j["lights"].is_array() || j["lights"].empty())
     lights.fail("must be a non-empty array");
   for (size_t i = 0; i < j["lights"].size(); ++i)
-    s->scene.lights.push_back(parse_light(j["lights"][i], lights.at(i), dir));
-  if (j.contains("camera")) s->camera = parse_camera(j["camera"], root / "camera");
+    s->scene.lights.push_back(parse_light(j["lights"][i], lights.at(i), dir, s->origin));
+  if (j.contains("camera")) s->camera = parse_camera(j["camera"], root / "camera", s->origin);
   return s;
 }
 

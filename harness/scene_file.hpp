@@ -41,6 +41,10 @@ struct SceneFile {
   std::optional<CameraSpec> camera;
   nlohmann::json params;  // what --stats records: the file and each object's method or engine
   const PointScene* swept = nullptr;  // the sweep's geometry, when it was given one
+  // Where the renderer's zero lies in the file's coordinates: the first georeferenced object's
+  // local origin (kLocalOriginReach), or zero. Positions in the file (camera, lights,
+  // translations) are taken relative to it.
+  Vec3d origin = Vec3d::Zero();
 };
 
 // What a sweep's run traces in the objects marked "swept": its cloud and its method.

@@ -353,6 +353,13 @@ void bind_cloud(py::module_& m) {
                                return py::make_tuple(py::make_tuple(b.lo.x(), b.lo.y(), b.lo.z()),
                                                      py::make_tuple(b.hi.x(), b.hi.y(), b.hi.z()));
                              })
+      .def_property_readonly(
+          "origin",
+          [](const PointCloud& c) {
+            return py::make_tuple(c.origin.x(), c.origin.y(), c.origin.z());
+          },
+          "where positions' zero lies in the file's coordinates (a georeferenced file's local "
+          "origin; (0, 0, 0) otherwise): positions, rays and hits are relative to it")
       .def("__repr__", [](const PointCloud& c) {
         return fmt::format("<pcrt.Cloud {} points from {}>", c.size(), c.name);
       });

@@ -35,6 +35,7 @@ class MeshSurface final : public Surface {
   bool intersect(const Ray& ray, float& t, Vec3& n) const override;
   [[nodiscard]] float normal_spread_deg(const Vec3& x, float radius) const override;
   [[nodiscard]] Vec3 smooth_normal(const Vec3& x) const override;
+  [[nodiscard]] Vec3d origin() const override { return mesh_.origin; }
 
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
   [[nodiscard]] double area() const { return cumulative_area_.back(); }

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/file_output.hpp"
+#include "core/point_cloud.hpp"
 #include "core/point_cloud_io.hpp"
 
 namespace pcrt {
@@ -68,6 +69,7 @@ TriangleMesh read_mesh(const std::string& path) {
     input_error("{}: a mesh must be .ply or .off", path);
   if (mesh.triangles.empty()) input_error("{}: the mesh has no faces", path);
   mesh.vertices = std::move(cloud.positions);
+  mesh.origin = cloud.origin;
   return mesh;
 }
 
@@ -75,10 +77,19 @@ void write_mesh_ply(const std::string& path, const TriangleMesh& mesh) {
   static_assert(std::endian::native == std::endian::little, "raw little-endian writes");
   write_file_atomically(path, [&](std::ostream& o) {
     o << "ply\nformat binary_little_endian 1.0\ncomment written by pcrt\n"
-      << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\n"
-      << "property float z\nelement face " << mesh.triangles.size()
+      << "element vertex " << mesh.vertices.size() << "\n"
+      << fmt::format("property {0} x\nproperty {0} y\nproperty {0} z\n",
+                     mesh.origin.isZero() ? "float" : "double")
+      << "element face " << mesh.triangles.size()
       << "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (const Vec3& v : mesh.vertices) o.write(reinterpret_cast<const char*>(v.data()), 12);
+    for (const Vec3& v : mesh.vertices) {
+      if (mesh.origin.isZero()) {
+        o.write(reinterpret_cast<const char*>(v.data()), 12);
+      } else {
+        const Vec3d w = to_world(v, mesh.origin);
+        o.write(reinterpret_cast<const char*>(w.data()), 24);
+      }
+    }
     for (const auto& t : mesh.triangles) {
       const char three = 3;
       o.write(&three, 1);

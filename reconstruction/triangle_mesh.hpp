@@ -14,6 +14,7 @@ namespace pcrt {
 struct TriangleMesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<uint32_t, 3>> triangles;
+  Vec3d origin = Vec3d::Zero();  // where the vertices' zero lies in the file's coordinates
 
   [[nodiscard]] Aabb bounds() const;
   // Edges used by exactly one triangle (the rims of holes and open borders).
@@ -29,7 +30,8 @@ bool orient_outward(TriangleMesh& mesh);
 // .ply (a 'face' element with vertex_indices; polygons fanned) or .off. Throws InputError naming
 // the file for anything malformed, and for a mesh without triangles.
 TriangleMesh read_mesh(const std::string& path);
-// Binary little-endian PLY, written to a temporary file and renamed.
+// Binary little-endian PLY, written to a temporary file and renamed; the vertices are written in
+// the file's coordinates (vertices + origin, as double when the origin is not zero).
 void write_mesh_ply(const std::string& path, const TriangleMesh& mesh);
 
 }  // namespace pcrt

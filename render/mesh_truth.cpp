@@ -103,6 +103,7 @@ SampledCloud sample_cloud(const Surface& truth, const MeshSampling& s, const std
   SampledCloud out;
   out.cloud = sample_surface(truth, s.n, s.seed, 0.0, s.density, name);
   PointCloud& c = out.cloud;
+  c.origin = truth.origin();
   // In Morton order like every loaded cloud (core/morton.hpp), so that the k-NN passes here and
   // everything downstream walk memory coherently.
   require_memory(morton_sort_bytes(c.size()), name);
