@@ -331,8 +331,8 @@ void read_binary(const std::string& text, const PlyHeader& h, const std::string&
           path, e.count, e.name);
     std::optional<VertexSink> sink;
     if (is_vertex) {
-      sink.emplace(
-          VertexSink{e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size())});
+      sink.emplace(VertexSink{
+          e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size()), {}});
       sink->reserve(e.count);
     }
     for (uint64_t i = 0; i < e.count; ++i) {
@@ -381,8 +381,8 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
                   path, e.count, e.name, remaining_lines);
     std::optional<VertexSink> sink;
     if (e.name == "vertex") {
-      sink.emplace(
-          VertexSink{e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size())});
+      sink.emplace(VertexSink{
+          e, vertex_layout(e, path), cloud, std::vector<double>(e.properties.size()), {}});
       sink->reserve(e.count);
     }
     for (uint64_t i = 0; i < e.count; ++i) {

@@ -33,7 +33,7 @@ void PointCloud::validate() const {
     input_error("{}: {} colours for {} points", name, colours.size(), n);
   for (size_t i = 0; i < n; ++i) {
     if (!positions[i].allFinite()) input_error("{}: point {} has a non-finite coordinate", name, i);
-    if (!within_coordinate_range(positions[i]))
+    if (!within_coordinate_range(to_world(positions[i], origin)))
       input_error("{}: point {} has a coordinate beyond +-{:g}", name, i, kMaxCoordinate);
     if (has_normals()) {
       if (!normals[i].allFinite()) input_error("{}: point {} has a non-finite normal", name, i);

@@ -12,7 +12,8 @@
 
 namespace pcrt {
 
-// The largest coordinate magnitude pcrt accepts for a point, a mesh vertex or a ray origin. Areas,
+// The largest coordinate magnitude pcrt accepts for a point, a mesh vertex or a ray origin, in the
+// file's coordinates (local positions, kLocalOriginReach below, then lie within twice it). Areas,
 // squared distances and volumes of such coordinates stay finite in float (1e36 < 3.4e38), and
 // every ray pcrt makes around such a cloud (cameras a few bounding radii out) stays far inside
 // Embree's limit (|origin| <= 1.8e18, beyond which it aborts). Beyond it a bounding box's extent
@@ -52,8 +53,13 @@ struct LocalFrame {
   Vec3d origin = Vec3d::Zero();
   bool chosen = false;
 
+  void choose(const Vec3d& first) {
+    // A first point beyond the range is refused by the caller; zero keeps its error as it was.
+    origin = within_coordinate_range(first) ? local_origin_for(first) : Vec3d::Zero();
+    chosen = true;
+  }
   Vec3 place(const Vec3d& world) {
-    if (!chosen) origin = local_origin_for(world), chosen = true;
+    if (!chosen) choose(world);
     return to_local(world, origin);
   }
 };
@@ -83,8 +89,8 @@ struct PointCloud {
   [[nodiscard]] std::vector<std::string> attributes() const;
 
   // Throws InputError naming `name` if the cloud is empty, an attribute array has the wrong
-  // length, or any value is NaN/inf, a coordinate lies beyond kMaxCoordinate or a normal is not
-  // unit length.
+  // length, or any value is NaN/inf, a coordinate (positions + origin) lies beyond kMaxCoordinate
+  // or a normal is not unit length.
   void validate() const;
   // Drops exact duplicate positions (keeping the first), returns how many were dropped.
   size_t remove_duplicates();

@@ -32,13 +32,13 @@ std::vector<Ray> read_rays_csv(const std::string& path, const Vec3d& origin) {
 
 namespace {
 
-// The origin columns relative to `origin`: straight to float near zero, as always; in double for
-// a georeferenced cloud's rays. An origin beyond the range stays beyond it, for user_ray_problem.
-Vec3 scan_ray_origin(const TextScanner& lines, const Vec3d& origin) {
+// The origin columns in the file's coordinates: straight to float near zero, as always; in
+// double for a georeferenced cloud's rays.
+Vec3d scan_ray_origin(const TextScanner& lines, const Vec3d& origin) {
   if (origin.isZero())
-    return Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2));
-  const Vec3d world(lines.number<double>(0), lines.number<double>(1), lines.number<double>(2));
-  return within_coordinate_range(world) ? to_local(world, origin) : Vec3(world.cast<float>());
+    return Vec3(lines.number<float>(0), lines.number<float>(1), lines.number<float>(2))
+        .cast<double>();
+  return Vec3d(lines.number<double>(0), lines.number<double>(1), lines.number<double>(2));
 }
 
 }  // namespace
@@ -62,11 +62,11 @@ std::vector<Ray> parse_rays_csv(const std::string& text, const std::string& path
     }
     if (tok.size() != 6)
       input_error("{}: line {}: {} values, expected 6", path, lines.line(), tok.size());
-    const Vec3 o = scan_ray_origin(lines, origin);
+    const Vec3d o = scan_ray_origin(lines, origin);
     const Vec3 d(lines.number<float>(3), lines.number<float>(4), lines.number<float>(5));
-    if (const char* why = user_ray_problem(o, d))
+    if (const char* why = user_ray_problem(o.cast<float>(), d))  // in the file's coordinates
       input_error("{}: line {}: {}", path, lines.line(), why);
-    const Ray r = user_ray(o, d);
+    const Ray r = user_ray(to_local(o, origin), d);
     rays.push_back(r);
   }
   if (!header) input_error("{}: empty; expected the header 'ox,oy,oz,dx,dy,dz'", path);

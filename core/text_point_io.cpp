@@ -63,23 +63,17 @@ void normalize_loaded_normals(PointCloud& cloud) {
 
 namespace {
 
-// Columns 0-2 of the line as a local position. Files near zero are parsed straight to float, as
-// they always were; a georeferenced one in double, relative to its origin. A coordinate beyond
-// the range or not finite comes back as such for the caller's error.
-Vec3 scan_position(const TextScanner& scan, LocalFrame& frame) {
-  auto world = [&] {
+// Columns 0-2 of the line in the file's coordinates; the frame's origin is chosen at the first
+// line. Files near zero are parsed straight to float, as they always were; a georeferenced one
+// in double.
+Vec3d scan_world(const TextScanner& scan, LocalFrame& frame) {
+  auto in_double = [&] {
     return Vec3d(scan.number<double>(0), scan.number<double>(1), scan.number<double>(2));
   };
-  if (!frame.chosen) {
-    const Vec3d first = world();
-    if (!within_coordinate_range(first)) return first.cast<float>();
-    frame.place(first);
-  }
+  if (!frame.chosen) frame.choose(in_double());
   if (frame.origin.isZero())
-    return Vec3(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2));
-  const Vec3d w = world();
-  if (!within_coordinate_range(w)) return w.cast<float>();
-  return frame.place(w);
+    return Vec3(scan.number<float>(0), scan.number<float>(1), scan.number<float>(2)).cast<double>();
+  return in_double();
 }
 
 }  // namespace
@@ -103,11 +97,11 @@ PointCloud parse_xyz(const std::string& text, const std::string& path) {
       input_error("{}: line {}: {} columns where earlier lines have {}", path, scan.line(),
                   tok.size(), columns);
     }
-    const Vec3 p = scan_position(scan, frame);
+    const Vec3d p = scan_world(scan, frame);
     if (!p.allFinite()) input_error("{}: line {}: non-finite coordinate", path, scan.line());
     if (!within_coordinate_range(p))
       input_error("{}: line {}: a coordinate beyond +-{:g}", path, scan.line(), kMaxCoordinate);
-    cloud.positions.push_back(p);
+    cloud.positions.push_back(frame.place(p));
     cloud.origin = frame.origin;
     if (columns == 6)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
@@ -167,13 +161,13 @@ void read_off_vertices(TextScanner& scan, const OffHeader& h, const std::string&
     if (tok.size() < min_cols || (!h.has_colour && tok.size() != min_cols))
       input_error("{}: line {}: vertex {} has {} values, expected {}", path, scan.line(), i,
                   tok.size(), min_cols);
-    const Vec3 p = scan_position(scan, frame);
+    const Vec3d p = scan_world(scan, frame);
     if (!p.allFinite())
       input_error("{}: line {}: vertex {} has a non-finite coordinate", path, scan.line(), i);
     if (!within_coordinate_range(p))
       input_error("{}: line {}: vertex {} has a coordinate beyond +-{:g}", path, scan.line(), i,
                   kMaxCoordinate);
-    cloud.positions.push_back(p);
+    cloud.positions.push_back(frame.place(p));
     cloud.origin = frame.origin;
     if (h.has_normals)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -68,6 +69,31 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// Whether `a` and `b` find the same hits (untimed): rays only one of them hits and, for closest
+// hits, rays whose hit is on another point or triangle. Exact agreement is what tracing the same
+// discs in the same frame should give; georeferenced coordinates once broke it.
+json hit_agreement(const SceneIntersector& a, const SceneIntersector& b, const RaySet& set) {
+  size_t both = 0, one_only = 0, other_prim = 0, other_t = 0;
+  OpCounters c;
+  for (const Ray& r : set.rays) {
+    Hit ha, hb;
+    ha.t = hb.t = r.tmax;
+    const bool fa = set.query == Query::kAny ? a.any_hit(r, c) : a.closest_hit(r, ha, c);
+    const bool fb = set.query == Query::kAny ? b.any_hit(r, c) : b.closest_hit(r, hb, c);
+    one_only += size_t(fa != fb);
+    if (!(fa && fb)) continue;
+    ++both;
+    if (set.query == Query::kAny || ha.prim == hb.prim) continue;
+    ++other_prim;
+    // Another point at the same distance is a tie between overlapping discs, not an error.
+    other_t += size_t(std::abs(ha.t - hb.t) > 1e-5f * std::max(ha.t, hb.t));
+  }
+  return {{"both_hit", both},
+          {"one_only", one_only},
+          {"other_prim", other_prim},
+          {"other_prim_other_t", other_t}};
+}
+
 // Scenes timed together: [0] the candidate, then the references. Pass 0 warms up; every later
 // pass times all scenes, in reverse order on odd passes, so drift (turbo, other load) falls on
 // both sides of each ratio alike.
@@ -100,6 +126,7 @@ json alternated(const std::vector<const SceneIntersector*>& scenes, const RaySet
     std::sort(ratio.begin(), ratio.end());
     refs.push_back({{"mrays_per_s", median(rate[s])},
                     {"hits", hits[s]},
+                    {"agreement", hit_agreement(*scenes[0], *scenes[s], set)},
                     {"ratio", median(ratio)},
                     {"ratio_min", ratio.front()},
                     {"ratio_max", ratio.back()}});

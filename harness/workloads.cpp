@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
+#include <ctime>
 #include <unordered_set>
 
 #include "core/error.hpp"
@@ -51,11 +51,19 @@ const std::vector<WorkloadInfo>& workloads() {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+// The calibrating thread's CPU time, not wall time: the workloads run on one thread, and on a
+// loaded machine the time the scheduler gives others lands in wall time, at random sizes, which
+// bent the time fits (a pause in a 2 ms run doubles it; the model penalty then decides).
+struct Clock {
+  using time_point = double;
+  static double now() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  }
+};
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return Clock::now() - start; }
 
 // One timed run of a workload: its counted operations and seconds over `batch` instances.
 struct WorkloadRun {

@@ -56,10 +56,11 @@ class MeshScene final : public SceneIntersector {
 
  private:
   // No engine is handed coordinates it cannot take (mesh files are checked when read; this
-  // covers meshes made in memory).
+  // covers meshes made in memory). The bound is on the file's coordinates; local ones lie within
+  // twice it.
   static const TriangleMesh& checked(const TriangleMesh& mesh) {
     for (size_t i = 0; i < mesh.vertices.size(); ++i)
-      if (!within_coordinate_range(mesh.vertices[i]))
+      if (!within_coordinate_range(to_world(mesh.vertices[i], mesh.origin)))
         input_error("mesh vertex {} has a coordinate beyond +-{:g}", i, kMaxCoordinate);
     return mesh;
   }

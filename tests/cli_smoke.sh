@@ -158,4 +158,54 @@ j = json.load(open(sys.argv[1]))
 assert j["object_pixels"] > 100 and 0.98 < j["mean"] <= 1.0 + 1e-6, j
 assert 0 <= j["dark_pixels"] <= j["object_pixels"], j
 PY
+# A georeferenced cloud (a plane patch at 6x10^5, -4x10^6, as a LIDAR tile): rays and hits in the
+# file's coordinates, the origin in --stats, convert writes it back in double.
+python3 - "$dir/far.xyz" <<'PY'
+import sys
+with open(sys.argv[1], "w") as f:
+    for i in range(100):
+        for j in range(100):
+            f.write("%.4f %.4f 57.25 0 0 1\n" % (600000.125 + 0.1 * i, -4000000.375 + 0.1 * j))
+PY
+printf 'ox,oy,oz,dx,dy,dz\n600004.0625,-3999996.4375,80,0,0,-1\n' >"$dir/far_rays.csv"
+"$pcrt" trace --method reference_splat --data "$dir/far.xyz" --rays "$dir/far_rays.csv" \
+  --out "$dir/far_hits.csv" --stats "$dir/far_stats.json" >/dev/null
+"$pcrt" convert "$dir/far.xyz" --out "$dir/far.ply" --ascii >/dev/null
+python3 - "$dir/far_hits.csv" "$dir/far_stats.json" "$dir/far.ply" <<'PY'
+import csv, json, sys
+row = list(csv.DictReader(open(sys.argv[1])))[0]
+assert row["hit"] == "1", row
+p = [float(row[k]) for k in ("px", "py", "pz")]
+# In float at 6e5 this point would be 6 cm off (the spacing there); in the local frame it is exact.
+assert abs(p[0] - 600004.0625) < 1e-6 and abs(p[1] + 3999996.4375) < 1e-6, p
+assert abs(p[2] - 57.25) < 1e-6 and abs(float(row["t"]) - 22.75) < 1e-5, row
+assert json.load(open(sys.argv[2]))["params"]["origin"] == [600000, -4000000, 57], sys.argv[2]
+text = open(sys.argv[3]).read()
+assert "property double x" in text, "a georeferenced cloud is written back in double"
+first = [float(v) for v in text.split("end_header\n")[1].split("\n")[0].split()[:3]]
+assert abs(first[0] - 600000.125) < 1e-3 and abs(first[1] + 4000000.375) < 1e-3, first
+PY
+# The same tile in a scene file (a quad, a light and the camera given in the file's coordinates)
+# renders exactly as the tile moved to zero with everything else.
+python3 - "$dir" <<'PY'
+import json, sys
+d = sys.argv[1]
+with open(d + "/near.xyz", "w") as f:
+    for i in range(100):
+        for j in range(100):
+            f.write("%.4f %.4f 0.25 0 0 1\n" % (0.125 + 0.1 * i, -0.375 + 0.1 * j))
+def scene(points, o):
+    at = lambda x, y, z: [o[0] + x, o[1] + y, o[2] + z]
+    return {"materials": {"w": {"type": "diffuse", "albedo": 0.8}},
+            "objects": [{"points": points, "method": "reference_splat", "material": "w"},
+                        {"quad": {"size": 4}, "transform": {"translate": at(5, 5, 0.2)}}],
+            "lights": [{"type": "point", "position": at(5, 5, 20), "intensity": 300}],
+            "camera": {"eye": at(5, -10, 15), "target": at(5, 5, 0), "up": [0, 0, 1]}}
+json.dump(scene("far.xyz", (600000, -4000000, 57)), open(d + "/far_scene.json", "w"))
+json.dump(scene("near.xyz", (0, 0, 0)), open(d + "/near_scene.json", "w"))
+PY
+for s in far near; do
+  "$pcrt" render --scene "$dir/${s}_scene.json" --out "$dir/${s}_scene.png" --width 64 --height 48 --spp 2 >/dev/null
+done
+cmp "$dir/far_scene.png" "$dir/near_scene.png"
 echo "CLI smoke ok"
