@@ -56,12 +56,12 @@ def test_load_gives_read_only_views_without_copies():
 
 def test_a_georeferenced_file_is_held_relative_to_its_origin(tmp_path):
     path = tmp_path / "tile.xyz"
-    path.write_text("".join(f"{600000.125 + 0.5 * i} {240000.25 + 0.25 * i} 80.5\n"
+    path.write_text("".join(f"{600000.125 + 0.5 * i} {240000.25 + 0.25 * i} 80.25\n"
                             for i in range(50)))
     cloud = pcrt.load(str(path))
     assert cloud.origin == (600000.0, 240000.0, 80.0)
     world = np.asarray(cloud.positions, dtype=np.float64) + np.array(cloud.origin)
-    assert np.abs(world[:, 2] - 80.5).max() == 0  # exact: local values a float holds
+    assert np.abs(world[:, 2] - 80.25).max() == 0  # exact: local values a float holds
     assert np.abs(world[:, 0] - 600000).max() < 30 and np.abs(cloud.positions).max() < 30
     assert pcrt.load("sphere:n=100").origin == (0.0, 0.0, 0.0)
 
