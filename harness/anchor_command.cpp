@@ -69,6 +69,17 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The 1, 5 and 15 minute load averages (/proc/loadavg), or null where there are none: ratios
+// are alternated against load, and a reader of the numbers needs to know what they ran beside.
+json load_average() {
+  std::FILE* f = std::fopen("/proc/loadavg", "r");
+  if (!f) return nullptr;
+  double a[3] = {0, 0, 0};
+  const int read = std::fscanf(f, "%lf %lf %lf", &a[0], &a[1], &a[2]);
+  std::fclose(f);
+  return read == 3 ? json{a[0], a[1], a[2]} : json(nullptr);
+}
+
 // Whether `a` and `b` find the same hits (untimed): rays only one of them hits and, for closest
 // hits, rays whose hit is on another point or triangle. Exact agreement is what tracing the same
 // discs in the same frame should give; georeferenced coordinates once broke it.
@@ -187,7 +198,9 @@ json mesh_anchor(const std::string& path, int w, int h, int reps) {
 // --mesh: our triangle BVH against Embree's triangles.
 int anchor_mesh(const AnchorOptions& o) {
   if (o.data) input_error("pcrt anchor: --mesh and --data exclude each other");
-  const json j = mesh_anchor(*o.mesh, o.width, o.height, o.reps);
+  const json load_before = load_average();
+  json j = mesh_anchor(*o.mesh, o.width, o.height, o.reps);
+  j["load_average"] = {{"before", load_before}, {"after", load_average()}};
   if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
@@ -295,6 +308,7 @@ int command_anchor(const AnchorOptions& o) {
   const Dataset d = load_dataset(data);
   const Aabb bounds = d.cloud.bounds();
   check_anchor_candidates(o);
+  const json load_before = load_average();
   const int w = o.width, hgt = o.height;
   const Camera cam = Camera::framing(bounds, w, hgt);
   RaySet primary{"primary", Query::kClosest, {}}, bounce{"bounce", Query::kClosest, {}},
@@ -325,6 +339,7 @@ int command_anchor(const AnchorOptions& o) {
                    {"embree_oriented_disc morton_order=1", "embree_oriented_disc morton_order=0"}},
                   {"best", best},
                   {"best_same_discs", best_same},
+                  {"load_average", {{"before", load_before}, {"after", load_average()}}},
                   {"candidates", candidates}};
   if (o.json)
     std::printf("%s\n", j.dump(2).c_str());

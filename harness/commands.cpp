@@ -137,11 +137,13 @@ int command_info(const InfoOptions& o) {
   const PointCloud& c = d.cloud;
   OpCounters counters;
   const double h = mean_spacing(c.positions, counters);
-  const Aabb b = c.bounds();
+  const Aabb local = c.bounds();
+  // In the file's coordinates, as every position pcrt writes out (kLocalOriginReach).
+  const Vec3d lo = to_world(local.lo, c.origin), hi = to_world(local.hi, c.origin);
   json j = {{"name", c.name},
             {"points", c.size()},
-            {"bounds",
-             {{"min", {b.lo.x(), b.lo.y(), b.lo.z()}}, {"max", {b.hi.x(), b.hi.y(), b.hi.z()}}}},
+            {"bounds", {{"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}}},
+            {"origin", {c.origin.x(), c.origin.y(), c.origin.z()}},
             {"attributes", c.attributes()},
             {"mean_spacing", h},
             {"ground_truth", d.truth ? json(d.truth->describe()) : json(nullptr)}};
@@ -149,9 +151,9 @@ int command_info(const InfoOptions& o) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf(
-        "%s\n  points        %zu\n  bounds        (%g, %g, %g) - (%g, %g, %g)\n  attributes    %s\n"
-        "  mean spacing  %g\n  ground truth  %s\n",
-        c.name.c_str(), c.size(), b.lo.x(), b.lo.y(), b.lo.z(), b.hi.x(), b.hi.y(), b.hi.z(),
+        "%s\n  points        %zu\n  bounds        (%.9g, %.9g, %.9g) - (%.9g, %.9g, %.9g)\n"
+        "  attributes    %s\n  mean spacing  %g\n  ground truth  %s\n",
+        c.name.c_str(), c.size(), lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z(),
         fmt::format("{}", fmt::join(c.attributes(), ", ")).c_str(), h,
         d.truth ? d.truth->describe().c_str() : "none (file)");
   }

@@ -171,7 +171,8 @@ printf 'ox,oy,oz,dx,dy,dz\n600004.0625,-3999996.4375,80,0,0,-1\n' >"$dir/far_ray
 "$pcrt" trace --method reference_splat --data "$dir/far.xyz" --rays "$dir/far_rays.csv" \
   --out "$dir/far_hits.csv" --stats "$dir/far_stats.json" >/dev/null
 "$pcrt" convert "$dir/far.xyz" --out "$dir/far.ply" --ascii >/dev/null
-python3 - "$dir/far_hits.csv" "$dir/far_stats.json" "$dir/far.ply" <<'PY'
+"$pcrt" info "$dir/far.xyz" --json >"$dir/far_info.json"
+python3 - "$dir/far_hits.csv" "$dir/far_stats.json" "$dir/far.ply" "$dir/far_info.json" <<'PY'
 import csv, json, sys
 row = list(csv.DictReader(open(sys.argv[1])))[0]
 assert row["hit"] == "1", row
@@ -184,6 +185,9 @@ text = open(sys.argv[3]).read()
 assert "property double x" in text, "a georeferenced cloud is written back in double"
 first = [float(v) for v in text.split("end_header\n")[1].split("\n")[0].split()[:3]]
 assert abs(first[0] - 600000.125) < 1e-3 and abs(first[1] + 4000000.375) < 1e-3, first
+info = json.load(open(sys.argv[4]))
+assert info["origin"] == [600000, -4000000, 57], info
+assert abs(info["bounds"]["min"][0] - 600000.125) < 1e-6 and abs(info["bounds"]["max"][1] + 3999990.475) < 1e-6, info
 PY
 # The same tile in a scene file (a quad, a light and the camera given in the file's coordinates)
 # renders exactly as the tile moved to zero with everything else.
