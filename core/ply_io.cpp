@@ -245,7 +245,6 @@ struct VertexSink {
     if (!within_coordinate_range(world))
       input_error("{}: vertex {} has a coordinate beyond +-{:g}", path, index, kMaxCoordinate);
     cloud.positions.push_back(frame.place(world));
-    cloud.origin = frame.origin;
     if (layout.nx >= 0) cloud.normals.emplace_back(f(layout.nx), f(layout.ny), f(layout.nz));
     if (layout.r >= 0) {
       const auto& ps = element.properties;
@@ -364,6 +363,7 @@ void read_binary(const std::string& text, const PlyHeader& h, const std::string&
       }
       if (sink) sink->emit(path, i);
     }
+    if (sink) cloud.origin = sink->frame.origin;
   }
   if (pos != text.size())
     input_error("{}: {} bytes follow the last element; the header's counts do not match the data",
@@ -415,6 +415,7 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
                     scan.line(), e.name, i, tok.size(), t);
       if (sink) sink->emit(path, i);
     }
+    if (sink) cloud.origin = sink->frame.origin;
   }
   if (scan.next_line(false))
     input_error(

@@ -76,12 +76,6 @@ size_t PointCloud::remove_duplicates() {
   return dropped;
 }
 
-void rebase_positions(std::vector<Vec3>& positions, const Vec3d& from, const Vec3d& to) {
-  if (from == to) return;
-  const Vec3d shift = from - to;
-  for (Vec3& p : positions) p = (p.cast<double>() + shift).cast<float>();
-}
-
 PointCloud PointCloud::subset(const std::vector<uint32_t>& indices) const {
   PointCloud out;
   out.name = name;

@@ -64,9 +64,6 @@ struct LocalFrame {
   }
 };
 
-// Moves positions given relative to `from` so that they are relative to `to` (in double).
-void rebase_positions(std::vector<Vec3>& positions, const Vec3d& from, const Vec3d& to);
-
 struct Rgb8 {
   uint8_t r = 0, g = 0, b = 0;
 };

@@ -102,11 +102,11 @@ PointCloud parse_xyz(const std::string& text, const std::string& path) {
     if (!within_coordinate_range(p))
       input_error("{}: line {}: a coordinate beyond +-{:g}", path, scan.line(), kMaxCoordinate);
     cloud.positions.push_back(frame.place(p));
-    cloud.origin = frame.origin;
     if (columns == 6)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
                                  scan.number<float>(5));
   }
+  cloud.origin = frame.origin;
   if (cloud.positions.empty()) input_error("{}: no points", path);
   normalize_loaded_normals(cloud);
   return cloud;
@@ -168,11 +168,11 @@ void read_off_vertices(TextScanner& scan, const OffHeader& h, const std::string&
       input_error("{}: line {}: vertex {} has a coordinate beyond +-{:g}", path, scan.line(), i,
                   kMaxCoordinate);
     cloud.positions.push_back(frame.place(p));
-    cloud.origin = frame.origin;
     if (h.has_normals)
       cloud.normals.emplace_back(scan.number<float>(3), scan.number<float>(4),
                                  scan.number<float>(5));
   }
+  cloud.origin = frame.origin;
 }
 
 // Faces are checked (their vertices exist) and, when asked for, fanned into triangles.

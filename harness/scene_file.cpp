@@ -39,22 +39,20 @@ void only_keys(const json& j, const Where& w, std::initializer_list<const char*>
       (w / k).fail(fmt::format("is not a key here (known: {})", fmt::join(known, ", ")));
 }
 
-float number(const json& j, const Where& w, float lo, float hi) {
+double number_in_double(const json& j, const Where& w, double lo, double hi) {
   if (!j.is_number()) w.fail("must be a number");
   const double v = j.get<double>();
   if (!std::isfinite(v) || v < lo || v > hi)
     w.fail(fmt::format("must lie in [{:g}, {:g}]", lo, hi));
-  return float(v);
+  return v;
+}
+
+float number(const json& j, const Where& w, float lo, float hi) {
+  return float(number_in_double(j, w, lo, hi));
 }
 
 // A position in the scene file's coordinates, in double: georeferenced scenes need it.
-double coordinate(const json& j, const Where& w) {
-  if (!j.is_number()) w.fail("must be a number");
-  const double v = j.get<double>();
-  if (!std::isfinite(v) || std::abs(v) > double(kBig))
-    w.fail(fmt::format("must lie in [{:g}, {:g}]", -kBig, kBig));
-  return v;
-}
+double coordinate(const json& j, const Where& w) { return number_in_double(j, w, -kBig, kBig); }
 
 Vec3d position_in_file(const json& j, const Where& w) {
   if (j.is_number()) return Vec3d::Constant(coordinate(j, w));
