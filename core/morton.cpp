@@ -92,6 +92,9 @@ std::vector<uint32_t> morton_sort(PointCloud& cloud) {
   permute(cloud.normals, order);
   permute(cloud.radii, order);
   permute(cloud.colours, order);
+  permute(cloud.gaussians.scales, order);
+  permute(cloud.gaussians.rotations, order);
+  permute(cloud.gaussians.opacities, order);
   return order;
 }
 

@@ -169,7 +169,42 @@ PlyHeader parse_header(const std::string& text, const std::string& path) {
 // Where the vertex properties we understand sit in a vertex record.
 struct VertexLayout {
   int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1, r = -1, g = -1, b = -1, radius = -1;
+  // The 3D Gaussian Splatting layout (core/gaussians.hpp): log scales, rotation quaternion
+  // (w, x, y, z), opacity logit, and the zeroth SH band of the colour; f_rest_* are not read.
+  std::array<int, 3> scale = {-1, -1, -1}, dc = {-1, -1, -1};
+  std::array<int, 4> rot = {-1, -1, -1, -1};
+  int opacity = -1;
+  [[nodiscard]] bool gaussian() const { return opacity >= 0; }
+  [[nodiscard]] bool dc_colour() const { return dc[0] >= 0 && r < 0; }
 };
+
+// The slot of a 3D Gaussian Splatting property ("scale_0", "rot_3", "f_dc_1", "opacity").
+int* gaussian_slot(VertexLayout& l, const std::string& n) {
+  auto indexed = [&](const char* prefix, auto& slots) -> int* {
+    const std::string p(prefix);
+    if (n.size() != p.size() + 1 || n.compare(0, p.size(), p) != 0) return nullptr;
+    const int k = n.back() - '0';
+    return k >= 0 && k < int(slots.size()) ? &slots[size_t(k)] : nullptr;
+  };
+  if (n == "opacity") return &l.opacity;
+  if (int* s = indexed("scale_", l.scale)) return s;
+  if (int* s = indexed("rot_", l.rot)) return s;
+  return indexed("f_dc_", l.dc);
+}
+
+void check_gaussian_layout(const VertexLayout& l, const std::string& path) {
+  const auto present = [](const auto& slots) {
+    return int(std::count_if(slots.begin(), slots.end(), [](int i) { return i >= 0; }));
+  };
+  const int g = present(l.scale) + present(l.rot) + (l.opacity >= 0);
+  if (g != 0 && g != 8)
+    input_error(
+        "{}: vertex element has only some of the Gaussian properties scale_0..2, "
+        "rot_0..3 and opacity",
+        path);
+  const int dc = present(l.dc);
+  if (dc != 0 && dc != 3) input_error("{}: vertex element has only some of f_dc_0..2", path);
+}
 
 VertexLayout vertex_layout(const PlyElement& e, const std::string& path) {
   VertexLayout l;
@@ -196,6 +231,8 @@ VertexLayout vertex_layout(const PlyElement& e, const std::string& path) {
       slot = &l.b;
     else if (n == "radius" || n == "scale")
       slot = &l.radius;
+    else
+      slot = gaussian_slot(l, n);
     if (!slot) continue;
     if (e.properties[i].is_list) input_error("{}: vertex property '{}' is a list", path, n);
     *slot = static_cast<int>(i);
@@ -207,6 +244,7 @@ VertexLayout vertex_layout(const PlyElement& e, const std::string& path) {
   const int colours = (l.r >= 0) + (l.g >= 0) + (l.b >= 0);
   if (colours != 0 && colours != 3)
     input_error("{}: vertex element has only some of red, green, blue", path);
+  check_gaussian_layout(l, path);
   return l;
 }
 
@@ -235,6 +273,37 @@ struct VertexSink {
     if (layout.nx >= 0) cloud.normals.reserve(n);
     if (layout.r >= 0) cloud.colours.reserve(n);
     if (layout.radius >= 0) cloud.radii.reserve(n);
+    if (layout.dc_colour()) cloud.colours.reserve(n);
+    if (layout.gaussian()) {
+      cloud.gaussians.scales.reserve(n);
+      cloud.gaussians.rotations.reserve(n);
+      cloud.gaussians.opacities.reserve(n);
+    }
+  }
+  // One particle's activated values; the file's own are checked where exp and sigmoid need it.
+  void emit_gaussian(const std::string& path, uint64_t index) {
+    auto v = [&](int i) { return values[size_t(i)]; };
+    const Vec3d log_scale(v(layout.scale[0]), v(layout.scale[1]), v(layout.scale[2]));
+    const Vec3 scale = log_scale.array().exp().cast<float>().matrix();
+    if (!(log_scale.allFinite() && scale.allFinite() && scale.minCoeff() > 0.0f))
+      input_error("{}: vertex {} has log scales ({:g}, {:g}, {:g}) beyond float's range", path,
+                  index, log_scale.x(), log_scale.y(), log_scale.z());
+    const double logit_opacity = v(layout.opacity);
+    if (!std::isfinite(logit_opacity))
+      input_error("{}: vertex {} has a non-finite opacity", path, index);
+    Eigen::Vector4d q(v(layout.rot[0]), v(layout.rot[1]), v(layout.rot[2]), v(layout.rot[3]));
+    if (!q.allFinite() || !(q.norm() > 1e-12))
+      input_error("{}: vertex {} has a zero or non-finite rotation quaternion", path, index);
+    cloud.gaussians.scales.push_back(scale);
+    cloud.gaussians.rotations.push_back(q.normalized().cast<float>());
+    cloud.gaussians.opacities.push_back(float(1.0 / (1.0 + std::exp(-logit_opacity))));
+  }
+  void emit_dc_colour() {
+    auto byte = [&](int i) {
+      const double c = 0.5 + double(kShC0) * values[size_t(i)];
+      return static_cast<uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255.0));
+    };
+    cloud.colours.push_back(Rgb8{byte(layout.dc[0]), byte(layout.dc[1]), byte(layout.dc[2])});
   }
   void emit(const std::string& path, uint64_t index) {
     auto v = [&](int i) { return values[size_t(i)]; };
@@ -253,6 +322,8 @@ struct VertexSink {
                                    colour_byte(v(layout.b), ps[size_t(layout.b)].type)});
     }
     if (layout.radius >= 0) cloud.radii.push_back(f(layout.radius));
+    if (layout.dc_colour()) emit_dc_colour();
+    if (layout.gaussian()) emit_gaussian(path, index);
   }
 };
 
@@ -423,6 +494,16 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
         scan.line());
 }
 
+// Trainers write no normals of their own (3D Gaussian Splatting stores zeros, 3dgrut (0, 0, 1) for
+// every particle): a particle's normal is its shortest axis, the normal of a flat particle's plane,
+// as the splat methods need one per point.
+void gaussian_normals(PointCloud& cloud) {
+  const GaussianParticles& g = cloud.gaussians;
+  cloud.normals.resize(cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i)
+    cloud.normals[i] = shortest_axis(g.scales[i], g.rotations[i]);
+}
+
 }  // namespace
 
 PointCloud read_ply(const std::string& path) { return read_ply(path, nullptr); }
@@ -444,6 +525,7 @@ PointCloud parse_ply(const std::string& text, const std::string& path,
     read_ascii(text, h, path, cloud, faces);
   else
     read_binary(text, h, path, cloud, faces);
+  if (cloud.has_gaussians()) gaussian_normals(cloud);
   normalize_loaded_normals(cloud);
   return cloud;
 }
@@ -468,9 +550,33 @@ void write_ply_header(std::ostream& out, const PointCloud& cloud, PlyFormat form
   const char* type = cloud.origin.isZero() ? "float" : "double";
   out << fmt::format("property {0} x\nproperty {0} y\nproperty {0} z\n", type);
   if (cloud.has_normals()) out << "property float nx\nproperty float ny\nproperty float nz\n";
-  if (cloud.has_colours()) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (cloud.has_gaussians()) {
+    // 3D Gaussian Splatting's layout, in its order; colours go into the zeroth SH band.
+    out << "property float f_dc_0\nproperty float f_dc_1\nproperty float f_dc_2\n"
+           "property float opacity\n"
+           "property float scale_0\nproperty float scale_1\nproperty float scale_2\n"
+           "property float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float "
+           "rot_3\n";
+  } else if (cloud.has_colours()) {
+    out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  }
   if (cloud.has_radii()) out << "property float radius\n";
   out << "end_header\n";
+}
+
+// Particle i as the file layout stores it: f_dc (grey without colours), opacity logit, log
+// scales, rotation. Opacities of exactly 0 or 1 are written 1e-6 inside, where the logit is finite.
+std::array<float, 11> gaussian_record(const PointCloud& cloud, size_t i) {
+  const GaussianParticles& g = cloud.gaussians;
+  std::array<float, 11> r{};
+  for (int k = 0; k < 3; ++k) {
+    const float c = cloud.has_colours() ? float((&cloud.colours[i].r)[k]) / 255.0f : 0.5f;
+    r[size_t(k)] = (c - 0.5f) / kShC0;
+  }
+  r[3] = logit(std::clamp(g.opacities[i], 1e-6f, 1.0f - 1e-6f));
+  for (int k = 0; k < 3; ++k) r[size_t(4 + k)] = std::log(g.scales[i][k]);
+  for (int k = 0; k < 4; ++k) r[size_t(7 + k)] = g.rotations[i][k];
+  return r;
 }
 
 void write_ascii_vertex(std::ostream& out, const PointCloud& cloud, size_t i) {
@@ -485,7 +591,9 @@ void write_ascii_vertex(std::ostream& out, const PointCloud& cloud, size_t i) {
     const Vec3& n = cloud.normals[i];
     out << fmt::format(" {} {} {}", n.x(), n.y(), n.z());
   }
-  if (cloud.has_colours()) {
+  if (cloud.has_gaussians()) {
+    for (float v : gaussian_record(cloud, i)) out << fmt::format(" {}", v);
+  } else if (cloud.has_colours()) {
     const Rgb8& c = cloud.colours[i];
     out << ' ' << int(c.r) << ' ' << int(c.g) << ' ' << int(c.b);
   }
@@ -502,7 +610,9 @@ void write_binary_vertex(std::ostream& out, const PointCloud& cloud, size_t i, b
   }
   if (cloud.has_normals())
     for (int k = 0; k < 3; ++k) put_binary(out, cloud.normals[i][k], big);
-  if (cloud.has_colours()) {
+  if (cloud.has_gaussians()) {
+    for (float v : gaussian_record(cloud, i)) put_binary(out, v, big);
+  } else if (cloud.has_colours()) {
     const Rgb8& c = cloud.colours[i];
     out.put(static_cast<char>(c.r)).put(static_cast<char>(c.g)).put(static_cast<char>(c.b));
   }

@@ -19,6 +19,7 @@ std::vector<std::string> PointCloud::attributes() const {
   if (has_normals()) a.emplace_back("normal");
   if (has_radii()) a.emplace_back("radius");
   if (has_colours()) a.emplace_back("colour");
+  if (has_gaussians()) a.emplace_back("gaussian");
   return a;
 }
 
@@ -31,6 +32,7 @@ void PointCloud::validate() const {
     input_error("{}: {} radii for {} points", name, radii.size(), n);
   if (has_colours() && colours.size() != n)
     input_error("{}: {} colours for {} points", name, colours.size(), n);
+  if (has_gaussians()) validate_gaussians();
   for (size_t i = 0; i < n; ++i) {
     if (!positions[i].allFinite()) input_error("{}: point {} has a non-finite coordinate", name, i);
     if (!within_coordinate_range(to_world(positions[i], origin)))
@@ -44,6 +46,25 @@ void PointCloud::validate() const {
     if (has_radii() && !(radii[i] >= 0.0f && radii[i] <= kMaxCoordinate))
       input_error("{}: point {} has radius {}, not a value in [0, {:g}]", name, i, radii[i],
                   kMaxCoordinate);
+  }
+}
+
+void PointCloud::validate_gaussians() const {
+  const GaussianParticles& g = gaussians;
+  if (g.scales.size() != size() || g.rotations.size() != size() || g.opacities.size() != size())
+    input_error("{}: {} Gaussian scales, {} rotations and {} opacities for {} points", name,
+                g.scales.size(), g.rotations.size(), g.opacities.size(), size());
+  for (size_t i = 0; i < size(); ++i) {
+    const Vec3& s = g.scales[i];
+    if (!(s.allFinite() && s.minCoeff() > 0.0f && s.maxCoeff() <= kMaxCoordinate))
+      input_error("{}: point {} has Gaussian scales ({:g}, {:g}, {:g}), not in (0, {:g}]", name, i,
+                  s.x(), s.y(), s.z(), kMaxCoordinate);
+    if (!(g.opacities[i] >= 0.0f && g.opacities[i] <= 1.0f))
+      input_error("{}: point {} has opacity {}, not a value in [0, 1]", name, i, g.opacities[i]);
+    const Vec4& q = g.rotations[i];
+    if (!q.allFinite() || std::abs(q.squaredNorm() - 1.0f) > 1e-3f)
+      input_error("{}: point {} has a rotation of length {:.4g}, not a unit quaternion", name, i,
+                  q.norm());
   }
 }
 
@@ -89,6 +110,9 @@ PointCloud PointCloud::subset(const std::vector<uint32_t>& indices) const {
   pick(normals, out.normals);
   pick(radii, out.radii);
   pick(colours, out.colours);
+  pick(gaussians.scales, out.gaussians.scales);
+  pick(gaussians.rotations, out.gaussians.rotations);
+  pick(gaussians.opacities, out.gaussians.opacities);
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/aabb.hpp"
+#include "core/gaussians.hpp"
 #include "core/geometry.hpp"
 
 namespace pcrt {
@@ -70,10 +71,11 @@ struct Rgb8 {
 
 struct PointCloud {
   std::vector<Vec3> positions;
-  std::vector<Vec3> normals;  // unit length, or empty
-  std::vector<float> radii;   // splat radius per point, or empty
-  std::vector<Rgb8> colours;  // or empty
-  std::string name;           // file path or dataset spec it came from
+  std::vector<Vec3> normals;    // unit length, or empty
+  std::vector<float> radii;     // splat radius per point, or empty
+  std::vector<Rgb8> colours;    // or empty
+  GaussianParticles gaussians;  // one particle per point, or empty (core/gaussians.hpp)
+  std::string name;             // file path or dataset spec it came from
   // Where the positions' zero lies in the file's coordinates (see kLocalOriginReach); every
   // position pcrt writes out is positions[i] + origin, in double.
   Vec3d origin = Vec3d::Zero();
@@ -82,13 +84,16 @@ struct PointCloud {
   [[nodiscard]] bool has_normals() const { return !normals.empty(); }
   [[nodiscard]] bool has_radii() const { return !radii.empty(); }
   [[nodiscard]] bool has_colours() const { return !colours.empty(); }
+  [[nodiscard]] bool has_gaussians() const { return !gaussians.empty(); }
   [[nodiscard]] Aabb bounds() const;
   [[nodiscard]] std::vector<std::string> attributes() const;
 
   // Throws InputError naming `name` if the cloud is empty, an attribute array has the wrong
   // length, or any value is NaN/inf, a coordinate (positions + origin) lies beyond kMaxCoordinate
-  // or a normal is not unit length.
+  // or a normal is not unit length, or a Gaussian particle has a scale that is not positive and
+  // finite, an opacity outside [0, 1] or a rotation that is not a unit quaternion.
   void validate() const;
+  void validate_gaussians() const;
   // Drops exact duplicate positions (keeping the first), returns how many were dropped.
   size_t remove_duplicates();
   // Keeps the points at `indices`, in that order (used for subsampling).

@@ -31,7 +31,9 @@ PointCloud parse_off(const std::string& text, const std::string& name,
                      std::vector<std::array<uint32_t, 3>>* triangles);
 
 enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
-// Writes x y z as float plus whichever of nx ny nz, red green blue, radius the cloud has.
+// Writes x y z as float (double for a georeferenced cloud) plus whichever of nx ny nz, red green
+// blue, radius the cloud has; a cloud of Gaussian particles in 3D Gaussian Splatting's layout
+// (f_dc_0..2 in place of red green blue, opacity, scale_0..2, rot_0..3), as its trainers write.
 void write_ply(const std::string& path, const PointCloud& cloud,
                PlyFormat format = PlyFormat::kBinaryLittleEndian);
 

@@ -237,3 +237,105 @@ TEST_CASE("read_file takes a snapshot of a file that grows while it is read", "[
   REQUIRE(snapshot.size() <= after.size());
   CHECK(after.compare(0, snapshot.size(), snapshot) == 0);
 }
+
+namespace {
+
+// A 3D Gaussian Splatting trainer's layout, as it writes it: zero normals, SH degree 1 (f_rest).
+std::string gaussian_ply(const std::string& vertices, int count) {
+  std::string h = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(count) +
+                  "\nproperty float x\nproperty float y\nproperty float z\n"
+                  "property float nx\nproperty float ny\nproperty float nz\n";
+  for (const char* p : {"f_dc_0", "f_dc_1", "f_dc_2", "f_rest_0", "f_rest_1", "f_rest_2", "opacity",
+                        "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"})
+    h += std::string("property float ") + p + "\n";
+  return h + "end_header\n" + vertices;
+}
+
+}  // namespace
+
+TEST_CASE("3D Gaussian Splatting files load activated, with their shortest axis as normal",
+          "[io][gaussians]") {
+  // Particle 0: scales e^0, e^-3, e^-1 (shortest: y), a 90 degree turn about z (w = x... = 1, 0,
+  // 0, 1 unnormalised), opacity logit 0 (1/2), f_dc 0 (grey). Particle 1: the identity rotation.
+  const PointCloud c = read_point_cloud(
+      write_text("gs.ply", gaussian_ply("0 0 0 0 0 0 0 0 0 0.1 0.2 0.3 0 0 -3 -1 1 0 0 1\n"
+                                        "1 2 3 0 0 0 1 -1 0 0 0 0 2 -2 -2 -5 2 0 0 0\n",
+                                        2)));
+  REQUIRE(c.has_gaussians());
+  REQUIRE(c.attributes() == std::vector<std::string>{"position", "normal", "colour", "gaussian"});
+  const GaussianParticles& g = c.gaussians;
+  // Found by position, whatever order the reader keeps.
+  const size_t a = c.positions[0].isZero() ? 0 : 1, b = 1 - a;
+  REQUIRE((g.scales[a] - Vec3(1, std::exp(-3.0f), std::exp(-1.0f))).norm() < 1e-6f);
+  REQUIRE(g.opacities[a] == Approx(0.5f));
+  REQUIRE(g.opacities[b] == Approx(1 / (1 + std::exp(-2.0f))));
+  REQUIRE((g.rotations[a] - Vec4(1, 0, 0, 1) / std::sqrt(2.0f)).norm() < 1e-6f);
+  // Axis y turned 90 degrees about z is -x; the normal's sign is the quaternion's.
+  REQUIRE(std::abs(c.normals[a].x()) == Approx(1.0f));
+  REQUIRE(std::abs(c.normals[b].z()) == Approx(1.0f));
+  REQUIRE(c.colours[a].r == 128);
+  REQUIRE(c.colours[b].r == std::lround((0.5 + kShC0) * 255));
+  REQUIRE(c.colours[b].g == std::lround((0.5 - kShC0) * 255));
+}
+
+TEST_CASE("Gaussian particles round trip through the standard layout", "[io][gaussians]") {
+  PointCloud c = small_cloud();
+  c.radii.clear();
+  c.gaussians.scales = {Vec3(0.1f, 0.2f, 0.001f), Vec3(1, 1, 1), Vec3(3, 2, 1)};
+  c.gaussians.rotations = {Vec4(1, 0, 0, 0), Vec4(0.5f, 0.5f, 0.5f, 0.5f), Vec4(0, 0, 1, 0)};
+  c.gaussians.opacities = {0.5f, 1.0f, 0.01f};
+  for (PlyFormat f : {PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian}) {
+    const std::string path =
+        (pcrt::test::scratch_dir() / ("grt" + std::to_string(int(f)) + ".ply")).string();
+    write_ply(path, c, f);
+    const PointCloud r = read_ply(path);
+    REQUIRE(r.size() == 3);
+    for (size_t i = 0; i < 3; ++i) {
+      REQUIRE(r.positions[i] == c.positions[i]);
+      REQUIRE((r.gaussians.scales[i] - c.gaussians.scales[i]).norm() <
+              1e-5f * c.gaussians.scales[i].norm());
+      REQUIRE((r.gaussians.rotations[i] - c.gaussians.rotations[i]).norm() < 1e-6f);
+      REQUIRE(r.gaussians.opacities[i] == Approx(c.gaussians.opacities[i]).margin(2e-6));
+      REQUIRE(r.colours[i].g == c.colours[i].g);
+      // A Gaussian file's normals are its particles' shortest axes, whatever it stores.
+      const Vec3 axis = shortest_axis(c.gaussians.scales[i], c.gaussians.rotations[i]);
+      REQUIRE((r.normals[i] - axis).norm() < 1e-6f);
+    }
+  }
+}
+
+TEST_CASE("malformed Gaussian files are rejected with the file and vertex named",
+          "[io][gaussians][errors]") {
+  auto one = [](const std::string& name, const std::string& row) {
+    return read_point_cloud(write_text(name, gaussian_ply(row + "\n", 1)));
+  };
+  REQUIRE_INPUT_ERROR(one("gzero.ply", "0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0"),
+                      "vertex 0 has a zero or non-finite rotation");
+  REQUIRE_INPUT_ERROR(one("gbig.ply", "0 0 0 0 0 0 0 0 0 0 0 0 0 1000 0 0 1 0 0 0"),
+                      "beyond float's range");
+  REQUIRE_INPUT_ERROR(one("gnan.ply", "0 0 0 0 0 0 0 0 0 0 0 0 nan 0 0 0 1 0 0 0"),
+                      "non-finite opacity");
+  REQUIRE_INPUT_ERROR(
+      read_point_cloud(write_text(
+          "gpart.ply",
+          "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+          "property float z\nproperty float opacity\nproperty float scale_0\nend_header\n"
+          "0 0 0 0 0\n")),
+      "only some of the Gaussian properties");
+  REQUIRE_INPUT_ERROR(
+      read_point_cloud(write_text("gdc.ply",
+                                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                                  "property float y\nproperty float z\nproperty float f_dc_0\n"
+                                  "end_header\n0 0 0 0\n")),
+      "only some of f_dc_0..2");
+  PointCloud bad = small_cloud();
+  bad.gaussians.scales = {Vec3(1, 1, 1), Vec3(1, 0, 1), Vec3(1, 1, 1)};
+  bad.gaussians.rotations.assign(3, Vec4(1, 0, 0, 0));
+  bad.gaussians.opacities.assign(3, 0.5f);
+  REQUIRE_INPUT_ERROR(bad.validate(), "point 1 has Gaussian scales");
+  bad.gaussians.scales[1] = Vec3(1, 1, 1);
+  bad.gaussians.opacities[2] = 1.5f;
+  REQUIRE_INPUT_ERROR(bad.validate(), "point 2 has opacity");
+  bad.gaussians.opacities.pop_back();
+  REQUIRE_INPUT_ERROR(bad.validate(), "2 opacities for 3 points");
+}

@@ -11,6 +11,7 @@ void register_cai_2015(MethodRegistry& registry);
 void register_embree_oriented_disc(MethodRegistry& registry);
 void register_goradia_2010(MethodRegistry& registry);
 void register_goradia_2011(MethodRegistry& registry);
+void register_grt_2024(MethodRegistry& registry);
 void register_hubo_2006(MethodRegistry& registry);
 void register_hubo_2007(MethodRegistry& registry);
 void register_kashyap_2010_implicit(MethodRegistry& registry);
@@ -31,6 +32,7 @@ void register_builtins(MethodRegistry& registry) {
   register_embree_oriented_disc(registry);
   register_goradia_2010(registry);
   register_goradia_2011(registry);
+  register_grt_2024(registry);
   register_hubo_2006(registry);
   register_hubo_2007(registry);
   register_kashyap_2010_implicit(registry);

@@ -48,6 +48,18 @@ class Method : public LeafIntersector {
   // Called once the structure over items() is built, with its leaf references
   // (Structure::leaf_references), for methods that lay their data out in leaf order.
   virtual void bind_leaf_references(std::span<const uint32_t> /*refs*/) {}
+  // The closest hit through the structure built over items(). Methods whose ray walks the
+  // structure more than once (3DGRT's k-buffer march re-traces from its last hit) override it;
+  // the default is one walk with this method's leaf test.
+  virtual bool closest_hit_through(const Structure& structure, const Ray& ray, Hit& hit,
+                                   OpCounters& counters) const {
+    return structure.closest_hit(ray, *this, hit, counters);
+  }
+  // The occlusion query through the structure, likewise.
+  virtual bool any_hit_through(const Structure& structure, const Ray& ray,
+                               OpCounters& counters) const {
+    return structure.any_hit(ray, *this, counters);
+  }
   // For methods that trace whole rays through an acceleration of their own (MethodInfo::
   // own_structure, e.g. Embree's BVH): the closest hit, in place of structure + leaf.
   virtual bool own_closest_hit(const Ray& /*ray*/, Hit& /*hit*/, OpCounters& /*counters*/) const {

@@ -67,7 +67,7 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
 
 bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const {
   counters.add(kRaysCast);
-  const bool found = structure_ ? structure_->closest_hit(ray, *method_, hit, counters)
+  const bool found = structure_ ? method_->closest_hit_through(*structure_, ray, hit, counters)
                                 : method_->own_closest_hit(ray, hit, counters);
   if (found) counters.add(kRayHits);
   return found;
@@ -76,7 +76,7 @@ bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) con
 bool PointScene::any_hit(const Ray& ray, OpCounters& counters) const {
   counters.add(kRaysCast);
   counters.add(kAnyHitRays);
-  const bool found = structure_ ? structure_->any_hit(ray, *method_, counters)
+  const bool found = structure_ ? method_->any_hit_through(*structure_, ray, counters)
                                 : method_->own_any_hit(ray, counters);
   if (found) counters.add(kRaysOccluded);
   return found;
