@@ -81,9 +81,10 @@ class KBufferCollector final : public LeafIntersector {
     counters.add(kProxyTests, leaf.items.size());
     Ray segment = ray;
     segment.tmax = hit.t;
+    const Vec3 inv_d = ray.d.cwiseInverse();
     bool inserted = false;
     for (uint32_t i : leaf.items) {
-      if (!proxy_hit(g_, proxy_, i, segment)) continue;
+      if (!proxy_hit(g_, proxy_, i, segment, inv_d)) continue;
       counters.add(kProxyHits);
       const ParticleResponse r = particle_response(g_, i, ray);
       if (r.alpha < g_.min_response || r.t < ray.tmin || r.t > hit.t) continue;

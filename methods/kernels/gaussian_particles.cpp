@@ -185,12 +185,13 @@ ParticleSet prepare_gaussians(const PointCloud& cloud, const ParticleParams& par
   return g;
 }
 
-bool proxy_hit(const ParticleSet& g, GaussianProxy proxy, uint32_t i, const Ray& ray) {
+bool proxy_hit(const ParticleSet& g, GaussianProxy proxy, uint32_t i, const Ray& ray,
+               const Vec3& inv_d) {
   float t0 = ray.tmin, t1 = ray.tmax;
   if (proxy == GaussianProxy::kBox) {
     const Vec3 lo = g.centres[i] - g.half_extents[i], hi = g.centres[i] + g.half_extents[i];
     for (int a = 0; a < 3; ++a) {
-      const float inv = 1.0f / ray.d[a];
+      const float inv = inv_d[a];
       float ta = (lo[a] - ray.o[a]) * inv, tb = (hi[a] - ray.o[a]) * inv;
       if (ta > tb) std::swap(ta, tb);
       t0 = std::max(t0, ta), t1 = std::min(t1, tb);

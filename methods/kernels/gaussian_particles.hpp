@@ -95,7 +95,12 @@ inline ParticleResponse particle_response(const ParticleSet& g, uint32_t i, cons
   return r;
 }
 
-// Whether the ray's segment [tmin, tmax] meets particle i's proxy.
-bool proxy_hit(const ParticleSet& g, GaussianProxy proxy, uint32_t i, const Ray& ray);
+// Whether the ray's segment [tmin, tmax] meets particle i's proxy; inv_d is 1 / ray.d, made once
+// per ray for the box's slabs.
+bool proxy_hit(const ParticleSet& g, GaussianProxy proxy, uint32_t i, const Ray& ray,
+               const Vec3& inv_d);
+inline bool proxy_hit(const ParticleSet& g, GaussianProxy proxy, uint32_t i, const Ray& ray) {
+  return proxy_hit(g, proxy, i, ray, ray.d.cwiseInverse());
+}
 
 }  // namespace pcrt
