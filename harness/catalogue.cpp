@@ -35,6 +35,10 @@ json design_json(const MethodInfo::ClaimDesign& d) {
           {"N", d.N},
           {"M", d.M},
           {"B", d.B},
+          {"Ns", d.Ns},
+          {"build", d.build},
+          {"timed", d.timed},
+          {"free", d.free},
           {"metric", metric},
           {"per", counter_name(d.per)},
           {"x", d.x},
@@ -76,6 +80,7 @@ json method_json(const MethodInfo& m) {
           {"real_time_claim", m.real_time_claim},
           {"iterative_claim", m.iterative_claim},
           {"iteration_counters", iteration_json(m.iterations)},
+          {"hits_counter", counter_name(m.hits)},
           {"own_items", m.own_items},
           {"designs", designs},
           {"real_time_designs", real_time_json(m)}};

@@ -86,7 +86,7 @@ class Expression {
 
 double evaluate(const std::string& complexity, char variable, double x) {
   std::map<char, double> v;
-  for (char c : std::string("SMBNKkI"))
+  for (char c : std::string("SMBNKkIH"))
     v[c] = c == variable ? x : 1.0;  // others at 1: no term hides another
   return Expression(complexity, v).evaluate();
 }
@@ -114,8 +114,8 @@ const char* growth_name(Growth g) {
 }
 
 Growth expected_growth(const std::string& complexity, const std::string& variable) {
-  if (variable.size() != 1 || std::string("SMBNKkI").find(variable[0]) == std::string::npos)
-    input_error("claim variable '{}' is not one of S M B N K k I", variable);
+  if (variable.size() != 1 || std::string("SMBNKkIH").find(variable[0]) == std::string::npos)
+    input_error("claim variable '{}' is not one of S M B N K k I H", variable);
   const char v = variable[0];
   if (complexity.find(v) == std::string::npos) {  // e.g. "O(1)": parse it, then it is constant
     (void)evaluate(complexity, v, 1.0);
@@ -215,7 +215,7 @@ void method_claims(std::vector<Claim>& c) {
                    "Table 5.4"});
     for (const MethodInfo::OtherClaim& o : m.other_claims)
       c.push_back({m.id + "/" + o.name, m.id, o.statement, o.complexity, o.variables, o.source,
-                   o.not_tested});
+                   o.not_tested, m.surveyed() ? ClaimAbout::kThesis : ClaimAbout::kLater});
   }
 }
 
@@ -311,7 +311,17 @@ const std::vector<Claim>& all_claims() {
   return claims;
 }
 
-const char* claim_about_name(ClaimAbout a) { return a == ClaimAbout::kThesis ? "thesis" : "pcrt"; }
+const char* claim_about_name(ClaimAbout a) {
+  switch (a) {
+    case ClaimAbout::kThesis:
+      return "thesis";
+    case ClaimAbout::kLater:
+      return "later";
+    case ClaimAbout::kPcrt:
+      break;
+  }
+  return "pcrt";
+}
 
 const Claim& find_claim(const std::string& id) {
   for (const Claim& c : all_claims())

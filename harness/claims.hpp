@@ -18,15 +18,15 @@ inline constexpr Growth kAllGrowths[] = {Growth::kConstant, Growth::kLog,       
                                          Growth::kCubic};
 
 const char* growth_name(Growth g);  // "1", "log x", "x^0.5", "x", "x log x", "x^2", "x^3"
-// The growth of `complexity` (e.g. "O(MNIK + SBNIK)") in `variable` (one of S M B N K k I), the
+// The growth of `complexity` (e.g. "O(MNIK + SBNIK)") in `variable` (one of S M B N K k I H), the
 // others held fixed. Throws InputError if the string does not parse or lacks the variable.
 Growth expected_growth(const std::string& complexity, const std::string& variable);
 
-// Whom a verdict is about: the thesis, or pcrt's own scaffolding and expectations (the
-// brute-force oracle's build, the calibration workloads, pcrt's own observations): checks of
-// pcrt, tallied apart from the thesis's verdicts.
-enum class ClaimAbout { kThesis, kPcrt };
-const char* claim_about_name(ClaimAbout a);  // "thesis", "pcrt"
+// Whom a verdict is about: the thesis; a paper after it (the claims of a method the thesis did
+// not survey, e.g. 3DGRT's); or pcrt's own scaffolding and expectations (the brute-force oracle's
+// build, the calibration workloads, pcrt's own observations). Each is tallied apart.
+enum class ClaimAbout { kThesis, kLater, kPcrt };
+const char* claim_about_name(ClaimAbout a);  // "thesis", "later", "pcrt"
 // What the input must be for the claim to apply; a fit on other input is not judged.
 enum class Precondition { kNone, kUniformVolume };
 

@@ -82,6 +82,7 @@ json run_row(const RunResult& r) {
   row["k"] = optional_set(r, "k");
   row["I"] = optional_set(r, "max_iterations");
   row["I_run"] = optional_json(iterations_per_run(r));
+  row["H"] = optional_json(hits_per_ray(r));
   for (const auto& [k, v] : r.spec.set) row["set_" + k] = v;
   for (const auto& [k, v] : r.counters) row["ops_" + k] = v;
   if (r.prepare_counters)

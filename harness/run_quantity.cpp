@@ -103,6 +103,8 @@ double variable_value(const RunResult& r, Variable v) {
       return or_missing(parameter(r.spec, "k"));
     case Variable::I:
       return or_missing(parameter(r.spec, "max_iterations"));
+    case Variable::H:
+      return or_missing(hits_per_ray(r));
   }
   return kMissing;
 }
@@ -122,7 +124,7 @@ std::optional<double> method_k_parameter(const std::string& method) {
 }  // namespace
 
 const char* variable_name(Variable v) {
-  constexpr const char* kNames[] = {"N", "M", "S", "B", "K", "k", "I"};
+  constexpr const char* kNames[] = {"N", "M", "S", "B", "K", "k", "I", "H"};
   return kNames[size_t(v)];
 }
 
@@ -236,6 +238,14 @@ RunNames run_names(const RunSpec& s) {
   if (s.kind == RunKind::kCrossover) n.engine = s.engine;
   if (s.kind == RunKind::kWorkload) n.workload = s.workload;
   return n;
+}
+
+std::optional<double> hits_per_ray(const RunResult& r) {
+  if (!MethodRegistry::instance().contains(r.spec.method)) return std::nullopt;
+  const Counter* hits = MethodRegistry::instance().get(r.spec.method, "method").hits;
+  const double rays = count(r.counters, "rays_cast");
+  if (!hits || !(rays > 0)) return std::nullopt;
+  return count(r.counters, registered_counters()[hits->id()].name) / rays;
 }
 
 }  // namespace pcrt

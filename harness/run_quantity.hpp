@@ -13,10 +13,12 @@
 namespace pcrt {
 
 // The thesis's variables: points, pixels, samples per pixel, bounces, items per leaf (or a
-// method's K), the k of kNN, iterations (the cap, max_iterations).
-enum class Variable { N, M, S, B, K, k, I };
+// method's K), the k of kNN, iterations (the cap, max_iterations); and H, the hits per ray of the
+// methods that declare what a hit is (MethodInfo::hits: 3DGRT's "cost follows the hits"), as
+// measured.
+enum class Variable { N, M, S, B, K, k, I, H };
 inline constexpr Variable kAllVariables[] = {Variable::N, Variable::M, Variable::S, Variable::B,
-                                             Variable::K, Variable::k, Variable::I};
+                                             Variable::K, Variable::k, Variable::I, Variable::H};
 const char* variable_name(Variable v);  // "N", "M", ...
 std::optional<Variable> variable_from_name(const std::string& name);
 // N, M, S and B: the grid's variables, which say what a run is (K, k and I are measured or set).
@@ -82,6 +84,8 @@ std::optional<double> k_of(const RunResult& r);
 // I as measured (I_run): the method's declared iteration steps per iterative run
 // (MethodInfo::iterations), whatever the cap; none for a method without an iterative kernel.
 std::optional<double> iterations_per_run(const RunResult& r);
+// H: the method's declared hits (MethodInfo::hits) per ray cast; none for a method without them.
+std::optional<double> hits_per_ray(const RunResult& r);
 
 // The names that say what a run is, as its result's JSON has them: "" where its kind has none
 // (a workload has no method, a render no workload).

@@ -296,22 +296,22 @@ void check_not_rays_only(const FitSpec& s, const std::string& where) {
 void parse_fit_variables(const json& f, const std::string& where, FitSpec& s) {
   if (f.contains("free"))
     for (const std::string& v : string_list(f["free"], where + ".free")) {
-      if (v != "K" && v != "k" && v != "I_run")
-        input_error("{}.free: '{}' is not one of K, k, I_run", where, v);
+      if (v != "K" && v != "k" && v != "I_run" && v != "H")
+        input_error("{}.free: '{}' is not one of K, k, I_run, H", where, v);
       s.free.push_back(*run_quantity_from_name(v));
     }
   const std::string variable = optional_string(f, "variable", "", where);
   if (!s.is_threshold() && variable.empty())
     input_error("{}: a growth fit needs 'variable' (or 'max'/'min' for a threshold)", where);
   if (!variable.empty() && !(s.variable = variable_from_name(variable)))
-    input_error("{}: variable '{}' is not one of S M B N K k I", where, variable);
+    input_error("{}: variable '{}' is not one of S M B N K k I H", where, variable);
   const std::string x = optional_string(f, "x", variable, where);
   if (x.empty()) return;
   s.x = run_quantity_from_name(x);
   using Source = RunQuantity::Source;
   if (!s.x || (s.x->source != Source::kVariable && s.x->source != Source::kIterationsPerRun &&
                s.x->source != Source::kParameter))
-    input_error("{}.x: '{}' is not one of S M B N K k I I_run or set_PARAMETER", where, x);
+    input_error("{}.x: '{}' is not one of S M B N K k I H I_run or set_PARAMETER", where, x);
 }
 
 FitSpec parse_fit(const json& f, const std::string& experiment, const std::string& where) {

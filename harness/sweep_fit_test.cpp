@@ -171,6 +171,42 @@ TEST_CASE("run_value: what a fit reads from a run", "[sweep][fit]") {
   REQUIRE(std::isnan(run_value(failed, *run_quantity_from_name("fps"))));
 }
 
+// H is the declared hits counter per ray cast (grt_2024: proxy hits), missing for a method
+// without one; as a held variable, an H that moves in an N sweep is not judged unless free.
+TEST_CASE("H: hits per ray, measured and held", "[sweep][fit]") {
+  RunResult hubo = result(1000, {{"rays_cast", 64}});
+  REQUIRE(std::isnan(run_value(hubo, *run_quantity_from_name("H"))));
+  auto grt_runs = [](double growth) {
+    std::vector<RunResult> runs;
+    double hits = 10;
+    for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
+      RunResult r = result(n, {{"nodes_visited", 64 * 30 * std::log(n)},
+                               {"gaussian_proxy_tests", 64 * 40.0},
+                               {"gaussian_proxy_hits", 64 * hits},
+                               {"rays_cast", 64}});
+      r.spec.method = "grt_2024";
+      r.spec.structure = "bvh";
+      runs.push_back(r);
+      hits *= growth;
+    }
+    return runs;
+  };
+  REQUIRE(run_value(grt_runs(1)[0], *run_quantity_from_name("H")) == 10);
+  const json traversal = {{"claim", "grt_2024/in_N_traversal"},
+                          {"variable", "N"},
+                          {"metric", {"ops_nodes_visited", "ops_gaussian_proxy_tests"}},
+                          {"per", "ops_rays_cast"}};
+  const json held = fits_json(fit_runs(config(traversal), grt_runs(1)))[0];
+  INFO(held.dump());
+  REQUIRE(held["verdict"] != "drifted");
+  const json drifted = fits_json(fit_runs(config(traversal), grt_runs(1.5)))[0];
+  REQUIRE(drifted["verdict"] == "drifted");
+  REQUIRE(drifted["reason"].get<std::string>().find("H moved from 10 to") != std::string::npos);
+  json free = traversal;
+  free["free"] = {"H"};
+  REQUIRE(fits_json(fit_runs(config(free), grt_runs(1.5)))[0]["verdict"] != "drifted");
+}
+
 TEST_CASE("fit names are typed where the config is read", "[sweep][fit]") {
   const SweepConfig c = config({{"claim", "{method}/leaf"},
                                 {"variable", "I"},
@@ -203,7 +239,7 @@ TEST_CASE("fit names are typed where the config is read", "[sweep][fit]") {
   REQUIRE_THAT(error_of(bad), Catch::Contains("fits[0].by: 'method' is not one of N M S B"));
   bad = base;
   bad["variable"] = "NK";
-  REQUIRE_THAT(error_of(bad), Catch::Contains("variable 'NK' is not one of S M B N K k I"));
+  REQUIRE_THAT(error_of(bad), Catch::Contains("variable 'NK' is not one of S M B N K k I H"));
 }
 
 TEST_CASE("an optional key of the wrong type is an InputError naming it", "[sweep][config]") {

@@ -53,17 +53,18 @@ std::string metric_description(const std::vector<RunQuantity>& terms,
   return fmt::format("{}{}", fmt::join(names, "+"), per ? " per " + run_quantity_name(*per) : "");
 }
 
-// The variables a run must hold while another is swept: K, k and I as measured (I_run).
-const std::array<RunQuantity, 3>& held_quantities() {
-  static const std::array<RunQuantity, 3> kHeld = {RunQuantity::of(Variable::K),
-                                                   RunQuantity::of(Variable::k),
-                                                   RunQuantity::of(Source::kIterationsPerRun)};
+// The variables a run must hold while another is swept: K, k and I as measured (I_run), and the
+// hits per ray H of the methods that declare hits.
+const std::array<RunQuantity, 4>& held_quantities() {
+  static const std::array<RunQuantity, 4> kHeld = {
+      RunQuantity::of(Variable::K), RunQuantity::of(Variable::k),
+      RunQuantity::of(Source::kIterationsPerRun), RunQuantity::of(Variable::H)};
   return kHeld;
 }
 
 struct FitPoint {
   double x, y;
-  std::array<double, 3> held;  // held_quantities() of the run; NaN where the run has none
+  std::array<double, 4> held;  // held_quantities() of the run; NaN where the run has none
 };
 
 // How a variable is held: I (the cap) by the iterations a run measured.
@@ -100,7 +101,7 @@ std::pair<double, double> robust_range(std::vector<double> v) {
 }
 
 // Variables that the claim does not sweep must stay put: K (the method's K or the measured
-// items per leaf), k, and I (the measured iterations per run), unless free or a covariate.
+// items per leaf), k, I (the measured iterations per run) and H, unless free or a covariate.
 std::string drift_of(const std::vector<FitPoint>& pts, const FitSpec& f, const Claim& claim) {
   for (size_t i = 0; i < held_quantities().size(); ++i) {
     const RunQuantity& held = held_quantities()[i];
@@ -213,7 +214,7 @@ std::vector<FitPoint> fit_points(const FitSpec& f, const std::vector<RunQuantity
     double y = 0;
     for (const RunQuantity& t : terms) y += run_value(*r, t);
     if (f.per) y /= run_value(*r, *f.per);
-    std::array<double, 3> held{};
+    std::array<double, 4> held{};
     for (size_t i = 0; i < held.size(); ++i) held[i] = run_value(*r, held_quantities()[i]);
     pts.push_back({f.x ? run_value(*r, *f.x) : 0.0, y, held});
   }

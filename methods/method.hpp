@@ -147,6 +147,9 @@ struct MethodInfo {
   std::string real_time_claim = {};
   std::string iterative_claim = {};
   IterationCounters iterations = {};
+  // What its H counts: the hits a ray's walk makes (3DGRT: the any-hit calls, proxies the ray
+  // enters), per ray cast. Null: the method makes no claim in hits.
+  const Counter* hits = nullptr;
   // Its structure is built over items of its own making (implicit cells, patches, fitted or
   // reduced splats: Table 5.4's "other preprocessing"), so its build is a claim of its own.
   bool own_items = false;
@@ -190,7 +193,13 @@ struct MethodInfo {
     std::string param = {};      // the parameter swept through `values`; empty: none swept
     std::vector<int> values = {};
     int N = 5000, M = 1024, B = 0;
-    std::vector<const Counter*> metric;  // fitted as their sum per `per`
+    std::vector<int> Ns = {};  // non-empty: the experiment sweeps N through these instead
+    bool build = false;        // a build experiment (the structure over the method's items)
+    bool timed = false;        // fitted on the median repetition's time instead of `metric`
+    // Held variables the swept parameter moves by construction ("H": a larger k-buffer walks
+    // farther past the surface), exempt from the drift check.
+    std::vector<std::string> free = {};
+    std::vector<const Counter*> metric = {};  // fitted as their sum per `per`
     const Counter* per = nullptr;
     // A run column fitted against instead of the variable. I is not a knob: runs stop when the ray
     // leaves the local surface whatever the cap, so the I sweeps fit against the measured

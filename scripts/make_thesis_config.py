@@ -46,8 +46,11 @@ def fit(claim, variable=None, metric=WORK, per=None, **kw):
 def whole(v):
     return int(v) if isinstance(v, float) and v.is_integer() else v
 
-AGREE = ("structure", "variable", "param", "values", "N", "M", "B", "per", "x", "max", "fixed", "replicates",
-         "shapes")
+# What one experiment's designs share (its grid, kind and datasets), and what designs of one claim
+# in it share besides.
+EXPERIMENT_KEYS = ("structure", "param", "values", "N", "M", "B", "Ns", "build", "fixed", "replicates",
+                   "shapes")
+AGREE = EXPERIMENT_KEYS + ("variable", "per", "x", "max", "timed", "free")
 
 def group_designs():
     """The methods' designs (MethodInfo::designs) by experiment. Methods naming one experiment
@@ -67,6 +70,10 @@ def group_designs():
                              f"{first['first']} declares {first[k]} for the same experiment")
             first["metric"] += [c for c in d["metric"] if c not in first["metric"]]
     for name, g in groups.items():
+        designs = list(g["claims"].values())
+        for k in EXPERIMENT_KEYS:
+            if any(c[k] != designs[0][k] for c in designs):
+                sys.exit(f"experiment {name}: its designs disagree on {k}")
         for mid, claims in g["by"].items():
             if claims != set(g["claims"]):
                 sys.exit(f"{mid}: experiment {name} judges claims {sorted(g['claims'])}, "
@@ -77,24 +84,35 @@ def declared_experiments():
     out = []
     for name, g in group_designs().items():
         d = next(iter(g["claims"].values()))
-        grid = {"N": [d["N"]], "M": [d["M"]], "B": [d["B"]]}
+        grid = {"N": d["Ns"] or [d["N"]]}
+        if not d["build"]:
+            grid.update({"M": [d["M"]], "B": [d["B"]]})
         if d["param"]:
             grid["set." + d["param"]] = d["values"]
-        e = {"name": name, "kind": "render", "methods": g["methods"],
+        e = {"name": name, "kind": "build" if d["build"] else "render", "methods": g["methods"],
              "datasets": DATA4 if d["shapes"] else ["sphere"], "grid": grid}
         if d["structure"]:
             e["structures"] = [d["structure"]]
         e.update({"set." + k: whole(v) for k, v in d["fixed"].items()})
+        if any(c["timed"] for c in g["claims"].values()):
+            e["repetitions"] = 5  # a time is the median of 5
         if d["replicates"] != 1:
             e["replicates"] = d["replicates"]
-        e["fits"] = [fit("{method}/" + claim, c["variable"] or None,
-                         ["ops_" + x for x in c["metric"]] if len(c["metric"]) > 1
-                         else "ops_" + c["metric"][0], "ops_" + c["per"],
-                         **({"x": c["x"]} if c["x"] else {}),
-                         **({"max": whole(c["max"])} if c["max"] else {}))
-                     for claim, c in g["claims"].items()]
+        e["fits"] = [design_fit(claim, c) for claim, c in g["claims"].items()]
         out.append(e)
     return out
+
+def design_fit(claim, c):
+    """The fit of one declared design: its counters summed per `per`, or the frame's time."""
+    if c["timed"]:
+        metric, per = "time", None
+    else:
+        metric = ["ops_" + x for x in c["metric"]] if len(c["metric"]) > 1 else "ops_" + c["metric"][0]
+        per = "ops_" + c["per"]
+    return fit("{method}/" + claim, c["variable"] or None, metric, per,
+               **({"x": c["x"]} if c["x"] else {}),
+               **({"max": whole(c["max"])} if c["max"] else {}),
+               **({"free": c["free"]} if c["free"] else {}))
 
 def real_time_experiments():
     """Table 5.1's real-time claims, in the experiments each real-time method declares

@@ -1,7 +1,8 @@
 """The verdict categories of fits.json (harness/fit.hpp) and their tallies, in one place for
 report.py and findings.py. Claims whose subject is pcrt's own scaffolding ("about": "pcrt": the
 brute-force oracle's build, the calibration workloads, pcrt's own observations) are checks of
-pcrt and are tallied apart from the thesis's claims."""
+pcrt, and claims of the papers after the thesis ("about": "later": 3DGRT's) are those papers';
+both are tallied apart from the thesis's claims."""
 GROWTH = ["holds", "exceeds", "inconclusive"]
 THRESHOLD = ["meets", "misses"]
 LOOP = ["loop_check"]
@@ -11,6 +12,10 @@ ORDER = GROWTH + THRESHOLD + LOOP + NOT_JUDGED
 
 def about_pcrt(f):
     return f.get("about") == "pcrt"
+
+
+def about_later(f):
+    return f.get("about") == "later"
 
 
 def is_growth_claim(f):
@@ -26,8 +31,9 @@ def tally(fits):
 
 
 def tally_text(fits):
-    thesis = [f for f in fits if not about_pcrt(f)]
+    thesis = [f for f in fits if not about_pcrt(f) and not about_later(f)]
     pcrt = [f for f in fits if about_pcrt(f)]
+    later = tally([f for f in fits if about_later(f)])
     c = tally(thesis)
     part = lambda names: ", ".join(f"{c[v]} {v}" for v in names)
     growth = [f for f in thesis if is_growth_claim(f)]
@@ -38,4 +44,7 @@ def tally_text(fits):
     return (f"Thesis growth claims ({sum(c[v] for v in GROWTH)} judged): {part(GROWTH)}. Threshold "
             f"claims: {part(THRESHOLD)}. Loop checks (not confirmations): {c['loop_check']}. Not judged: "
             f"{part(NOT_JUDGED)} ({len(unjudged)} of {len(growth)} growth fits, {share:.0f}%). Checks of "
-            f"pcrt, tallied apart ({len(pcrt)}): {checks or 'none'}.")
+            f"pcrt, tallied apart ({len(pcrt)}): {checks or 'none'}."
+            + (f" Claims of later papers, tallied apart ({sum(later.values())}): "
+               + ", ".join(f"{later[v]} {v}" for v in ORDER if later[v]) + "."
+               if sum(later.values()) else ""))

@@ -26,6 +26,9 @@ inline const Counter kParticlesBlended{"particles_blended",
                                        "particle responses blended front to back along a ray"};
 inline const Counter kRetraces{"kbuffer_retraces",
                                "walks of a ray after its first, from its k-buffer's last hit"};
+inline const Counter kKBufferWasted{
+    "kbuffer_wasted",
+    "k-buffer entries behind the surface when a ray reached it: collected, never blended"};
 
 // How particles are made from a cloud without them (a cloud with them keeps its own).
 enum class GaussianInit {
