@@ -216,9 +216,11 @@ std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& d
 }
 
 void write_fits(const std::string& dir, const std::vector<json>& fits) {
+  // The runs keep their own commit (context.json); this is the fitter's, which may be later,
+  // taken before this writes anything (its own output is no uncommitted change).
+  const json fitter = source_context();
   write_json(dir + "/fits.json", json(fits));
-  // The runs keep their own commit (context.json); this is the fitter's, which may be later.
-  write_json(dir + "/fit_context.json", source_context());
+  write_json(dir + "/fit_context.json", fitter);
   const std::vector<std::string> cols = {"claim",
                                          "about",
                                          "method",
