@@ -4,11 +4,17 @@
 # 2 threads (`pcrt render`), for every registered method on its default structure, and for the
 # reconstruction baseline (advancing front, traced on our BVH) judged the same way.
 # Usage: scripts/method_table.sh [build/bin/pcrt] > results/method_table.md
+#        PCRT_METHODS="id ..." scripts/method_table.sh: those methods' rows only (no reconstruction),
+#        for a method added since the table was made
 set -euo pipefail
 pcrt=${1:-build/bin/pcrt}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-methods=$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')
+all=$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')
+methods=${PCRT_METHODS:-$all}
+for m in $methods; do
+  case " $all " in *" $m "*) ;; *) echo "method_table.sh: PCRT_METHODS: unknown method '$m'" >&2; exit 1 ;; esac
+done
 for m in $methods; do
   structure=()
   # The oracle's default is brute force (O(N) per ray); the kd-tree gives it the same hits.
@@ -23,6 +29,7 @@ for m in $methods; do
     --stats "$tmp/$m.render.json" >/dev/null || echo "{\"timeout\": ${PCRT_FRAME_LIMIT:-300}}" >"$tmp/$m.render.json"
 done
 # The reconstruction side, point by point: the afsr mesh of the same clouds on our BVH.
+if [ -z "${PCRT_METHODS:-}" ]; then
 m=reconstruction:afsr
 for d in sphere torus; do
   "$pcrt" accuracy --reconstruction afsr --engine bvh --data "$d:n=100000" --rays 20000 --threads 2 --json >"$tmp/$m.$d.json"
@@ -31,6 +38,7 @@ done
 "$pcrt" render --mesh "$tmp/afsr.ply" --engine bvh --out "$tmp/afsr.png" --width 512 --height 512 --spp 1 --bounces 1 \
   --threads 2 --stats "$tmp/$m.render.json" >/dev/null
 methods="$methods $m"
+fi
 python3 - "$tmp" $methods <<'PY'
 import json, sys
 tmp, methods = sys.argv[1], sys.argv[2:]
