@@ -184,6 +184,8 @@ def pct(v):
 
 
 def worst(rows, key):
+    if not rows:
+        return "-"  # a method the earlier run did not have
     r = max(rows, key=lambda r: r.get(key, 0))
     return f"{pct(r[key]):.2f} ({r['shape']})" if r.get(key, 0) > 0 else "0"
 
