@@ -141,7 +141,10 @@ class Grt2024 final : public Method {
     for (bool first = true;; first = false) {
       if (!first) counters.add(kRetraces);
       buffer.n = 0;
+      // A re-trace starts at the last entry blended, as the paper's does (that entry's key is
+      // inside its proxy, so every later one is met again), not at the ray's origin.
       Ray walk = ray;
+      if (buffer.has_after) walk.tmin = buffer.after.t;
       walk.tmax = tmax;
       Hit bound;
       bound.t = tmax;
