@@ -9,6 +9,7 @@ void register_adamson_alexa_2003(MethodRegistry& registry);
 void register_cai_2011(MethodRegistry& registry);
 void register_cai_2015(MethodRegistry& registry);
 void register_embree_oriented_disc(MethodRegistry& registry);
+void register_ever_2024(MethodRegistry& registry);
 void register_goradia_2010(MethodRegistry& registry);
 void register_goradia_2011(MethodRegistry& registry);
 void register_grt_2024(MethodRegistry& registry);
@@ -30,6 +31,7 @@ void register_builtins(MethodRegistry& registry) {
   register_cai_2011(registry);
   register_cai_2015(registry);
   register_embree_oriented_disc(registry);
+  register_ever_2024(registry);
   register_goradia_2010(registry);
   register_goradia_2011(registry);
   register_grt_2024(registry);

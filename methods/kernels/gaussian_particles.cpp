@@ -198,22 +198,14 @@ bool proxy_hit(const ParticleSet& g, GaussianProxy proxy, uint32_t i, const Ray&
     }
     return t0 <= t1;
   }
+  const float reach = g.reach[i];
+  if (proxy == GaussianProxy::kEllipsoid) {
+    float a = 0, b = 0;
+    return ellipsoid_chord(g, i, ray, reach, a, b) && a <= t1 && b >= t0;
+  }
   const Mat3& m = g.to_canonical[i];
   const Vec3 og = m * (ray.o - g.centres[i]);
   const Vec3 dg = m * ray.d;
-  const float reach = g.reach[i];
-  if (proxy == GaussianProxy::kEllipsoid) {
-    // |og + t dg|^2 = reach^2: the chord around the response's maximum tau, of half-length
-    // sqrt((reach^2 - d2) / dd) with d2 the ray's squared distance from the centre there. (The
-    // textbook discriminant od^2 - dd (og^2 - reach^2) cancels catastrophically for flat
-    // particles, whose canonical frame stretches the normal by 1 / flatness.)
-    const float dd = dg.squaredNorm();
-    const float tau = -og.dot(dg) / dd;
-    const float d2 = (og + tau * dg).squaredNorm();
-    if (d2 > reach * reach) return false;
-    const float half = std::sqrt((reach * reach - d2) / dd);
-    return tau - half <= t1 && tau + half >= t0;
-  }
   // The solid icosahedron: the segment clipped to its 10 slabs |n . x| <= inradius * scale.
   const Icosahedron& ico = icosahedron();
   const float slab = reach;  // the icosahedron's inradius is the reach
@@ -230,6 +222,23 @@ bool proxy_hit(const ParticleSet& g, GaussianProxy proxy, uint32_t i, const Ray&
     if (t0 > t1) return false;
   }
   return true;
+}
+
+std::vector<float> constant_density_ellipsoids(ParticleSet& g) {
+  std::vector<float> density(g.size());
+  for (size_t i = 0; i < g.size(); ++i) {
+    // to_canonical = S^-1 R^T: its inverse R S has the axes' world extents in its rows' norms,
+    // and its own rows have norms 1 / s_j, the largest 1 / s_min.
+    const Mat3& m = g.to_canonical[i];
+    const float s_min = 1.0f / m.rowwise().norm().maxCoeff();
+    g.reach[i] = kHalfMaximumRadius;
+    g.half_extents[i] = kHalfMaximumRadius * m.inverse().rowwise().norm();
+    g.bound_radii[i] = g.half_extents[i].norm();
+    // An opacity of 1 would be an infinite density: a particle lets at least 10^-6 through.
+    density[i] =
+        -std::log1p(-std::min(g.opacities[i], 1 - 1e-6f)) / (2.0f * kHalfMaximumRadius * s_min);
+  }
+  return density;
 }
 
 size_t ParticleSet::memory_bytes() const {

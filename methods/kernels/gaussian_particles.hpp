@@ -5,7 +5,9 @@
 // the trainers initialise from points, without training.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -97,6 +99,53 @@ inline ParticleResponse particle_response(const ParticleSet& g, uint32_t i, cons
   r.alpha = g.opacities[i] * std::exp(-0.5f * r.min_d2);
   return r;
 }
+
+// The chord of the ray's line through particle i's ellipsoid |x'| <= radius (canonical frame), as
+// [t0, t1]; false if the line misses it.
+inline bool ellipsoid_chord(const ParticleSet& g, uint32_t i, const Ray& ray, float radius,
+                            float& t0, float& t1) {
+  // |og + t dg|^2 = radius^2: the chord around the point nearest the centre, tau, of half-length
+  // sqrt((radius^2 - d2) / dd) with d2 the ray's squared distance from the centre there. (The
+  // textbook discriminant od^2 - dd (og^2 - radius^2) cancels catastrophically for flat
+  // particles, whose canonical frame stretches the normal by 1 / flatness.)
+  const Mat3& m = g.to_canonical[i];
+  const Vec3 og = m * (ray.o - g.centres[i]);
+  const Vec3 dg = m * ray.d;
+  const float dd = dg.squaredNorm();
+  const float tau = -og.dot(dg) / dd;
+  const float d2 = (og + tau * dg).squaredNorm();
+  if (d2 > radius * radius) return false;
+  const float half = std::sqrt((radius * radius - d2) / dd);
+  t0 = tau - half, t1 = tau + half;
+  return true;
+}
+
+// EVER's constant-density ellipsoids (methods/ever_2024): each particle's half-maximum contour
+// |x'| <= sqrt(2 ln 2), the density that gives a chord through the centre along the shortest axis
+// the particle's peak opacity. Resizes the set's proxies to these ellipsoids; returns the
+// densities (per unit of world length).
+inline constexpr float kHalfMaximumRadius = 1.17741002251547469f;  // sqrt(2 ln 2)
+std::vector<float> constant_density_ellipsoids(ParticleSet& g);
+
+// The exact optical depth along a ray through constant-density ellipsoids: linear between the
+// events (entries and exits, in order of t), its slope the summed density of the ellipsoids the
+// ray is in. Double precision, so that exits cancel their entries.
+struct OpticalDepth {
+  double t = 0, rate = 0, depth = 0;
+  uint32_t front = kNoPrim;  // the ellipsoid entered last: the surface's particle
+  // Moves to t_next; true, with t_surface, if the depth reaches `target` on the way.
+  bool advance(float t_next, double target, double d_norm, float& t_surface) {
+    const double grown = depth + rate * (double(t_next) - t) * d_norm;
+    if (rate > 0 && grown >= target) {
+      t_surface = float(t + (target - depth) / (rate * d_norm));
+      return true;
+    }
+    depth = grown, t = t_next;
+    return false;
+  }
+  void enter(uint32_t prim, double density) { rate += density, front = prim; }
+  void exit(double density) { rate = std::max(rate - density, 0.0); }
+};
 
 // Whether the ray's segment [tmin, tmax] meets particle i's proxy; inv_d is 1 / ray.d, made once
 // per ray for the box's slabs.

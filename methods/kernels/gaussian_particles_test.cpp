@@ -1,11 +1,13 @@
 // Gaussian particles and 3DGRT's k-buffer march (methods/grt_2024): the proxies bound the
 // response they stand for, the maximum response is the maximum, and the march finds exactly the
-// surface of blending every response in order, whatever k, proxy or structure.
+// surface of blending every response in order, whatever k, proxy or structure; EVER's march
+// (methods/ever_2024) finds exactly the surface of integrating every ellipsoid's entry and exit.
 #include "methods/kernels/gaussian_particles.hpp"
 
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
+#include <tuple>
 
 #include "core/dataset.hpp"
 #include "core/rng.hpp"
@@ -40,8 +42,8 @@ Ray random_ray(Rng& rng, float spread) {
 TEST_CASE("the maximum response along a ray is the maximum", "[gaussians]") {
   PointCloud cloud;
   const Vec4 q = Vec4(0.9f, 0.3f, -0.2f, 0.1f).normalized();
-  const ParticleSet g = one_particle(Vec3(0.5f, 0.2f, 0.05f), q, 0.8f, GaussianProxy::kEllipsoid,
-                                     cloud);
+  const ParticleSet g =
+      one_particle(Vec3(0.5f, 0.2f, 0.05f), q, 0.8f, GaussianProxy::kEllipsoid, cloud);
   Rng rng(3, 0);
   for (int n = 0; n < 200; ++n) {
     const Ray ray = random_ray(rng, 1.0f);
@@ -148,6 +150,96 @@ TEST_CASE("the k-buffer march finds the blended surface for every k, proxy and s
         if (k == 1.0) REQUIRE(frame.get(kRetraces) == retraces_k1);
         if (k == 64.0) REQUIRE(frame.get(kRetraces) * 8 < retraces_k1);
       }
+}
+
+// EVER's surface by definition: every ellipsoid's entry (clamped to the ray's start) and exit,
+// sorted, integrated until the optical depth reaches ln 2 (opacity one half).
+Oracle integrate_all(const ParticleSet& g, const std::vector<float>& density, const Ray& ray) {
+  struct Event {
+    float t;
+    uint32_t prim;
+    bool exit;
+  };
+  std::vector<Event> all;
+  for (uint32_t i = 0; i < g.size(); ++i) {
+    float t0 = 0, t1 = 0;
+    if (!ellipsoid_chord(g, i, ray, g.reach[i], t0, t1) || t1 < ray.tmin) continue;
+    all.push_back({std::max(t0, ray.tmin), i, false});
+    all.push_back({t1, i, true});
+  }
+  std::sort(all.begin(), all.end(), [](const Event& a, const Event& b) {
+    return std::tie(a.t, a.prim, a.exit) < std::tie(b.t, b.prim, b.exit);
+  });
+  const double target = -std::log1p(-0.5);
+  OpticalDepth depth;
+  depth.t = ray.tmin;
+  float t = 0;
+  for (const Event& e : all) {
+    if (e.t > ray.tmax) break;
+    if (depth.advance(e.t, target, ray.d.norm(), t)) return {true, depth.front, t};
+    if (e.exit)
+      depth.exit(density[e.prim]);
+    else
+      depth.enter(e.prim, density[e.prim]);
+  }
+  if (depth.advance(ray.tmax, target, ray.d.norm(), t)) return {true, depth.front, t};
+  return {};
+}
+
+TEST_CASE("constant-density ellipsoids: a chord through the centre gives the peak opacity",
+          "[gaussians]") {
+  PointCloud cloud;
+  const Vec4 q = Vec4(0.9f, 0.3f, -0.2f, 0.1f).normalized();
+  ParticleSet g = one_particle(Vec3(0.5f, 0.2f, 0.05f), q, 0.8f, GaussianProxy::kEllipsoid, cloud);
+  const std::vector<float> density = constant_density_ellipsoids(g);
+  Ray ray;
+  ray.d = rotation_matrix(q).col(2);  // the shortest axis, through the centre
+  ray.o = g.centres[0] - 3.0f * ray.d;
+  float t0 = 0, t1 = 0;
+  REQUIRE(ellipsoid_chord(g, 0, ray, g.reach[0], t0, t1));
+  REQUIRE(t1 - t0 == Approx(2 * kHalfMaximumRadius * 0.05f).epsilon(1e-4));
+  REQUIRE(1 - std::exp(-density[0] * (t1 - t0)) == Approx(0.8).epsilon(1e-4));
+  // The proxy box holds the ellipsoid: its extreme points along each world axis.
+  const Mat3 rs = g.to_canonical[0].inverse();
+  for (int a = 0; a < 3; ++a)
+    REQUIRE(g.half_extents[0][a] == Approx(kHalfMaximumRadius * rs.row(a).norm()).epsilon(1e-5));
+}
+
+TEST_CASE("EVER's march integrates exactly what every event does, for every k and structure",
+          "[gaussians][methods]") {
+  const Dataset d = load_dataset("sphere:n=3000,seed=2");
+  Rng rng(11, 0);
+  std::vector<Ray> rays(400);
+  for (Ray& r : rays) r = random_ray(rng, 1.2f);
+  OpCounters c0;
+  Timings t0;
+  PrepareContext ctx{c0, t0};
+  ParticleSet g = prepare_gaussians(d.cloud, ParticleParams::list().read({}, "test"),
+                                    GaussianProxy::kEllipsoid, ctx);
+  const std::vector<float> density = constant_density_ellipsoids(g);
+  std::vector<Oracle> truth;
+  for (const Ray& r : rays) truth.push_back(integrate_all(g, density, r));
+  REQUIRE(std::count_if(truth.begin(), truth.end(), [](const Oracle& o) { return o.found; }) > 100);
+  uint64_t integrated_k1 = 0;
+  for (const char* structure : {"brute_force", "bvh", "kd_tree", "octree"})
+    for (double k : {1.0, 2.0, 16.0, 64.0}) {
+      OpCounters c;
+      Timings t;
+      const PointScene scene(d.cloud, SceneOptions{"ever_2024", structure, {{"k", k}}}, c, t);
+      OpCounters frame;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        Hit h;
+        const bool found = scene.closest_hit(rays[i], h, frame);
+        INFO(structure << " k=" << k << " ray " << i);
+        REQUIRE(found == truth[i].found);
+        if (found) REQUIRE((h.prim == truth[i].prim && h.t == truth[i].t));
+        OpCounters shadow;
+        REQUIRE(scene.any_hit(rays[i], shadow) == found);
+      }
+      const uint64_t integrated = frame.to_map().at("ellipsoid_events");
+      if (integrated_k1 == 0) integrated_k1 = integrated;
+      REQUIRE(integrated == integrated_k1);  // the same events, whatever k
+    }
 }
 
 }  // namespace pcrt
