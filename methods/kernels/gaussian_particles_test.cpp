@@ -109,17 +109,28 @@ Oracle blend_all(const ParticleSet& g, const Ray& ray) {
   return {};
 }
 
+// The marches' test bed: a sphere's default particles and 400 rays crossing it.
+struct MarchBed {
+  Dataset d = load_dataset("sphere:n=3000,seed=2");
+  std::vector<Ray> rays = std::vector<Ray>(400);
+  ParticleSet g;
+  explicit MarchBed(uint64_t seed) {
+    Rng rng(seed, 0);
+    for (Ray& r : rays) r = random_ray(rng, 1.2f);
+    OpCounters c;
+    Timings t;
+    PrepareContext ctx{c, t};
+    g = prepare_gaussians(d.cloud, ParticleParams::list().read({}, "test"),
+                          GaussianProxy::kEllipsoid, ctx);
+  }
+};
+
 TEST_CASE("the k-buffer march finds the blended surface for every k, proxy and structure",
           "[gaussians][methods]") {
-  const Dataset d = load_dataset("sphere:n=3000,seed=2");
-  Rng rng(9, 0);
-  std::vector<Ray> rays(400);
-  for (Ray& r : rays) r = random_ray(rng, 1.2f);
-  OpCounters c0;
-  Timings t0;
-  PrepareContext ctx{c0, t0};
-  const ParticleSet g = prepare_gaussians(d.cloud, ParticleParams::list().read({}, "test"),
-                                          GaussianProxy::kEllipsoid, ctx);
+  const MarchBed bed(9);
+  const Dataset& d = bed.d;
+  const std::vector<Ray>& rays = bed.rays;
+  const ParticleSet& g = bed.g;
   std::vector<Oracle> truth;
   for (const Ray& r : rays) truth.push_back(blend_all(g, r));
   REQUIRE(std::count_if(truth.begin(), truth.end(), [](const Oracle& o) { return o.found; }) > 100);
@@ -207,15 +218,10 @@ TEST_CASE("constant-density ellipsoids: a chord through the centre gives the pea
 
 TEST_CASE("EVER's march integrates exactly what every event does, for every k and structure",
           "[gaussians][methods]") {
-  const Dataset d = load_dataset("sphere:n=3000,seed=2");
-  Rng rng(11, 0);
-  std::vector<Ray> rays(400);
-  for (Ray& r : rays) r = random_ray(rng, 1.2f);
-  OpCounters c0;
-  Timings t0;
-  PrepareContext ctx{c0, t0};
-  ParticleSet g = prepare_gaussians(d.cloud, ParticleParams::list().read({}, "test"),
-                                    GaussianProxy::kEllipsoid, ctx);
+  MarchBed bed(11);
+  const Dataset& d = bed.d;
+  const std::vector<Ray>& rays = bed.rays;
+  ParticleSet& g = bed.g;
   const std::vector<float> density = constant_density_ellipsoids(g);
   std::vector<Oracle> truth;
   for (const Ray& r : rays) truth.push_back(integrate_all(g, density, r));
