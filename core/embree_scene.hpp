@@ -76,6 +76,15 @@ class EmbreeScene {
     rtcOccluded1(scene_, &context, &r);
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
   }
+  // The committed scene, for queries other than the ones above (packets).
+  [[nodiscard]] RTCScene scene() const { return scene_; }
+  // Whether Embree traces packets of `width` rays natively here (4, 8 or 16).
+  [[nodiscard]] bool native_packets(int width) const {
+    const RTCDeviceProperty p = width == 16  ? RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED
+                                : width == 8 ? RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED
+                                             : RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED;
+    return rtcGetDeviceProperty(device_, p) != 0;
+  }
   // Bytes Embree holds (its BVH above all).
   [[nodiscard]] size_t bytes() const { return size_t(std::max<int64_t>(bytes_.load(), 0)); }
 

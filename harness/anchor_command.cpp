@@ -18,6 +18,7 @@
 #include "core/rng.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
+#include "methods/embree_oriented_disc/disc_packets.hpp"
 #include "methods/kernels/disc_lanes.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/triangle_mesh.hpp"
@@ -36,30 +37,98 @@ enum class Query { kClosest, kAny };
 struct RaySet {
   const char* name;
   Query query;
+  bool coherent;  // camera rays in tiles: what Embree's packets are made for
   std::vector<Ray> rays;
 };
 
+// What a pass times: one of our scenes ray by ray, or Embree's discs in packets.
+class Tracer {
+ public:
+  virtual ~Tracer() = default;
+  // Rays [begin, end) of `set` (begin a multiple of 16): found[i] per ray and, where `hits` is
+  // not null, hits[i] (timed passes keep only `found`, as a frame keeps only the pixel).
+  virtual void trace(const RaySet& set, size_t begin, size_t end, char* found, Hit* hits,
+                     OpCounters& counters) const = 0;
+};
+
+class RayByRay final : public Tracer {
+ public:
+  explicit RayByRay(const SceneIntersector& scene) : scene_(scene) {}
+  void trace(const RaySet& set, size_t begin, size_t end, char* found, Hit* hits,
+             OpCounters& counters) const override {
+    for (size_t i = begin; i != end; ++i) {
+      const Ray& r = set.rays[i];
+      Hit local;
+      Hit& h = hits ? hits[i] : local;
+      h = Hit{};
+      h.t = r.tmax;
+      found[i] = set.query == Query::kAny ? scene_.any_hit(r, counters)
+                                          : scene_.closest_hit(r, h, counters);
+    }
+  }
+
+ private:
+  const SceneIntersector& scene_;
+};
+
+// Consecutive rays as one packet: on primary rays a 2x4 (8) or 4x4 (16) tile of pixels.
+class InPackets final : public Tracer {
+ public:
+  explicit InPackets(const EmbreeDiscPackets& packets) : packets_(packets) {}
+  void trace(const RaySet& set, size_t begin, size_t end, char* found, Hit* hits,
+             OpCounters&) const override {
+    const size_t w = size_t(packets_.width());
+    Hit local[16];
+    for (size_t i = begin; i < end; i += w) {
+      const int n = int(std::min(w, end - i));
+      if (set.query == Query::kAny) {
+        packets_.occluded(&set.rays[i], n, set.coherent, found + i);
+        continue;
+      }
+      Hit* h = hits ? hits + i : local;
+      packets_.closest_hits(&set.rays[i], n, set.coherent, h);
+      for (int k = 0; k < n; ++k) found[i + size_t(k)] = char(h[k].found());
+    }
+  }
+
+ private:
+  const EmbreeDiscPackets& packets_;
+};
+
+// Rays a task traces at once: a multiple of every packet width.
+constexpr size_t kBlock = 1024;
+
 // One timed pass of all rays; returns Mrays/s and counts hits and work into `hits`, `counters`.
-double timed_pass(const SceneIntersector& scene, const RaySet& set, size_t& hits,
-                  OpCounters& counters) {
+double timed_pass(const Tracer& tracer, const RaySet& set, size_t& hits, OpCounters& counters) {
   std::vector<char> found(set.rays.size());
   tbb::combinable<OpCounters> per_thread;
+  const size_t blocks = (set.rays.size() + kBlock - 1) / kBlock;
   const auto start = std::chrono::steady_clock::now();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, set.rays.size(), 1024),
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks),
                     [&](const tbb::blocked_range<size_t>& br) {
                       OpCounters& c = per_thread.local();
-                      for (size_t i = br.begin(); i != br.end(); ++i) {
-                        Hit h;
-                        h.t = set.rays[i].tmax;
-                        found[i] = set.query == Query::kAny ? scene.any_hit(set.rays[i], c)
-                                                            : scene.closest_hit(set.rays[i], h, c);
-                      }
+                      for (size_t b = br.begin(); b != br.end(); ++b)
+                        tracer.trace(set, b * kBlock, std::min(set.rays.size(), (b + 1) * kBlock),
+                                     found.data(), nullptr, c);
                     });
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   hits = size_t(std::count(found.begin(), found.end(), 1));
   counters = OpCounters{};
   per_thread.combine_each([&](const OpCounters& c) { counters.merge(c); });
   return double(set.rays.size()) / s / 1e6;
+}
+
+// Camera rays through pixel centres, in 4x4 tiles (tiles row by row, pixels row by row in a
+// tile), so that 8 consecutive rays are a 2x4 tile and 16 a 4x4 one.
+std::vector<Ray> tiled_camera_rays(const Camera& cam, int w, int h) {
+  std::vector<Ray> rays;
+  rays.reserve(size_t(w) * size_t(h));
+  for (int ty = 0; ty < h; ty += 4)
+    for (int tx = 0; tx < w; tx += 4)
+      for (int y = ty; y < std::min(ty + 4, h); ++y)
+        for (int x = tx; x < std::min(tx + 4, w); ++x)
+          rays.push_back(cam.ray(float(x) + 0.5f, float(y) + 0.5f));
+  return rays;
 }
 
 double median(std::vector<double> v) {
@@ -83,21 +152,22 @@ json load_average() {
 // Whether `a` and `b` find the same hits (untimed): rays only one of them hits and, for closest
 // hits, rays whose hit is on another point or triangle. Exact agreement is what tracing the same
 // discs in the same frame should give; georeferenced coordinates once broke it.
-json hit_agreement(const SceneIntersector& a, const SceneIntersector& b, const RaySet& set) {
-  size_t both = 0, one_only = 0, other_prim = 0, other_t = 0;
+json hit_agreement(const Tracer& a, const Tracer& b, const RaySet& set) {
+  const size_t n = set.rays.size();
+  std::vector<char> fa(n), fb(n);
+  std::vector<Hit> ha(n), hb(n);
   OpCounters c;
-  for (const Ray& r : set.rays) {
-    Hit ha, hb;
-    ha.t = hb.t = r.tmax;
-    const bool fa = set.query == Query::kAny ? a.any_hit(r, c) : a.closest_hit(r, ha, c);
-    const bool fb = set.query == Query::kAny ? b.any_hit(r, c) : b.closest_hit(r, hb, c);
-    one_only += size_t(fa != fb);
-    if (!(fa && fb)) continue;
+  a.trace(set, 0, n, fa.data(), ha.data(), c);
+  b.trace(set, 0, n, fb.data(), hb.data(), c);
+  size_t both = 0, one_only = 0, other_prim = 0, other_t = 0;
+  for (size_t i = 0; i < n; ++i) {
+    one_only += size_t(fa[i] != fb[i]);
+    if (!(fa[i] && fb[i])) continue;
     ++both;
-    if (set.query == Query::kAny || ha.prim == hb.prim) continue;
+    if (set.query == Query::kAny || ha[i].prim == hb[i].prim) continue;
     ++other_prim;
     // Another point at the same distance is a tie between overlapping discs, not an error.
-    other_t += size_t(std::abs(ha.t - hb.t) > 1e-5f * std::max(ha.t, hb.t));
+    other_t += size_t(std::abs(ha[i].t - hb[i].t) > 1e-5f * std::max(ha[i].t, hb[i].t));
   }
   return {{"both_hit", both},
           {"one_only", one_only},
@@ -108,7 +178,7 @@ json hit_agreement(const SceneIntersector& a, const SceneIntersector& b, const R
 // Scenes timed together: [0] the candidate, then the references. Pass 0 warms up; every later
 // pass times all scenes, in reverse order on odd passes, so drift (turbo, other load) falls on
 // both sides of each ratio alike.
-json alternated(const std::vector<const SceneIntersector*>& scenes, const RaySet& set, int reps) {
+json alternated(const std::vector<const Tracer*>& scenes, const RaySet& set, int reps) {
   const size_t n = scenes.size();
   std::vector<std::vector<double>> rate(n);
   std::vector<size_t> hits(n);
@@ -176,10 +246,8 @@ json mesh_anchor(const std::string& path, int w, int h, int reps) {
   frame.positions = mesh.vertices;
   const Aabb bounds = frame.bounds();
   const Camera cam = Camera::framing(bounds, w, h);
-  RaySet primary{"primary", Query::kClosest, {}}, bounce{"bounce", Query::kClosest, {}},
-      shadow{"shadow", Query::kAny, {}};
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) primary.rays.push_back(cam.ray(float(x) + 0.5f, float(y) + 0.5f));
+  RaySet primary{"primary", Query::kClosest, true, tiled_camera_rays(cam, w, h)},
+      bounce{"bounce", Query::kClosest, false, {}}, shadow{"shadow", Query::kAny, false, {}};
   OpCounters prep;
   Timings t;
   const MeshScene ours(mesh, "bvh", prep, t), embree(mesh, "embree", prep, t);
@@ -189,9 +257,11 @@ json mesh_anchor(const std::string& path, int w, int h, int reps) {
             {"reps", reps},
             {"engine", "bvh"},
             {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
-            {"reference", "embree"}};
+            {"reference", "embree"},
+            {"ray_order", "4x4 tiles"}};
+  const RayByRay ours_rays(ours), embree_rays(embree);
   for (const RaySet* set : {&primary, &bounce, &shadow})
-    j[set->name] = alternated({&ours, &embree}, *set, reps);
+    j[set->name] = alternated({&ours_rays, &embree_rays}, *set, reps);
   return j;
 }
 
@@ -220,12 +290,42 @@ void check_anchor_candidates(const AnchorOptions& o) {
   if (o.structure) (void)StructureRegistry::instance().get(*o.structure, "structure");  // known?
 }
 
+// Embree's discs, the same ones four ways: ray by ray given our Morton order (the headline) and
+// the cloud's order, and in packets of 8 and 16 (Morton order).
+struct References {
+  Timings t;
+  OpCounters prep;
+  PrepareContext ctx{prep, t};
+  PointScene morton, cloud_order;
+  EmbreeDiscPackets packets8, packets16;
+  RayByRay morton_rays{morton}, cloud_rays{cloud_order};
+  InPackets packet8_rays{packets8}, packet16_rays{packets16};
+
+  explicit References(const PointCloud& c)
+      : morton(c, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 1}}}, prep, t),
+        cloud_order(c, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 0}}}, prep, t),
+        packets8(c, 8, ctx),
+        packets16(c, 16, ctx) {}
+  [[nodiscard]] std::vector<const Tracer*> tracers() const {
+    return {&morton_rays, &cloud_rays, &packet8_rays, &packet16_rays};
+  }
+  static json names() {
+    return {"embree_oriented_disc morton_order=1", "embree_oriented_disc morton_order=0",
+            "embree_oriented_disc packets of 8 (rtcIntersect8, 2x4 tiles)",
+            "embree_oriented_disc packets of 16 (rtcIntersect16, 4x4 tiles)"};
+  }
+  [[nodiscard]] json native() const {
+    return {{"8", packets8.native()}, {"16", packets16.native()}};
+  }
+};
+
 // What every candidate is timed against, on the same rays.
 struct AnchorBench {
   const Dataset& data;
   ParamValues overrides;
-  std::vector<const SceneIntersector*> references;  // Embree's discs in Morton and in cloud order
-  std::vector<const RaySet*> sets;                  // primary, bounce, shadow
+  // Embree's discs ray by ray in Morton and in cloud order, then in packets of 8 and 16.
+  std::vector<const Tracer*> references;
+  std::vector<const RaySet*> sets;  // primary, bounce, shadow
   int reps;
 };
 
@@ -234,8 +334,9 @@ void print_candidate(const json& e, const std::vector<const RaySet*>& sets) {
               e["structure"].get<std::string>().c_str());
   for (const RaySet* set : sets) {
     const json& r = e[set->name];
-    std::printf("  %s %6.2f Mrays/s x%.2f", set->name, r["mrays_per_s"].get<double>(),
-                r["references"][0]["ratio"].get<double>());
+    std::printf("  %s %6.2f Mrays/s x%.2f (x%.2f packets of 16)", set->name,
+                r["mrays_per_s"].get<double>(), r["references"][0]["ratio"].get<double>(),
+                r["references"][3]["ratio"].get<double>());
   }
   std::printf("\n");
 }
@@ -251,7 +352,8 @@ json time_candidate(const AnchorBench& b, const MethodInfo& m, const StructureIn
             {"build_s", ct["build"]},
             {"refs_per_item", double(cp.get(kBuildItemRefs)) / double(b.data.cloud.size())},
             {"structure_bytes", scene.structure_bytes()}};
-  std::vector<const SceneIntersector*> scenes = {&scene};
+  const RayByRay candidate(scene);
+  std::vector<const Tracer*> scenes = {&candidate};
   scenes.insert(scenes.end(), b.references.begin(), b.references.end());
   for (const RaySet* set : b.sets) e[set->name] = alternated(scenes, *set, b.reps);
   return e;
@@ -292,11 +394,14 @@ json best_candidate(const json& candidates, bool same_discs_only) {
 void print_best(const json& best, const json& best_same) {
   for (const auto& [label, b] : {std::pair{"best", best}, std::pair{"best, same discs", best_same}})
     if (!b.is_null())
-      std::printf("%s: %s on %s, primary rays x%.3f Embree (Morton order), x%.3f (cloud order)\n",
-                  label, b["method"].get<std::string>().c_str(),
-                  b["structure"].get<std::string>().c_str(),
-                  b["primary"]["references"][0]["ratio"].get<double>(),
-                  b["primary"]["references"][1]["ratio"].get<double>());
+      std::printf(
+          "%s: %s on %s, primary rays x%.3f Embree (Morton order), x%.3f (cloud order), x%.3f "
+          "(packets of 8), x%.3f (packets of 16)\n",
+          label, b["method"].get<std::string>().c_str(), b["structure"].get<std::string>().c_str(),
+          b["primary"]["references"][0]["ratio"].get<double>(),
+          b["primary"]["references"][1]["ratio"].get<double>(),
+          b["primary"]["references"][2]["ratio"].get<double>(),
+          b["primary"]["references"][3]["ratio"].get<double>());
 }
 
 }  // namespace
@@ -311,20 +416,11 @@ int command_anchor(const AnchorOptions& o) {
   const json load_before = load_average();
   const int w = o.width, hgt = o.height;
   const Camera cam = Camera::framing(bounds, w, hgt);
-  RaySet primary{"primary", Query::kClosest, {}}, bounce{"bounce", Query::kClosest, {}},
-      shadow{"shadow", Query::kAny, {}};
-  for (int y = 0; y < hgt; ++y)
-    for (int x = 0; x < w; ++x) primary.rays.push_back(cam.ray(float(x) + 0.5f, float(y) + 0.5f));
-  // The references: Embree's discs in our Morton order (the headline) and in the cloud's order.
-  Timings t;
-  OpCounters prep;
-  const PointScene embree_morton(
-      d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 1}}}, prep, t);
-  const PointScene embree_cloud(
-      d.cloud, SceneOptions{"embree_oriented_disc", "", {{"morton_order", 0}}}, prep, t);
-  secondary_rays(embree_morton, primary.rays, bounds, bounce, shadow);
-  const AnchorBench bench{
-      d, o.set, {&embree_morton, &embree_cloud}, {&primary, &bounce, &shadow}, o.reps};
+  RaySet primary{"primary", Query::kClosest, true, tiled_camera_rays(cam, w, hgt)},
+      bounce{"bounce", Query::kClosest, false, {}}, shadow{"shadow", Query::kAny, false, {}};
+  const References refs(d.cloud);
+  secondary_rays(refs.morton, primary.rays, bounds, bounce, shadow);
+  const AnchorBench bench{d, o.set, refs.tracers(), {&primary, &bounce, &shadow}, o.reps};
   const json candidates = time_candidates(o, bench);
   const json best = best_candidate(candidates, false), best_same = best_candidate(candidates, true);
   const json j = {{"dataset", data},
@@ -335,8 +431,9 @@ int command_anchor(const AnchorOptions& o) {
                   {"set", o.set},
                   {"leaf_simd", disc_lanes_name()},
                   {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
-                  {"references",
-                   {"embree_oriented_disc morton_order=1", "embree_oriented_disc morton_order=0"}},
+                  {"references", References::names()},
+                  {"ray_order", "4x4 tiles"},
+                  {"packets_native", refs.native()},
                   {"best", best},
                   {"best_same_discs", best_same},
                   {"load_average", {{"before", load_before}, {"after", load_average()}}},

@@ -3,8 +3,8 @@
 // splat intersector that the surveyed methods' speed and accuracy are compared with.
 #include <memory>
 
-#include "core/embree_scene.hpp"
 #include "core/error.hpp"
+#include "methods/embree_oriented_disc/embree_discs.hpp"
 #include "methods/kernels/splat_set.hpp"
 #include "methods/method.hpp"
 
@@ -32,26 +32,8 @@ class EmbreeOrientedDisc final : public Method {
   void prepare(const PointCloud& cloud, PrepareContext& ctx) override {
     splats_ = prepare_splats(cloud, params_.splat, ctx);
     ScopedTimer t(ctx.timings, "prepare/embree_build");
-    embree_ = std::make_unique<EmbreeScene>("embree_oriented_disc");
-    RTCGeometry geom = embree_->new_geometry(RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
-    // Embree wants x, y, z, radius per point and its own copy of the normals.
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), cloud.size()));
-    auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), cloud.size()));
-    // Embree gets the points in the cloud's own order unless morton_order=1 asks for ours.
     morton_ = params_.morton_order;
-    for (size_t k = 0; k < splats_.size(); ++k) {
-      const size_t i = morton_ ? k : splats_.point_of(uint32_t(k));
-      for (int a = 0; a < 3; ++a) v[4 * i + size_t(a)] = splats_.centres[k][a];
-      v[4 * i + 3] = splats_.radii[k];
-      for (int a = 0; a < 3; ++a) n[3 * i + size_t(a)] = splats_.normals[k][a];
-    }
-    if (!morton_) {
-      item_of_point_.resize(splats_.size());
-      for (uint32_t k = 0; k < splats_.size(); ++k) item_of_point_[splats_.point_of(k)] = k;
-    }
-    embree_->build(geom);
+    embree_ = build_embree_discs(splats_, morton_, item_of_point_, "embree_oriented_disc");
   }
 
   [[nodiscard]] ItemSet items() const override { return splats_.items(); }
