@@ -18,6 +18,7 @@
 #include "core/rng.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
+#include "harness/provenance.hpp"
 #include "methods/embree_oriented_disc/disc_packets.hpp"
 #include "methods/kernels/disc_lanes.hpp"
 #include "reconstruction/mesh_engine.hpp"
@@ -423,21 +424,24 @@ int command_anchor(const AnchorOptions& o) {
   const AnchorBench bench{d, o.set, refs.tracers(), {&primary, &bounce, &shadow}, o.reps};
   const json candidates = time_candidates(o, bench);
   const json best = best_candidate(candidates, false), best_same = best_candidate(candidates, true);
-  const json j = {{"dataset", data},
-                  {"N", d.cloud.size()},
-                  {"width", w},
-                  {"height", hgt},
-                  {"reps", o.reps},
-                  {"set", o.set},
-                  {"leaf_simd", disc_lanes_name()},
-                  {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
-                  {"references", References::names()},
-                  {"ray_order", "4x4 tiles"},
-                  {"packets_native", refs.native()},
-                  {"best", best},
-                  {"best_same_discs", best_same},
-                  {"load_average", {{"before", load_before}, {"after", load_average()}}},
-                  {"candidates", candidates}};
+  const json j = {
+      {"dataset", data},
+      {"N", d.cloud.size()},
+      {"width", w},
+      {"height", hgt},
+      {"reps", o.reps},
+      {"set", o.set},
+      {"leaf_simd", disc_lanes_name()},
+      {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
+      {"references", References::names()},
+      {"ray_order", "4x4 tiles"},
+      {"packets_native", refs.native()},
+      {"threads", tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)},
+      {"context", machine_context(nullptr)},
+      {"best", best},
+      {"best_same_discs", best_same},
+      {"load_average", {{"before", load_before}, {"after", load_average()}}},
+      {"candidates", candidates}};
   if (o.json)
     std::printf("%s\n", j.dump(2).c_str());
   else
