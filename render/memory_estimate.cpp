@@ -58,7 +58,8 @@ StructureFootprint structure_footprint(const std::string& structure,
   return {80, 80, 1};  // structures of a method's own
 }
 
-size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params,
+size_t structure_bytes_per_item(const std::string& structure, size_t items,
+                                const ParamValues& method_params,
                                 const ParamValues& structure_params) {
   const StructureFootprint f = structure_footprint(structure, structure_params);
   const auto it = method_params.find(disc_blocks_name());
@@ -71,8 +72,9 @@ size_t structure_bytes_per_item(const std::string& structure, const ParamValues&
     case DiscBlockLayout::kAuto:
       break;
   }
-  return f.references_per_item <= SplatLeafBlocks::kLeafOrderMaxRefsPerItem ? f.leaf_order
-                                                                            : f.item_order;
+  const double n = double(items);
+  return SplatLeafBlocks::auto_leaf_order(f.references_per_item * n, n) ? f.leaf_order
+                                                                        : f.item_order;
 }
 
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,
@@ -81,9 +83,10 @@ size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structu
   if (method.own_bytes_per_point)
     if (const size_t own = method.own_bytes_per_point(cloud, method_params); own > 0)
       return cloud.size() * own;
-  return cloud.size() * (prepared_bytes_per_point(method, cloud, method_params) +
-                         structure_bytes_per_item(structure, method_params, structure_params) +
-                         method.own_data_bytes_per_point);
+  return cloud.size() *
+         (prepared_bytes_per_point(method, cloud, method_params) +
+          structure_bytes_per_item(structure, cloud.size(), method_params, structure_params) +
+          method.own_data_bytes_per_point);
 }
 
 }  // namespace pcrt

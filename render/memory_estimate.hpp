@@ -22,8 +22,10 @@ size_t prepared_bytes_per_point(const MethodInfo& method, const PointCloud& clou
 // given: its defaults); a structure of a method's own, not in the registry, is priced at 80 bytes.
 StructureFootprint structure_footprint(const std::string& structure,
                                        const ParamValues& structure_params = {});
-// The footprint for the layout the method's parameters choose (disc_blocks; none: item order).
-size_t structure_bytes_per_item(const std::string& structure, const ParamValues& method_params,
+// The footprint for the layout the method's parameters choose for this many items (disc_blocks;
+// none: item order).
+size_t structure_bytes_per_item(const std::string& structure, size_t items,
+                                const ParamValues& method_params,
                                 const ParamValues& structure_params = {});
 // Both, for the cloud's size.
 size_t estimate_scene_bytes(const MethodInfo& method, const std::string& structure,

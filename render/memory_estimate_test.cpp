@@ -71,16 +71,24 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
     const size_t automatic =
         estimate_scene_bytes(splat, s, cloud, with_layout(DiscBlockLayout::kAuto));
     CHECK(leaf - item == 1000 * (f.leaf_order - f.item_order));
-    const bool leaf_chosen = f.references_per_item <= SplatLeafBlocks::kLeafOrderMaxRefsPerItem;
+    const bool leaf_chosen = SplatLeafBlocks::auto_leaf_order(f.references_per_item * 1000, 1000);
     CHECK(automatic == (leaf_chosen ? leaf : item));
   }
-  // The structures that duplicate references hold more of them than the object partitions, and
-  // reference_splat's default chooses item order on them.
+  // The structures that duplicate references hold more of them than the object partitions;
+  // reference_splat's default copies the kd-tree's (3.7 per item) in leaf order and gathers the
+  // octree's compact ones.
   CHECK(structure_footprint("kd_tree").references_per_item >
         structure_footprint("bvh").references_per_item);
   CHECK(structure_footprint("octree").references_per_item >
         structure_footprint("sphere_tree").references_per_item);
-  CHECK(structure_bytes_per_item("kd_tree", with_layout(DiscBlockLayout::kAuto)) ==
+  CHECK(structure_bytes_per_item("kd_tree", 1000000, with_layout(DiscBlockLayout::kAuto)) ==
+        structure_footprint("kd_tree").leaf_order);
+  CHECK(structure_bytes_per_item("octree", 1000000, with_layout(DiscBlockLayout::kAuto)) ==
+        structure_footprint("octree").item_order);
+  // Past 512 MiB of copies (10^7 points on the kd-tree, the scale runs) the leaves gather again.
+  CHECK(structure_bytes_per_item("kd_tree", 10000000, with_layout(DiscBlockLayout::kAuto)) ==
+        structure_footprint("kd_tree").item_order);
+  CHECK(structure_bytes_per_item("kd_tree", 100000000, with_layout(DiscBlockLayout::kAuto)) ==
         structure_footprint("kd_tree").item_order);
   // The octree's 32-bit references cost more than its compact ones (the default).
   CHECK(structure_footprint("octree", {{"compact_refs", 0}}).item_order >
@@ -90,9 +98,9 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
   // Methods without disc blocks keep every box reference there: priced above the discs' figure.
   const auto& projection = MethodRegistry::instance().get("schaufler_jensen_2000", "method");
   const ParamValues none = resolve_params(projection.params, {}, "test");
-  CHECK(structure_bytes_per_item("octree", none) > structure_footprint("octree").item_order);
-  CHECK(structure_bytes_per_item("octree", none, {{"compact_refs", 0}}) >
-        structure_bytes_per_item("octree", none));
+  CHECK(structure_bytes_per_item("octree", 1000, none) > structure_footprint("octree").item_order);
+  CHECK(structure_bytes_per_item("octree", 1000, none, {{"compact_refs", 0}}) >
+        structure_bytes_per_item("octree", 1000, none));
 }
 
 TEST_CASE("memory estimate: a method's own per-splat data is added") {

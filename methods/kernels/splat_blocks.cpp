@@ -13,7 +13,8 @@ const ParamList<DiscBlockParams>& DiscBlockParams::list() {
   static const auto l = ParamList<P>().add(
       &P::layout, {"disc_blocks", 0, 0, 2,
                    "disc layout for the leaves: 0 leaf order where the structure references "
-                   "each disc at most twice, else item order; 1 leaf order (a copy per "
+                   "each disc at most 4 times and the copy stays under 512 MiB, else item "
+                   "order; 1 leaf order (a copy per "
                    "reference, fastest); 2 item order (no copy, leaves gather)"});
   return l;
 }
@@ -32,7 +33,7 @@ bool use_leaf_order(DiscBlockLayout layout, size_t refs, size_t items) {
     case DiscBlockLayout::kAuto:
       break;
   }
-  return double(refs) <= SplatLeafBlocks::kLeafOrderMaxRefsPerItem * double(items);
+  return SplatLeafBlocks::auto_leaf_order(double(refs), double(items));
 }
 
 }  // namespace

@@ -24,7 +24,7 @@
 namespace pcrt {
 
 enum class DiscBlockLayout : uint8_t {
-  kAuto = 0,       // leaf order if the structure references each item at most twice, else item
+  kAuto = 0,  // leaf order where the copy is cheap (SplatLeafBlocks::auto_leaf_order), else item
   kLeafOrder = 1,  // a copy per leaf reference: the fastest leaves, memory grows with references
   kItemOrder = 2,  // no copy: leaves gather their discs from the item arrays
 };
@@ -37,8 +37,19 @@ struct DiscBlockParams {
 
 class SplatLeafBlocks {
  public:
-  // kAuto's threshold: leaf order up to this many references per item.
-  static constexpr double kLeafOrderMaxRefsPerItem = 2.0;
+  // kAuto's rule: leaf order while the structure references each item at most
+  // kLeafOrderMaxRefsPerItem times (the kd-tree's 3.7 on a surface, not the octree's 7) and the
+  // copy, a 28-byte disc per reference, stays under kLeafOrderMaxBytes (512 MiB: about 5x10^6
+  // points on the kd-tree, above every thesis sweep, below the scale runs' 10^7 and 10^8). Leaf
+  // order is up to twice as fast on the kd-tree (pcrt anchor, issue 31); beyond the cap memory,
+  // not speed, is what large clouds are short of. A sweep across the cap changes layout (and
+  // time, not operation counts): fix `disc_blocks` to hold it.
+  static constexpr double kLeafOrderMaxRefsPerItem = 4.0;
+  static constexpr double kLeafOrderMaxBytes = double(uint64_t(1) << 29);
+  static constexpr bool auto_leaf_order(double refs, double items) {
+    return refs <= kLeafOrderMaxRefsPerItem * items &&
+           refs * double(sizeof(DiscBlock) / kDiscGroup) <= kLeafOrderMaxBytes;
+  }
 
   // Binds the splats of `splats` (item order) to the structure's leaf references: copies splat
   // refs[i] to position i (leaf order), or adapts the set's item arrays (item order; the set must
