@@ -38,6 +38,10 @@ class EmbreeTriangles final : public MeshEngine {
     hit.footprint = 0;
     return true;
   }
+  bool any_hit(const Ray& ray, OpCounters& counters) const override {
+    counters.add(kEmbreeTriangleRays);
+    return embree_.occluded(ray);
+  }
   [[nodiscard]] size_t memory_bytes() const override {
     return padded_.size() * sizeof(Float4) + embree_.bytes();
   }

@@ -24,6 +24,13 @@ class MeshEngine {
   virtual ~MeshEngine() = default;
   // Closest hit with t in [ray.tmin, min(ray.tmax, hit.t)); prim = triangle index, n = its normal.
   virtual bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const = 0;
+  // Whether any triangle lies within [ray.tmin, ray.tmax) (shadow rays: pbrt's IntersectP). This
+  // default asks for a closest hit; engines that can stop at the first hit override it.
+  virtual bool any_hit(const Ray& ray, OpCounters& counters) const {
+    Hit h;
+    h.t = ray.tmax;
+    return closest_hit(ray, h, counters);
+  }
   [[nodiscard]] virtual size_t memory_bytes() const = 0;
 };
 
@@ -49,6 +56,13 @@ class MeshScene final : public SceneIntersector {
     counters.add(kRaysCast);
     const bool found = engine_->closest_hit(ray, hit, counters);
     if (found) counters.add(kRayHits);
+    return found;
+  }
+  bool any_hit(const Ray& ray, OpCounters& counters) const override {
+    counters.add(kRaysCast);
+    counters.add(kAnyHitRays);
+    const bool found = engine_->any_hit(ray, counters);
+    if (found) counters.add(kRaysOccluded);
     return found;
   }
   [[nodiscard]] const std::string& engine_id() const { return info_->id; }

@@ -201,3 +201,32 @@ TEST_CASE("The triangle BVH returns exactly brute force's closest triangle", "[r
   }
   REQUIRE(hits > 500);  // about 800 of the 2000 rays hit
 }
+
+TEST_CASE("Mesh any-hit queries agree with closest hits within tmax on every engine",
+          "[reconstruction]") {
+  const Dataset d = load_dataset("sphere:n=3000");
+  const ReconstructionReport r = reconstruction("afsr").run(d.cloud);
+  OpCounters counters;
+  Timings timings;
+  for (const char* engine : {"bvh", "embree", "cgal_aabb"}) {
+    const MeshScene scene(r.mesh, engine, counters, timings);
+    Rng rng(13, 1);
+    int blocked = 0, open = 0;
+    for (int i = 0; i < 2000; ++i) {
+      // Shadow-like segments from inside and outside, ending before, at or past the surface.
+      const Vec3 o = 2.5f * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
+      const Vec3 dir =
+          Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f).normalized();
+      const Ray ray{o, dir, 0.0f, 3.0f * rng.uniform()};
+      Hit h;
+      h.t = ray.tmax;
+      const bool closest = scene.closest_hit(ray, h, counters);
+      CAPTURE(engine, i);
+      REQUIRE(scene.any_hit(ray, counters) == closest);
+      (closest ? blocked : open) += 1;
+    }
+    REQUIRE(blocked > 300);
+    REQUIRE(open > 300);
+  }
+  REQUIRE(counters.get(kAnyHitRays) == 3 * 2000);
+}

@@ -74,6 +74,14 @@ inline uint32_t intersect_block(const __m128 o[3], const __m128 d[3], const Tria
   return uint32_t(_mm_movemask_ps(ok));
 }
 
+// A ray's origin and direction broadcast to the four lanes of a block test.
+struct RayLanes {
+  __m128 o[3], d[3];
+  explicit RayLanes(const Ray& ray)
+      : o{_mm_set1_ps(ray.o.x()), _mm_set1_ps(ray.o.y()), _mm_set1_ps(ray.o.z())},
+        d{_mm_set1_ps(ray.d.x()), _mm_set1_ps(ray.d.y()), _mm_set1_ps(ray.d.z())} {}
+};
+
 // The next float above t (std::nextafter(t, inf) without the library call).
 inline float next_up(float t) {
   if (!(t < kInfinity)) return t;
@@ -113,8 +121,14 @@ class TriangleBvh final : public MeshEngine {
   }
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
-    return avx2_ ? walk<node_test_avx2>(ray, hit, counters)
-                 : walk<node_test_sse>(ray, hit, counters);
+    return avx2_ ? walk<node_test_avx2, false>(ray, hit, counters)
+                 : walk<node_test_sse, false>(ray, hit, counters);
+  }
+  // Stops at the first triangle within [ray.tmin, ray.tmax), as rtcOccluded1 does.
+  bool any_hit(const Ray& ray, OpCounters& counters) const override {
+    Hit unused;
+    return avx2_ ? walk<node_test_avx2, true>(ray, unused, counters)
+                 : walk<node_test_sse, true>(ray, unused, counters);
   }
 
   [[nodiscard]] size_t memory_bytes() const override {
@@ -151,13 +165,14 @@ class TriangleBvh final : public MeshEngine {
   [[nodiscard]] uint32_t right(uint32_t b) const { return nodes_[b].first; }
   [[nodiscard]] Aabb box(uint32_t b) const { return nodes_[b].box; }
 
-  template <auto kTest>
+  // kAny: an occlusion query, ended by the first leaf with a triangle in [ray.tmin, ray.tmax).
+  template <auto kTest, bool kAny>
   bool walk(const Ray& ray, Hit& hit, OpCounters& counters) const {
     if (wide_.empty()) return false;
     const RaySlabs slabs(ray);
     std::array<WideTodo, (kWideWidth - 1) * 64 + kWideWidth> stack;
     int top = 0;
-    float t_max = std::min(ray.tmax, hit.t);
+    float t_max = kAny ? ray.tmax : std::min(ray.tmax, hit.t);
     stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, t_max};
     bool found = false;
     uint64_t nodes = 0, leaves = 0, tests = 0;
@@ -168,17 +183,22 @@ class TriangleBvh final : public MeshEngine {
       if (cur.count > 0) {
         ++leaves;
         tests += cur.count;
-        found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit);
+        if constexpr (kAny) {
+          if ((found = occludes_leaf(ray, cur.index, cur.count, t_max))) break;
+        } else {
+          found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit);
+        }
         continue;
       }
       alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
       const uint32_t mask = kTest(wide_[cur.index], slabs, t_max * kWiden, t0s, t1s);
-      top = push_hit_children(wide_[cur.index], mask, t0s, t1s, stack.data(), top);
+      top = kAny ? push_any_children(wide_[cur.index], mask, t0s, t1s, stack.data(), top)
+                 : push_hit_children(wide_[cur.index], mask, t0s, t1s, stack.data(), top);
     }
     counters.add(kNodesVisited, nodes);
     counters.add(kLeavesVisited, leaves);
     counters.add(kTriangleTests, tests);
-    if (found) {
+    if (!kAny && found) {
       hit.p = ray.at(hit.t);
       hit.n = mesh_.normal(hit.prim);
       hit.footprint = 0;
@@ -191,15 +211,14 @@ class TriangleBvh final : public MeshEngine {
   // narrowed one, so the result is the scalar loop's.
   bool intersect_leaf(const Ray& ray, uint32_t first, uint32_t count, float& t_max,
                       Hit& hit) const {
-    const __m128 o[3] = {_mm_set1_ps(ray.o.x()), _mm_set1_ps(ray.o.y()), _mm_set1_ps(ray.o.z())};
-    const __m128 d[3] = {_mm_set1_ps(ray.d.x()), _mm_set1_ps(ray.d.y()), _mm_set1_ps(ray.d.z())};
+    const RayLanes r(ray);
     bool found = false;
     for (uint32_t g = 0; g * kLanes < count; ++g) {
       const TriangleBlock& b = blocks_[first + g];
       alignas(16) float ts[kLanes];
       // Up to and including t_max, so that a tie in t goes to the lower triangle index whatever
       // the traversal order.
-      uint32_t mask = intersect_block(o, d, b, ray.tmin, next_up(t_max), ts);
+      uint32_t mask = intersect_block(r.o, r.d, b, ray.tmin, next_up(t_max), ts);
       for (; mask; mask &= mask - 1) {
         const int k = __builtin_ctz(mask);
         const float t = ts[k];
@@ -208,6 +227,15 @@ class TriangleBvh final : public MeshEngine {
       }
     }
     return found;
+  }
+
+  // Whether a triangle of the leaf lies within [ray.tmin, t_max): the first block with one ends it.
+  bool occludes_leaf(const Ray& ray, uint32_t first, uint32_t count, float t_max) const {
+    const RayLanes r(ray);
+    alignas(16) float ts[kLanes];
+    for (uint32_t g = 0; g * kLanes < count; ++g)
+      if (intersect_block(r.o, r.d, blocks_[first + g], ray.tmin, t_max, ts) != 0) return true;
+    return false;
   }
 
   // Depth is capped well below the traversal stack's 64 entries.

@@ -167,7 +167,8 @@ class Bvh final : public Structure {
       const float limit = std::min(ray.tmax * kWiden, hit.t * (1.0f + 1e-5f) + 1e-30f);
       alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
       const uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
-      top = push_hit_children(n, mask, t0s, t1s, stack.data(), top);
+      top = kAny ? push_any_children(n, mask, t0s, t1s, stack.data(), top)
+                 : push_hit_children(n, mask, t0s, t1s, stack.data(), top);
     }
     return found;
   }

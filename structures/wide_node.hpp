@@ -179,4 +179,16 @@ inline int push_hit_children(const WideNode& n, uint32_t mask, const float* t0s,
   return top;
 }
 
+// push_hit_children without the sort, for occlusion queries: any blocker ends them, and a ray no
+// triangle blocks visits every child it crosses whatever the order (Embree's any-hit traversal).
+inline int push_any_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
+                             WideTodo* stack, int top) {
+  for (; mask; mask &= mask - 1) {
+    const int k = __builtin_ctz(mask);
+    if (n.child[k] == 0 && n.count[k] == 0) continue;
+    stack[top++] = WideTodo{n.child[k], n.count[k], t0s[k], t1s[k]};
+  }
+  return top;
+}
+
 }  // namespace pcrt
