@@ -121,13 +121,13 @@ class TriangleBvh final : public MeshEngine {
   }
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
-    return avx2_ ? walk<node_test_avx2, false>(ray, hit, counters)
+    return avx2_ ? walk_avx2<false>(ray, hit, counters)
                  : walk<node_test_sse, false>(ray, hit, counters);
   }
   // Stops at the first triangle within [ray.tmin, ray.tmax), as rtcOccluded1 does.
   bool any_hit(const Ray& ray, OpCounters& counters) const override {
     Hit unused;
-    return avx2_ ? walk<node_test_avx2, true>(ray, unused, counters)
+    return avx2_ ? walk_avx2<true>(ray, unused, counters)
                  : walk<node_test_sse, true>(ray, unused, counters);
   }
 
@@ -165,9 +165,17 @@ class TriangleBvh final : public MeshEngine {
   [[nodiscard]] uint32_t right(uint32_t b) const { return nodes_[b].first; }
   [[nodiscard]] Aabb box(uint32_t b) const { return nodes_[b].box; }
 
+  // The walk compiled for AVX2, so that the node test (and all else) inlines into it: a call per
+  // node otherwise, as a function of another target cannot be inlined into a generic one.
+  template <bool kAny>
+  __attribute__((target("avx2"))) bool walk_avx2(const Ray& ray, Hit& hit,
+                                                 OpCounters& counters) const {
+    return walk<node_test_avx2, kAny>(ray, hit, counters);
+  }
+
   // kAny: an occlusion query, ended by the first leaf with a triangle in [ray.tmin, ray.tmax).
   template <auto kTest, bool kAny>
-  bool walk(const Ray& ray, Hit& hit, OpCounters& counters) const {
+  __attribute__((always_inline)) bool walk(const Ray& ray, Hit& hit, OpCounters& counters) const {
     if (wide_.empty()) return false;
     const RaySlabs slabs(ray);
     std::array<WideTodo, (kWideWidth - 1) * 64 + kWideWidth> stack;

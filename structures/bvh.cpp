@@ -86,14 +86,14 @@ class Bvh final : public Structure {
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
-    return avx2_ ? walk<false, node_test_avx2>(ray, leaf, hit, counters)
+    return avx2_ ? walk_avx2<false>(ray, leaf, hit, counters)
                  : walk<false, node_test_sse>(ray, leaf, hit, counters);
   }
 
   bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
     Hit hit;
     hit.t = ray.tmax;
-    return avx2_ ? walk<true, node_test_avx2>(ray, leaf, hit, counters)
+    return avx2_ ? walk_avx2<true>(ray, leaf, hit, counters)
                  : walk<true, node_test_sse>(ray, leaf, hit, counters);
   }
 
@@ -140,8 +140,17 @@ class Bvh final : public Structure {
   [[nodiscard]] uint32_t right(uint32_t b) const { return nodes_[b].index; }
   [[nodiscard]] Aabb box(uint32_t b) const { return Aabb{nodes_[b].lo, nodes_[b].hi}; }
 
+  // The walk compiled for AVX2, so that the node test inlines into it (a function of another
+  // target cannot be inlined into a generic one: a call per node otherwise).
+  template <bool kAny>
+  __attribute__((target("avx2"))) bool walk_avx2(const Ray& ray, const LeafIntersector& leaf,
+                                                 Hit& hit, OpCounters& counters) const {
+    return walk<kAny, node_test_avx2>(ray, leaf, hit, counters);
+  }
+
   template <bool kAny, auto kTest>
-  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
+  __attribute__((always_inline)) bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
+                                           OpCounters& counters) const {
     if (wide_.empty()) return false;
     const RaySlabs slabs(ray);
     std::array<WideTodo, (kWideWidth - 1) * kMaxDepth + kWideWidth> stack;
