@@ -272,6 +272,8 @@ int anchor_mesh(const AnchorOptions& o) {
   const json load_before = load_average();
   json j = mesh_anchor(*o.mesh, o.width, o.height, o.reps);
   j["load_average"] = {{"before", load_before}, {"after", load_average()}};
+  j["threads"] = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  j["context"] = machine_context(nullptr);
   if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;

@@ -1,9 +1,18 @@
 #!/usr/bin/env python3
 """Before/after tables of `pcrt anchor` JSON files (results/anchor/): per method and structure, the
 median pass-by-pass ratio against Embree's discs in Morton order (and in cloud order) on primary,
-bounce and shadow rays, and the disc tests per ray. Usage: anchor_summary.py BEFORE.json AFTER.json"""
+bounce and shadow rays, and the disc tests per ray.
+
+Usage: anchor_summary.py BEFORE.json AFTER.json
+       anchor_summary.py --ratios [--reference K] BEFORE.json AFTER.json
+--ratios prints one table of "before -> after" ratios per ray kind against reference K (0: Embree
+ray by ray in Morton order, the default; 3: Embree in packets of 16 where the files have it), with
+each file's load average, so that the README and docs quote the files and nothing else."""
+import argparse
 import json
 import sys
+
+KINDS = ("primary", "bounce", "shadow")
 
 
 def rows(path):
@@ -22,9 +31,44 @@ def cell(c, k):
     return "%.2f / %.2f (%.1f)" % (r["references"][0]["ratio"], r["references"][1]["ratio"], tests)
 
 
-def main():
-    bj, before = rows(sys.argv[1])
-    aj, after = rows(sys.argv[2])
+def ratio(c, k, ref):
+    """The median ratio of candidate c on ray kind k against reference ref, or None."""
+    if c is None:
+        return None
+    refs = c[k]["references"]
+    return refs[ref]["ratio"] if ref < len(refs) else None
+
+
+def fmt(x):
+    return "-" if x is None else "%.2f" % x
+
+
+def load(j):
+    la = j.get("load_average")
+    if not la:
+        return "not recorded"
+    return "%.2f -> %.2f" % (la["before"][0], la["after"][0])
+
+
+def reference_name(j, ref):
+    names = j.get("references", [])
+    return names[ref] if ref < len(names) else "reference %d (absent)" % ref
+
+
+def ratios_table(bj, before, aj, after, ref):
+    print("%s, N = %d; ratio against %s, before -> after" % (aj["dataset"], aj["N"],
+                                                           reference_name(aj, ref)))
+    print("1-minute load average at the start -> end of each run: before %s; after %s\n" % (
+        load(bj), load(aj)))
+    print("| method | structure | primary | bounce | shadow |")
+    print("|---|---|---|---|---|")
+    for key in sorted(set(before) | set(after)):
+        b, a = before.get(key), after.get(key)
+        cells = ["%s -> %s" % (fmt(ratio(b, k, ref)), fmt(ratio(a, k, ref))) for k in KINDS]
+        print("| %s | %s | %s |" % (key[0], key[1], " | ".join(cells)))
+
+
+def detail_table(bj, before, aj, after):
     print("%s, N = %d, %s lanes after; cells: ratio vs Embree Morton order / cloud order "
           "(disc tests per ray)\n" % (aj["dataset"], aj["N"], aj.get("leaf_simd", "?")))
     print("| method | structure | primary before | primary after | bounce before | bounce after "
@@ -41,6 +85,24 @@ def main():
             if b:
                 print("\n%s %s: %s on %s, primary x%.3f (Morton order)" % (
                     label, k, b["method"], b["structure"], b["primary"]["references"][0]["ratio"]))
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("before")
+    p.add_argument("after")
+    p.add_argument("--ratios", action="store_true", help="before -> after ratios per ray kind")
+    p.add_argument("--reference", type=int, default=0, help="with --ratios: reference index")
+    a = p.parse_args()
+    try:
+        bj, before = rows(a.before)
+        aj, after = rows(a.after)
+    except (OSError, ValueError, KeyError) as e:
+        sys.exit("anchor_summary.py: cannot read %s / %s: %s" % (a.before, a.after, e))
+    if a.ratios:
+        ratios_table(bj, before, aj, after, a.reference)
+    else:
+        detail_table(bj, before, aj, after)
 
 
 main()
