@@ -249,12 +249,7 @@ class Octree final : public Structure {
       __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(tmax);
       for (int a = 0; a < 3; ++a) {
         const __m128 clo = _mm_add_ps(_mm_set1_ps(lo[a]), _mm_mul_ps(h, _mm_load_ps(kBit[a] + q)));
-        const __m128 chi = _mm_add_ps(clo, h);
-        const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
-        const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? chi : clo, o), inv);
-        const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? clo : chi, o), inv);
-        tn = _mm_max_ps(near, tn);
-        tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
+        slab_axis_sse(clo, _mm_add_ps(clo, h), r, a, tn, tf);
       }
       _mm_store_ps(t0s + q, tn);
       _mm_store_ps(t1s + q, tf);

@@ -48,19 +48,23 @@ constexpr float kWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-2
 // The slab test of a node's eight boxes against [slabs.tmin, limit]: a bit per child hit, and each
 // child's entry and exit t in t0s, t1s (t = (plane - o) * inv, near and far planes chosen by the
 // sign of each direction component; the exit widened by kWiden; NaN, 0 * inf, keeps the interval).
+// Axis a of the slab test on four boxes [lo, hi]: narrows their entry tn and exit tf (the exit
+// widened by kWiden). Shared by the bvh's SSE node test and the octree's child test.
+inline void slab_axis_sse(__m128 lo, __m128 hi, const RaySlabs& r, int a, __m128& tn, __m128& tf) {
+  const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
+  const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? hi : lo, o), inv);
+  const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? lo : hi, o), inv);
+  tn = _mm_max_ps(near, tn);
+  tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
+}
+
 inline uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s,
                               float* t1s) {
   uint32_t mask = 0;
   for (int h = 0; h < kWideWidth; h += 4) {
     __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(limit);
-    for (int a = 0; a < 3; ++a) {
-      const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
-      const __m128 lo = _mm_load_ps(n.lo[a] + h), hi = _mm_load_ps(n.hi[a] + h);
-      const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? hi : lo, o), inv);
-      const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? lo : hi, o), inv);
-      tn = _mm_max_ps(near, tn);
-      tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
-    }
+    for (int a = 0; a < 3; ++a)
+      slab_axis_sse(_mm_load_ps(n.lo[a] + h), _mm_load_ps(n.hi[a] + h), r, a, tn, tf);
     _mm_storeu_ps(t0s + h, tn);
     _mm_storeu_ps(t1s + h, tf);
     mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << h;
