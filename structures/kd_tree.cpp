@@ -104,6 +104,11 @@ class KdTree final : public Structure {
   }
 
  private:
+  struct Todo {
+    uint32_t node;
+    float tmin, tmax;
+  };
+
   // kAny: an occlusion query, ended by the first leaf that reports a hit.
   template <bool kAny>
   bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
@@ -111,47 +116,31 @@ class KdTree final : public Structure {
     const Vec3 inv = ray.d.cwiseInverse();
     float tmin = 0, tmax = 0;
     if (!bounds_.intersect(ray, inv, tmin, tmax)) return false;
-    struct Todo {
-      uint32_t node;
-      float tmin, tmax;
-    };
     std::array<Todo, 128> stack;
     int top = 0;
     uint32_t node = 0;
     bool found = false;
     while (true) {
-      if (!may_improve(tmin, hit.t)) break;  // cells are disjoint: everything left is further
-      counters.add(kNodesVisited);
-      const KdNode& n = nodes_[node];
-      if (n.axis < 3) {
-        const int ax = int(n.axis);
-        const bool below_first = ray.o[ax] < n.split || (ray.o[ax] == n.split && ray.d[ax] <= 0);
-        const uint32_t first = below_first ? node + 1 : n.a;
-        const uint32_t second = below_first ? n.a : node + 1;
-        if (ray.d[ax] == 0) {
-          node = first;
+      // Front to back, a cell past the hit ends the walk: everything left is further. An
+      // occlusion walk goes far side first, so there only this cell is skipped.
+      const bool beyond = !may_improve(tmin, hit.t);
+      if (beyond && !kAny) break;
+      if (!beyond) {
+        counters.add(kNodesVisited);
+        const KdNode& n = nodes_[node];
+        if (n.axis < 3) {
+          node = descend<kAny>(node, n, ray, inv, tmin, tmax, stack.data(), top);
           continue;
         }
-        const float tplane = (n.split - ray.o[ax]) * inv[ax];
-        if (tplane > tmax || tplane <= 0) {
-          node = first;
-        } else if (tplane < tmin) {
-          node = second;
-        } else {
-          stack[size_t(top++)] = Todo{second, tplane, tmax};
-          node = first;
-          tmax = tplane;
-        }
-        continue;
-      }
-      if (n.b > 0) {
-        counters.add(kLeavesVisited);
-        counters.add(kItemsVisited, n.b);
-        const LeafVisit visit{{refs_.data() + n.first(), n.b}, tmin, tmax};
-        if constexpr (kAny) {
-          if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
-        } else {
-          found |= leaf.intersect_leaf(ray, visit, hit, counters);
+        if (n.b > 0) {
+          counters.add(kLeavesVisited);
+          counters.add(kItemsVisited, n.b);
+          const LeafVisit visit{{refs_.data() + n.first(), n.b}, tmin, tmax};
+          if constexpr (kAny) {
+            if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+          } else {
+            found |= leaf.intersect_leaf(ray, visit, hit, counters);
+          }
         }
       }
       if (top == 0) break;
@@ -161,6 +150,31 @@ class KdTree final : public Structure {
       tmax = t.tmax;
     }
     return found;
+  }
+
+  // Steps into inner node n, which the ray crosses over [tmin, tmax]: returns the child to walk
+  // next, narrowing the interval to it, and pushes the other child where the ray reaches both.
+  // Closest hits take the near side first; occlusion the far side (a shadow ray leaves a surface
+  // whose own discs fill the near cells and rarely block it; an unblocked ray visits both).
+  template <bool kAny>
+  uint32_t descend(uint32_t node, const KdNode& n, const Ray& ray, const Vec3& inv, float& tmin,
+                   float& tmax, Todo* stack, int& top) const {
+    const int ax = int(n.axis);
+    const bool below_first = ray.o[ax] < n.split || (ray.o[ax] == n.split && ray.d[ax] <= 0);
+    const uint32_t first = below_first ? node + 1 : n.a;
+    const uint32_t second = below_first ? n.a : node + 1;
+    if (ray.d[ax] == 0) return first;
+    const float tplane = (n.split - ray.o[ax]) * inv[ax];
+    if (tplane > tmax || tplane <= 0) return first;
+    if (tplane < tmin) return second;
+    if (kAny) {
+      stack[top++] = Todo{first, tmin, tplane};
+      tmin = tplane;
+      return second;
+    }
+    stack[top++] = Todo{second, tplane, tmax};
+    tmax = tplane;
+    return first;
   }
 
   // The node's references as a leaf, popped from the stack.
