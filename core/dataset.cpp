@@ -10,12 +10,15 @@
 #include "core/memory_budget.hpp"
 #include "core/morton.hpp"
 #include "core/point_cloud_io.hpp"
+#include "core/point_stream.hpp"
 #include "core/rng.hpp"
 
 namespace pcrt {
 namespace {
 
-constexpr double kMaxPoints = 2e8;  // 4.8 GB of positions and normals
+// Point indices are 32-bit; what fits in memory is checked when a cloud is made (10^9 points
+// fit only as a stream, core/point_stream.hpp).
+constexpr double kMaxPoints = 4294967295.0;
 
 std::vector<ParamSpec> common_params() {
   return {
@@ -69,40 +72,79 @@ Vec3 fibonacci_point(size_t i, size_t n) {
   return Vec3(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
 }
 
-// Draws n points (by `place`, or uniformly by area from the surface, thinned by `density` along
-// x), each moved by isotropic Gaussian noise of standard deviation `noise`.
-PointCloud sample_points(const Surface& surface, size_t n, uint64_t seed, double noise,
-                         double density, const std::string& name,
-                         const std::function<Vec3(size_t, Vec3&)>& place) {
-  Rng rng(seed, 0x5eed);
-  std::mt19937_64 gauss_engine(mix64(seed));
-  std::normal_distribution<double> gauss(0.0, noise);
-  const Aabb box = surface.bounds();
-  const float span = std::max(box.extent().x(), 1e-30f);
+using Placement = std::function<Vec3(size_t, Vec3&)>;
 
+// Draws points one at a time (by `place`, or uniformly by area from the surface, thinned by
+// `density` along x), each moved by isotropic Gaussian noise of standard deviation `noise`: the
+// one sequence a generated cloud and its stream (core/point_stream.hpp) both deliver.
+class SurfaceSampler {
+ public:
+  SurfaceSampler(const Surface& surface, uint64_t seed, double noise, double density,
+                 Placement place)
+      : surface_(surface),
+        rng_(seed, 0x5eed),
+        gauss_engine_(mix64(seed)),
+        gauss_(0.0, noise),
+        noise_(noise),
+        density_(density),
+        box_(surface.bounds()),
+        span_(std::max(box_.extent().x(), 1e-30f)),
+        place_(std::move(place)) {}
+
+  void next(Vec3& x, Vec3& normal) {
+    for (;;) {
+      if (place_) {
+        x = place_(tries_++, normal);
+        break;
+      }
+      x = surface_.sample(rng_, normal);
+      if (density_ <= 0) break;
+      const double w = 1.0 - density_ * (x.x() - box_.lo.x()) / span_;
+      if (rng_.uniform_double() < w) break;
+    }
+    if (noise_ > 0)
+      x += Vec3(float(gauss_(gauss_engine_)), float(gauss_(gauss_engine_)),
+                float(gauss_(gauss_engine_)));
+  }
+
+ private:
+  const Surface& surface_;
+  Rng rng_;
+  std::mt19937_64 gauss_engine_;
+  std::normal_distribution<double> gauss_;
+  double noise_, density_;
+  Aabb box_;
+  float span_;
+  Placement place_;
+  size_t tries_ = 0;
+};
+
+PointCloud sample_points(const Surface& surface, size_t n, uint64_t seed, double noise,
+                         double density, const std::string& name, Placement place) {
+  SurfaceSampler sampler(surface, seed, noise, density, std::move(place));
   PointCloud cloud;
   cloud.name = name;
-  cloud.positions.reserve(n);
-  cloud.normals.reserve(n);
-  size_t tries = 0;
-  while (cloud.positions.size() < n) {
-    Vec3 normal;
-    Vec3 x;
-    if (place) {
-      x = place(tries++, normal);
-    } else {
-      x = surface.sample(rng, normal);
-      if (density > 0) {
-        const double w = 1.0 - density * (x.x() - box.lo.x()) / span;
-        if (rng.uniform_double() >= w) continue;
-      }
-    }
-    if (noise > 0)
-      x += Vec3(float(gauss(gauss_engine)), float(gauss(gauss_engine)), float(gauss(gauss_engine)));
-    cloud.positions.push_back(x);
-    cloud.normals.push_back(normal);
-  }
+  cloud.positions.resize(n);
+  cloud.normals.resize(n);
+  for (size_t i = 0; i < n; ++i) sampler.next(cloud.positions[i], cloud.normals[i]);
   return cloud;
+}
+
+// The fibonacci spiral's placement of point i of n on a sphere of `radius`; others place none.
+Placement placement_of(const std::string& name, const ParamValues& p) {
+  if (name != "fibonacci_sphere") return nullptr;
+  // Density thinning would break the spiral's determinism; it is rejected at parse time.
+  const auto n = static_cast<size_t>(p.at("n"));
+  const auto radius = static_cast<float>(p.at("radius"));
+  return [n, radius](size_t i, Vec3& normal) {
+    normal = fibonacci_point(i, n);
+    return Vec3(radius * normal);
+  };
+}
+
+SurfaceSampler sampler_for(const std::string& name, const ParamValues& p, const Surface& surface) {
+  return SurfaceSampler(surface, static_cast<uint64_t>(p.at("seed")), p.at("noise"),
+                        p.at("density"), placement_of(name, p));
 }
 
 }  // namespace
@@ -116,17 +158,9 @@ namespace {
 
 PointCloud generate(const std::string& name, const ParamValues& p, const Surface& surface,
                     const std::string& spec) {
-  const auto n = static_cast<size_t>(p.at("n"));
-  const auto seed = static_cast<uint64_t>(p.at("seed"));
-  const double noise = p.at("noise");
-  const double density = p.at("density");
-  if (name != "fibonacci_sphere") return sample_surface(surface, n, seed, noise, density, spec);
-  // Density thinning would break the spiral's determinism; it is rejected at parse time.
-  const auto radius = static_cast<float>(p.at("radius"));
-  return sample_points(surface, n, seed, noise, density, spec, [&](size_t i, Vec3& normal) {
-    normal = fibonacci_point(i, n);
-    return Vec3(radius * normal);
-  });
+  return sample_points(surface, static_cast<size_t>(p.at("n")),
+                       static_cast<uint64_t>(p.at("seed")), p.at("noise"), p.at("density"), spec,
+                       placement_of(name, p));
 }
 
 bool is_volume_generator(const std::string& name) {
@@ -262,6 +296,72 @@ Dataset load_dataset_in_input_order(const std::string& spec) {
   d.cloud = generate(info->name, values, *d.truth, spec);
   d.cloud.validate();
   return d;
+}
+
+}  // namespace pcrt
+
+namespace pcrt {
+namespace {
+
+// A surface generator re-run on every read: its sampler is made afresh, so every read delivers
+// the same points, kChunkPoints at a time.
+class GeneratorStream final : public PointStream {
+ public:
+  GeneratorStream(std::string spec, std::string generator, ParamValues values)
+      : spec_(std::move(spec)),
+        generator_(std::move(generator)),
+        values_(std::move(values)),
+        surface_(make_surface(generator_, values_, spec_)) {}
+
+  [[nodiscard]] const std::string& name() const override { return spec_; }
+  [[nodiscard]] size_t size() const override { return size_t(values_.at("n")); }
+  void read(const std::function<void(const PointChunk&)>& chunk) const override {
+    SurfaceSampler sampler = sampler_for(generator_, values_, *surface_);
+    std::vector<Vec3> positions(kChunkPoints), normals(kChunkPoints);
+    for (size_t first = 0; first < size(); first += kChunkPoints) {
+      const size_t count = std::min(kChunkPoints, size() - first);
+      for (size_t i = 0; i < count; ++i) sampler.next(positions[i], normals[i]);
+      chunk(PointChunk{{positions.data(), count}, {normals.data(), count}, first});
+    }
+  }
+
+ private:
+  std::string spec_, generator_;
+  ParamValues values_;
+  std::shared_ptr<const Surface> surface_;
+};
+
+}  // namespace
+
+const Aabb& PointStream::bounds() const {
+  if (bounds_) return *bounds_;
+  Aabb box;
+  size_t count = 0;
+  read([&](const PointChunk& c) {
+    for (size_t i = 0; i < c.positions.size(); ++i) {
+      if (!within_coordinate_range(c.positions[i]) || !c.normals[i].allFinite())
+        input_error("{}: point {} is not finite or lies beyond {:g}", name(), c.first + i,
+                    double(kMaxCoordinate));
+      box.extend(c.positions[i]);
+    }
+    count += c.positions.size();
+  });
+  if (count != size()) input_error("{}: delivered {} points, announced {}", name(), count, size());
+  if (count == 0) input_error("{}: no points", name());
+  return bounds_.emplace(box);
+}
+
+std::unique_ptr<PointStream> open_point_stream(const std::string& spec) {
+  std::error_code ec;
+  if (spec.empty()) input_error("dataset '': empty name");
+  if (std::filesystem::exists(spec, ec))
+    input_error("{}: files are not streamed (a generator spec such as sphere:n=... is)", spec);
+  const GeneratorInfo* info = nullptr;
+  ParamValues values = parse_generator_spec(spec, &info);
+  if (is_volume_generator(info->name))
+    input_error("dataset '{}': {} has no normals; only surface generators stream", spec,
+                info->name);
+  return std::make_unique<GeneratorStream>(spec, info->name, std::move(values));
 }
 
 }  // namespace pcrt

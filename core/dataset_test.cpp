@@ -4,6 +4,9 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/point_cloud.hpp"
+#include "core/point_stream.hpp"
+#include "tests/test_paths.hpp"
 
 using namespace pcrt;
 
@@ -86,6 +89,42 @@ TEST_CASE("bad dataset specs are one-line errors naming the spec", "[data][error
   REQUIRE_THROWS_WITH(load_dataset("torus:R=1,r=2"), Contains("smaller than R"));
   REQUIRE_THROWS_WITH(load_dataset("sphere:n"), Contains("key=value"));
   REQUIRE_THROWS_WITH(load_dataset("sphere:n=5,n=6"), Contains("twice"));
+}
+
+TEST_CASE("a generator's stream delivers its cloud's points in input order", "[data]") {
+  for (const char* spec : {"torus:n=150000,seed=7,noise=0.01,density=0.5",
+                           "fibonacci_sphere:n=70000,radius=2"}) {
+    INFO(spec);
+    const PointCloud cloud = load_dataset_in_input_order(spec).cloud;
+    const auto stream = open_point_stream(spec);
+    REQUIRE(stream->size() == cloud.size());
+    for (int pass = 0; pass < 2; ++pass) {  // every read the same points
+      size_t next = 0;
+      bool same = true;
+      stream->read([&](const PointChunk& c) {
+        CHECK(c.first == next);
+        CHECK(c.positions.size() <= PointStream::kChunkPoints);
+        REQUIRE(c.normals.size() == c.positions.size());
+        for (size_t i = 0; i < c.positions.size(); ++i)
+          same &= c.positions[i] == cloud.positions[next + i] &&
+                  c.normals[i] == cloud.normals[next + i];
+        next += c.positions.size();
+      });
+      CHECK(next == cloud.size());
+      CHECK(same);
+    }
+    CHECK(stream->bounds().lo == cloud.bounds().lo);
+    CHECK(stream->bounds().hi == cloud.bounds().hi);
+  }
+}
+
+TEST_CASE("only surface generators stream: one-line errors naming the input", "[data][errors]") {
+  using Catch::Matchers::Contains;
+  REQUIRE_THROWS_WITH(open_point_stream("ball:n=100"), Contains("ball:n=100") && Contains("normals"));
+  REQUIRE_THROWS_WITH(open_point_stream("cylinder:n=5"), Contains("not a generator"));
+  REQUIRE_THROWS_WITH(open_point_stream((test::source_dir() / "README.md").string()),
+                      Contains("files are not streamed"));
+  REQUIRE_THROWS_WITH(open_point_stream(""), Contains("empty name"));
 }
 
 TEST_CASE("volume generators: ball, cube and skew lines", "[dataset]") {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/counters.hpp"
 #include "core/params.hpp"
 #include "core/point_cloud.hpp"
+#include "core/point_stream.hpp"
 #include "core/registry.hpp"
 #include "structures/structure.hpp"
 
@@ -43,6 +45,11 @@ class Method : public LeafIntersector {
   // Computes the method's preconditions (normals, radii, splats, ...) from the cloud, which must
   // outlive the method. Counts into ctx.counters and times into ctx.timings.
   virtual void prepare(const PointCloud& cloud, PrepareContext& ctx) = 0;
+  // The same from a stream, never holding the whole cloud (core/point_stream.hpp), for the
+  // methods and parameters MethodInfo::stream_bytes_per_point names; the scene asks no other.
+  virtual void prepare_stream(const PointStream& /*stream*/, PrepareContext& /*ctx*/) {
+    throw std::logic_error("prepare_stream called on a method that does not stream");
+  }
   // What the structure indexes: a position, bounding radius and (optionally) box per item.
   [[nodiscard]] virtual ItemSet items() const = 0;
   // Called once the structure over items() is built, with its leaf references
@@ -141,6 +148,9 @@ struct MethodInfo {
   // Bytes per point a method keeps besides the estimate's splats and structure (its own copies of
   // the splats it makes, fields per splat): an upper bound, one splat per point.
   size_t own_data_bytes_per_point = 0;
+  // Methods that prepare from a stream (Method::prepare_stream) for some parameters: their peak
+  // bytes per streamed point for those parameters, else 0 (they do not stream).
+  std::function<size_t(const ParamValues&)> stream_bytes_per_point = {};
   // Table 5.1's columns as the thesis marks this method, each with its source (empty: not
   // marked): real time (at least 1 frame/s) and iterative (iterations few enough not to matter,
   // chapter 6). The claims registry makes their claims from these.

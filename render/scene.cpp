@@ -9,8 +9,7 @@
 
 namespace pcrt {
 
-PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters,
-                       Timings& timings) {
+void PointScene::resolve(const SceneOptions& options) {
   method_info_ = &MethodRegistry::instance().get(options.method, "method");
   static const StructureInfo kOwn{"", "", "", "", {}, nullptr, nullptr};
   if (!method_info_->own_structure.empty()) {
@@ -45,18 +44,44 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   }
   method_params_ = resolve_params(method_info_->params, for_method, "method " + method_info_->id);
   structure_params_ = resolve_params(sinfo.params, for_structure, "structure " + structure_id_);
+}
 
+PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters,
+                       Timings& timings) {
+  resolve(options);
   // Refused before any work if it cannot fit (the cloud is already in memory).
   estimated_bytes_ =
       estimate_scene_bytes(*method_info_, structure_id_, cloud, method_params_, structure_params_);
   require_memory(estimated_bytes_, fmt::format("{} with {} on {} points", cloud.name,
                                                method_info_->id, cloud.size()));
+  prepare_and_build([&](PrepareContext& ctx) { method_->prepare(cloud, ctx); }, counters, timings);
+}
+
+PointScene::PointScene(const PointStream& stream, const SceneOptions& options,
+                       OpCounters& counters, Timings& timings) {
+  resolve(options);
+  const auto& per_point = method_info_->stream_bytes_per_point;
+  const size_t bytes = per_point ? per_point(method_params_) : 0;
+  if (bytes == 0)
+    input_error("{}: method {} does not prepare from a stream with these parameters (see pcrt "
+                "methods)",
+                stream.name(), method_info_->id);
+  // Refused before the first point is drawn if it cannot fit.
+  estimated_bytes_ = bytes * stream.size();
+  require_memory(estimated_bytes_, fmt::format("{} streamed into {} ({} points)", stream.name(),
+                                               method_info_->id, stream.size()));
+  prepare_and_build([&](PrepareContext& ctx) { method_->prepare_stream(stream, ctx); }, counters,
+                    timings);
+}
+
+void PointScene::prepare_and_build(const std::function<void(PrepareContext&)>& prepare,
+                                   OpCounters& counters, Timings& timings) {
   method_ = method_info_->create(method_params_);
   if (method_info_->caustic_map) caustic_map_ = method_info_->caustic_map(method_params_);
   {
     PrepareContext ctx{counters, timings};
     ScopedTimer t(timings, "prepare");
-    method_->prepare(cloud, ctx);
+    prepare(ctx);
   }
   if (!structure_info_) return;  // the method built its own acceleration while preparing
   structure_ = structure_info_->create(structure_params_);

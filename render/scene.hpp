@@ -1,6 +1,7 @@
 // A method on a structure over a cloud: what the renderer and `pcrt trace` ask for closest hits.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -46,6 +47,10 @@ class PointScene final : public SceneIntersector {
   // "prepare/..." and "build" into `timings`. Throws InputError for unknown ids or parameters.
   PointScene(const PointCloud& cloud, const SceneOptions& options, OpCounters& counters,
              Timings& timings);
+  // The same from a stream (core/point_stream.hpp) for methods that prepare from one
+  // (MethodInfo::stream_bytes_per_point); InputError naming the method for the others.
+  PointScene(const PointStream& stream, const SceneOptions& options, OpCounters& counters,
+             Timings& timings);
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
   bool any_hit(const Ray& ray, OpCounters& counters) const override;
@@ -69,6 +74,12 @@ class PointScene final : public SceneIntersector {
   [[nodiscard]] size_t estimated_bytes() const { return estimated_bytes_; }
 
  private:
+  // Looks up the method and structure and splits --set between them.
+  void resolve(const SceneOptions& options);
+  // Creates the method, runs `prepare` on it and builds the structure over its items.
+  void prepare_and_build(const std::function<void(PrepareContext&)>& prepare,
+                         OpCounters& counters, Timings& timings);
+
   const MethodInfo* method_info_;
   const StructureInfo* structure_info_ = nullptr;  // null when the method traces on its own
   std::string structure_id_;

@@ -1,0 +1,49 @@
+// Points delivered in chunks, in the same order on every read: what a streaming build takes in
+// place of a whole cloud, so that no process holds the float positions and normals of all of them
+// (24 bytes a point: 22 GiB at 10^9). A generator re-draws its points on every read.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "core/aabb.hpp"
+#include "core/geometry.hpp"
+
+namespace pcrt {
+
+struct PointChunk {
+  std::span<const Vec3> positions;
+  std::span<const Vec3> normals;  // unit length, one per position
+  uint64_t first = 0;             // the stream index of positions[0]
+};
+
+class PointStream {
+ public:
+  virtual ~PointStream() = default;
+  // The generator spec or file it reads: what its errors name.
+  [[nodiscard]] virtual const std::string& name() const = 0;
+  // How many points every read delivers, known before reading (a generator's n).
+  [[nodiscard]] virtual size_t size() const = 0;
+  // Calls `chunk` on consecutive chunks of at most kChunkPoints points until all size() points
+  // are delivered, in the same order and with the same values on every call.
+  virtual void read(const std::function<void(const PointChunk&)>& chunk) const = 0;
+  // The box of every point, from one read on the first call, which checks every point (finite,
+  // within kMaxCoordinate, a finite normal) and the count: InputError naming the stream.
+  [[nodiscard]] const Aabb& bounds() const;
+
+  static constexpr size_t kChunkPoints = size_t(1) << 16;
+
+ private:
+  mutable std::optional<Aabb> bounds_;
+};
+
+// The stream of a surface generator spec (`sphere:n=...`, core/dataset.hpp), in the generator's
+// own order: the same points as load_dataset_in_input_order(spec), never all in memory. Throws
+// InputError naming the spec for files, volume generators (no normals) and unknown generators.
+std::unique_ptr<PointStream> open_point_stream(const std::string& spec);
+
+}  // namespace pcrt
