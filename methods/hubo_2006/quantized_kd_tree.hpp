@@ -13,6 +13,7 @@
 
 #include "core/aabb.hpp"
 #include "core/counters.hpp"
+#include "core/point_stream.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 #include "structures/structure.hpp"
 
@@ -38,6 +39,16 @@ class QuantizedKdTree {
   // factor sqrt 2).
   void build(std::span<const Vec3> positions, std::span<const Vec3> normals, size_t leaf_points,
              OpCounters& counters);
+  // The same tree over a stream's points (item i is stream point i), read twice and never held
+  // in float: the first read takes the bounds, the second quantizes every point to 24 bits a
+  // coordinate in them (16 bytes a point with its normal and index), the build partitions those
+  // records in place and encodes each leaf's into its own, and they are moved into the tree's
+  // arrays as their memory is handed back. Peak: about 16 bytes a point plus the nodes.
+  void build(const PointStream& stream, size_t leaf_points, OpCounters& counters);
+  // The mean distance from a point to its nearest other point, over `samples` points spread
+  // evenly through the tree's order (all of them when samples >= N), found among the decoded
+  // points: what the streamed build has in place of the whole cloud's mean spacing.
+  [[nodiscard]] double sampled_mean_spacing(size_t samples, OpCounters& counters) const;
 
   // Every array the tree holds, in bytes.
   [[nodiscard]] size_t memory_bytes() const;
@@ -66,12 +77,22 @@ class QuantizedKdTree {
   [[nodiscard]] Aabb point_box(uint32_t node, const Aabb& cell) const;
   // The two children of an internal node, their boxes decoded (its plane cuts its point box).
   void children(const Node& n, Node& left, Node& right) const;
-  struct Input {
-    std::span<const Vec3> positions, normals;
-    const uint32_t* base;  // the start of the order being partitioned
-  };
-  void build_node(uint32_t node, const Aabb& cell, uint32_t* begin, uint32_t* end, const Input& in);
-  void encode_points(const Aabb& box, const uint32_t* begin, const uint32_t* end, const Input& in);
+  struct CloudInput;
+  struct StreamInput;
+  // Sizes the node arrays for n points, leaf_points a leaf on average.
+  void allocate_nodes(size_t n, size_t leaf_points);
+  // Builds node's subtree over the items [begin, end) of `in` (CloudInput or StreamInput in the
+  // .cpp), partitioning them in place.
+  template <typename In>
+  void build_node(uint32_t node, const Aabb& cell, typename In::Item* begin,
+                  typename In::Item* end, const In& in);
+  template <typename In>
+  void encode_points(const Aabb& box, typename In::Item* begin, typename In::Item* end,
+                     const In& in);
+  // The point box of a leaf, decoded from the root down.
+  [[nodiscard]] Aabb leaf_box(uint32_t leaf) const;
+  // The distance from record k to the nearest other decoded point.
+  [[nodiscard]] double nearest_other(size_t k, OpCounters& counters) const;
 
   Aabb root_;
   uint32_t first_leaf_ = 0;           // 2^depth - 1: nodes below are internal (heap order)

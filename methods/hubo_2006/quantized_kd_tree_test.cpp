@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/dataset.hpp"
+#include "core/point_stream.hpp"
 #include "preprocess/point_attributes.hpp"
 #include "render/accuracy.hpp"
 #include "render/scene.hpp"
@@ -108,6 +109,69 @@ TEST_CASE("hubo_2006 quantized finds the uncompressed method's hits", "[quantize
   CHECK(v.both > 1000);
   CHECK(v.one <= 3000 / 500);
   CHECK(v.far <= v.both / 200);
+}
+
+// The streamed build (never the whole cloud in float) against the in-memory one on the same
+// points: every point once, as near its position, the same bytes a point; the spacing sampled
+// from the tree near the whole cloud's mean.
+TEST_CASE("quantized kd-tree: a streamed build holds every streamed point", "[quantized_kd_tree]") {
+  const char* spec = "torus:n=60000,seed=5,noise=0.002";
+  const PointCloud cloud = load_dataset_in_input_order(spec).cloud;
+  const auto stream = open_point_stream(spec);
+  QuantizedKdTree tree, reference;
+  OpCounters c;
+  tree.build(*stream, 8, c);
+  reference.build(cloud.positions, cloud.normals, 8, c);
+  std::vector<PackedSplat> all;
+  tree.gather(whole(tree), all, c);
+  REQUIRE(all.size() == cloud.size());
+  std::set<uint32_t> ids;
+  float worst_position = 0, worst_cos = 1;
+  for (const PackedSplat& p : all) {
+    ids.insert(p.index);
+    worst_position = std::max(worst_position, (p.c - cloud.positions[p.index]).norm());
+    worst_cos = std::min(worst_cos, p.n.dot(cloud.normals[p.index]));
+  }
+  CHECK(ids.size() == cloud.size());
+  const double h = mean_spacing(cloud.positions, c);
+  CHECK(worst_position < 0.01 * h);
+  CHECK(worst_cos > std::cos(0.1 * 3.14159265358979 / 180));
+  CHECK(tree.memory_bytes() == reference.memory_bytes());
+  CHECK(tree.bounds().lo == reference.bounds().lo);
+  CHECK(tree.bounds().hi == reference.bounds().hi);
+  // Every point sampled, then one in 30: within 1% and 3% of the whole cloud's mean spacing.
+  CHECK(std::abs(tree.sampled_mean_spacing(cloud.size(), c) / h - 1) < 0.01);
+  CHECK(std::abs(tree.sampled_mean_spacing(2000, c) / h - 1) < 0.03);
+}
+
+// What `pcrt render --stream` traces: hubo_2006 prepared from the stream finds the hits of the
+// same method prepared from the whole cloud (its spacing h sampled, not averaged over all).
+TEST_CASE("hubo_2006 quantized from a stream finds the in-memory hits", "[quantized_kd_tree]") {
+  const char* spec = "sphere:n=20000,seed=3";
+  const Dataset d = load_dataset(spec);
+  const auto stream = open_point_stream(spec);
+  OpCounters c;
+  Timings t;
+  const double h = mean_spacing(d.cloud.positions, c);
+  const SceneOptions quantized{"hubo_2006", "", {{"quantized", 1}}};
+  const PointScene in_memory(d.cloud, quantized, c, t);
+  const PointScene streamed(*stream, quantized, c, t);
+  size_t both = 0, one = 0, far = 0;
+  for (const Ray& r : accuracy_rays(*d.truth, h, 3000, 5)) {
+    Hit a, b;
+    const bool ha = in_memory.closest_hit(r, a, c), hb = streamed.closest_hit(r, b, c);
+    one += ha != hb;
+    if (!(ha && hb)) continue;
+    ++both;
+    far += std::abs((a.p - b.p).dot(a.n)) > 0.01 * h;
+  }
+  INFO("one-sided " << one << ", apart " << far << " of " << both);
+  CHECK(both > 1000);
+  CHECK(one <= 3);
+  CHECK(far <= both / 200);
+  const SceneOptions plain{"reference_splat", "", {}};
+  REQUIRE_THROWS_WITH(PointScene(*stream, plain, c, t),
+                      Catch::Matchers::Contains("does not prepare from a stream"));
 }
 
 }  // namespace pcrt
