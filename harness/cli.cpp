@@ -220,6 +220,9 @@ void bind(CLI::App& c, RenderOptions& o) {
   text(c, "--normals", o.normals, "FILE.png|.exr",
        "also write the primary-hit normal image (EXR: the signed normal)");
   text(c, "--stats", o.stats, "FILE.json", "write parameters, counters and timings as JSON");
+  flag(c, "--stream", o.stream,
+       "stream a generator's points into the method, never holding the cloud (methods that "
+       "stream: hubo_2006 with quantized=1)");
 }
 
 void bind(CLI::App& c, TraceOptions& o) {

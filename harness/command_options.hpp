@@ -46,6 +46,7 @@ struct RenderOptions {
   std::string out;
   RenderSettings settings;  // --width ... --ray-epsilon, with the renderer's own defaults
   std::optional<std::string> depth, normals, stats;
+  bool stream = false;  // --stream: the generator's points go straight into the method
 };
 
 struct TraceOptions {

@@ -17,6 +17,7 @@
 #include "core/exr_output.hpp"
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
+#include "core/point_stream.hpp"
 #include "core/process_usage.hpp"
 #include "core/ray_io.hpp"
 #include "harness/catalogue.hpp"
@@ -31,6 +32,7 @@
 #include "render/compare.hpp"
 #include "render/furnace.hpp"
 #include "render/mesh_truth.hpp"
+#include "render/render_scene.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
 #include "render/surface_scene.hpp"
@@ -67,6 +69,7 @@ struct LoadedScene {
   std::unique_ptr<PointScene> points;
   std::unique_ptr<MeshScene> triangles;
   std::unique_ptr<SurfaceScene> exact;  // the furnace's floor: data.truth itself
+  std::unique_ptr<PointStream> stream;  // --stream: `points` was prepared from it, data is empty
   json params;
 
   [[nodiscard]] const SceneIntersector& scene() const {
@@ -78,6 +81,14 @@ struct LoadedScene {
   }
   [[nodiscard]] size_t structure_bytes() const {
     return points ? points->structure_bytes() : triangles->memory_bytes();
+  }
+  [[nodiscard]] size_t point_count() const { return stream ? stream->size() : cloud().size(); }
+  // The default frame of this scene (single_object_scene).
+  [[nodiscard]] RenderResult render_frame(const RenderSettings& rs) const {
+    if (!stream) return render(scene(), cloud(), rs);
+    return render(single_object_scene(scene(), stream->bounds(), stream->name(), rs.view, rs.up,
+                                      rs.point_light),
+                  rs);
   }
   [[nodiscard]] std::string label() const {
     if (exact) return "exact surface";
@@ -126,6 +137,21 @@ std::unique_ptr<LoadedScene> load_scene(const SceneArgs& a, const char* command,
   }
   s->points = std::make_unique<PointScene>(s->data.cloud, so, s->prepare, s->timings);
   s->params = scene_json(*s->points, s->data.cloud, data);
+  return s;
+}
+
+// `pcrt render --stream`: a generator's points streamed into a method that prepares from a
+// stream (MethodInfo::stream_bytes_per_point), never all in memory.
+std::unique_ptr<LoadedScene> load_streamed_scene(const SceneArgs& a) {
+  if (a.mesh) input_error("pcrt render: --stream does not apply to --mesh");
+  const SceneOptions so = point_scene_options(a, RenderOptions::usage);
+  const std::string& data = required(a.data, "--data", RenderOptions::usage);
+  auto s = std::make_unique<LoadedScene>();
+  s->stream = open_point_stream(data);
+  s->points = std::make_unique<PointScene>(*s->stream, so, s->prepare, s->timings);
+  s->params = scene_json(*s->points, s->data.cloud, data);
+  s->params["N"] = s->stream->size();
+  s->params["streamed"] = true;
   return s;
 }
 
@@ -295,18 +321,23 @@ int command_render(const RenderOptions& o) {
     if (*path) check_output_path(**path, option), check_not_an_input(**path, option, inputs);
   check_output_path(o.out, "--out");
   check_not_an_input(o.out, "--out", inputs);
-  if (o.scene_file) return render_scene_file(o, rs);
-  const auto loaded = load_scene(o.scene, "render", RenderOptions::usage);
+  if (o.scene_file) {
+    if (o.stream) input_error("pcrt render: --stream does not apply to --scene");
+    return render_scene_file(o, rs);
+  }
+  const auto loaded = o.stream ? load_streamed_scene(o.scene)
+                               : load_scene(o.scene, "render", RenderOptions::usage);
   const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
   Timings& timings = loaded->timings;
-  RenderResult r = render(loaded->scene(), loaded->cloud(), rs);
+  RenderResult r = loaded->render_frame(rs);
   timings["render"] = r.seconds;
   OutputFiles outputs;  // all or none
   stage_render_images(outputs, r, o.out, o.depth.value_or(""), o.normals.value_or(""));
   if (o.stats) outputs.stage(*o.stats, json_writer(render_stats(*loaded, rs, r, setup_cpu)));
   outputs.commit();
-  std::printf("%s: %s, %zu points, %dx%d, S=%d B=%d\n", o.out.c_str(), loaded->label().c_str(),
-              loaded->cloud().size(), rs.width, rs.height, rs.spp, rs.bounces);
+  std::printf("%s: %s, %zu points%s, %dx%d, S=%d B=%d\n", o.out.c_str(),
+              loaded->label().c_str(), loaded->point_count(), loaded->stream ? " (streamed)" : "",
+              rs.width, rs.height, rs.spp, rs.bounces);
   std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"],
               timings["build"], r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
   for (const auto& [name, value] : r.counters.to_map())

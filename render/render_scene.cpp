@@ -76,10 +76,17 @@ Material RenderScene::material_at(uint32_t object, uint32_t prim) const {
 }
 
 RenderScene single_object_scene(const SceneIntersector& scene, const PointCloud& cloud,
-                                const Vec3& view, const Vec3& up_dir, bool point_light) {
+                                const Vec3& view, const Vec3& up, bool point_light) {
+  RenderScene rs = single_object_scene(scene, cloud.bounds(), cloud.name, view, up, point_light);
+  rs.objects[0].points = &cloud;
+  return rs;
+}
+
+RenderScene single_object_scene(const SceneIntersector& scene, const Aabb& bounds,
+                                const std::string& name, const Vec3& view, const Vec3& up_dir,
+                                bool point_light) {
   RenderScene rs;
-  const Aabb bounds = cloud.bounds();
-  rs.objects.push_back(SceneObject{&scene, &cloud, Material{}, Transform{}, bounds, cloud.name});
+  rs.objects.push_back(SceneObject{&scene, nullptr, Material{}, Transform{}, bounds, name});
   if (point_light) {
     // Above and to the left of the camera, in the frame the camera's up vector defines; its
     // intensity gives a white surface facing it at the scene's distance irradiance pi * 0.8.

@@ -61,5 +61,10 @@ struct RenderScene {
 // reached by bounce rays.
 RenderScene single_object_scene(const SceneIntersector& scene, const PointCloud& cloud,
                                 const Vec3& view, const Vec3& up, bool point_light);
+// The same for an object known only by its bounds and name (a streamed cloud, never in memory:
+// no colours, 0.75 grey).
+RenderScene single_object_scene(const SceneIntersector& scene, const Aabb& bounds,
+                                const std::string& name, const Vec3& view, const Vec3& up,
+                                bool point_light);
 
 }  // namespace pcrt

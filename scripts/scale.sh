@@ -9,7 +9,8 @@
 # OUT/runs.jsonl; OUT/summary.md is regenerated from it. Clouds are generated, never committed.
 # Usage: scripts/scale.sh OUT "N ..." "METHOD[@k=v] ..." [build/bin/pcrt]
 # METHOD may name a structure after '/' and carry --set values after '@', comma separated
-# (e.g. reference_splat/kd_tree, hubo_2006@quantized=1).
+# (e.g. reference_splat/kd_tree, hubo_2006@quantized=1); a trailing +stream renders with --stream
+# (the generator's points straight into the method, never the whole cloud: hubo_2006@quantized=1+stream).
 set -euo pipefail
 out=$1
 sizes=$2
@@ -21,14 +22,19 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for n in $sizes; do
   for spec in $methods; do
-    m=${spec%%@*}
     sets=()
+    base=$spec
+    if [[ $spec == *+stream ]]; then
+      sets+=(--stream)
+      base=${spec%+stream}
+    fi
+    m=${base%%@*}
     if [[ $m == */* ]]; then
       sets+=(--structure "${m#*/}")
       m=${m%%/*}
     fi
-    if [[ $spec == *@* ]]; then
-      IFS=',' read -ra kv <<<"${spec#*@}"
+    if [[ $base == *@* ]]; then
+      IFS=',' read -ra kv <<<"${base#*@}"
       for x in "${kv[@]}"; do sets+=(--set "$x"); done
     fi
     data="sphere:n=$n,seed=1"
@@ -50,7 +56,8 @@ def field(name):
 rss_kb = int(field("Maximum resident set size (kbytes)"))
 cpu = float(field("User time (seconds)")) + float(field("System time (seconds)"))
 row = {"method": spec, "N": n, "exit": rc, "commit": commit, "threads": threads,
-       "peak_rss_bytes": rss_kb * 1024, "bytes_per_point": rss_kb * 1024 / n, "cpu_seconds": cpu}
+       "peak_rss_bytes": rss_kb * 1024, "bytes_per_point": rss_kb * 1024 / n, "cpu_seconds": cpu,
+       "wall_seconds": field("Elapsed (wall clock) time (h:mm:ss or m:ss)")}
 if rc == 0:
     s = json.loads((tmp / "stats.json").read_text())
     tm = s["timings"]
@@ -84,7 +91,8 @@ for r in rows:
     tm = r.get("timings", {})
     wall = sum(v for k, v in tm.items() if k in ("load", "prepare", "build"))
     rps = r.get("primary_rays_per_second")
-    est = f"{r['estimated_scene_bytes'] / r['N'] + 24:.0f}" if "estimated_scene_bytes" in r else "-"
+    cloud = 0 if r["method"].endswith("+stream") else 24  # a streamed cloud is never held
+    est = f"{r['estimated_scene_bytes'] / r['N'] + cloud:.0f}" if "estimated_scene_bytes" in r else "-"
     comp = f"{r['compressed_bytes'] / r['N']:.1f}" if "compressed_bytes" in r else "-"
     lines.append(f"| {r['method']} | {r['N']:.0e} | {r['commit']} | {r['peak_rss_bytes']/2**20:.0f} | "
                  f"{r['bytes_per_point']:.1f} | {est} | {comp} | {r.get('setup_cpu_seconds', float('nan')):.1f} | {wall:.1f} | "

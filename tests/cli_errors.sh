@@ -46,9 +46,17 @@ if [ -n "${PCRT_SANITIZED:-}" ]; then
 else
   (fails=0; ulimit -v 600000 && expect_error "out of memory: sphere:n=200000000 is too large" info sphere:n=200000000; exit "$fails")
   [ $? -eq 0 ] || fails=$((fails + 1))
+  # A stream too large for its records (16 B a point) is refused before its first point is drawn.
+  (fails=0; ulimit -v 600000 && expect_error "out of memory: sphere:n=100000000 streamed into hubo_2006 (100000000 points) is too large" render --stream --method hubo_2006 --set quantized=1 --data sphere:n=100000000 --out "$dir/a.png"; exit "$fails")
+  [ $? -eq 0 ] || fails=$((fails + 1))
   (fails=0; ulimit -v 500000 && expect_error "out of memory: sphere:n=5000000 with reference_splat on 5000000 points is too large for this machine: about 0.66 GiB needed (estimate)" render --method reference_splat --structure kd_tree --set disc_blocks=1 --data sphere:n=5000000 --out "$dir/a.png"; exit "$fails")
   [ $? -eq 0 ] || fails=$((fails + 1))
 fi
+# --stream: only the methods that prepare from a stream, only generators with normals.
+expect_error "sphere:n=1000: method reference_splat does not prepare from a stream" render --stream --method reference_splat --data sphere:n=1000 --out "$dir/a.png"
+expect_error "method hubo_2006 does not prepare from a stream with these parameters" render --stream --method hubo_2006 --data sphere:n=1000 --out "$dir/a.png"
+expect_error "ball:n=1000': ball has no normals" render --stream --method hubo_2006 --set quantized=1 --data ball:n=1000 --out "$dir/a.png"
+expect_error "--stream does not apply to --mesh" render --stream --mesh "$dir/nan.xyz" --out "$dir/a.png"
 # Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
 expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"
 expect_error "zero_dir.csv: line 2: zero direction" trace --method reference_splat --data sphere:n=100 --rays "$dir/zero_dir.csv" --out "$dir/h.csv"

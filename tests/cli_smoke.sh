@@ -22,6 +22,17 @@ assert j["params"]["method"] == "reference_splat" and j["params"]["M"] == 48 * 3
 assert j["counters"]["primary_rays"] == 48 * 32 * 2
 assert "render" in j["timings"] and "prepare" in j["timings"]
 PY
+# --stream: the generator's points go straight into hubo_2006's quantized tree.
+"$pcrt" render --stream --method hubo_2006 --set quantized=1 --data sphere:n=30000 --out "$dir/s.png" \
+  --width 32 --height 32 --threads 2 --stats "$dir/stream.json" >/dev/null
+python3 - "$dir/stream.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["params"]["streamed"] is True and j["params"]["N"] == 30000, j["params"]
+assert j["counters"]["primary_rays"] == 32 * 32 and j["counters"]["ray_hits"] > 100, j["counters"]
+assert "prepare/quantized_kd_tree" in j["timings"] and "prepare/spacing" in j["timings"]
+assert 0 < j["process"]["estimated_scene_bytes"] < 30000 * 20
+PY
 printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n0,0,5,0,0,1\n5,0,0,-2,0,0\n' >"$dir/rays.csv"
 "$pcrt" trace --method reference_splat --data fibonacci_sphere:n=20000 --rays "$dir/rays.csv" --out "$dir/hits.csv" >/dev/null
 python3 - "$dir/hits.csv" <<'PY'
