@@ -71,7 +71,8 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
     const size_t automatic =
         estimate_scene_bytes(splat, s, cloud, with_layout(DiscBlockLayout::kAuto));
     CHECK(leaf - item == 1000 * (f.leaf_order - f.item_order));
-    const bool leaf_chosen = SplatLeafBlocks::auto_leaf_order(f.references_per_item * 1000, 1000);
+    const bool leaf_chosen =
+        SplatLeafBlocks::auto_leaf_order(0.8 * f.references_per_item * 1000, 1000);
     CHECK(automatic == (leaf_chosen ? leaf : item));
   }
   // The structures that duplicate references hold more of them than the object partitions;
@@ -85,6 +86,13 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
         structure_footprint("kd_tree").leaf_order);
   CHECK(structure_bytes_per_item("octree", 1000000, with_layout(DiscBlockLayout::kAuto)) ==
         structure_footprint("octree").item_order);
+  // Just past the cap at the footprint's references the layout could go either way (a scan has
+  // fewer): the estimate prices the copy.
+  const double kd_refs = structure_footprint("kd_tree").references_per_item;
+  const auto past_cap = size_t(1.1 * SplatLeafBlocks::kLeafOrderMaxBytes / (28.0 * kd_refs));
+  CHECK(!SplatLeafBlocks::auto_leaf_order(kd_refs * double(past_cap), double(past_cap)));
+  CHECK(structure_bytes_per_item("kd_tree", past_cap, with_layout(DiscBlockLayout::kAuto)) ==
+        structure_footprint("kd_tree").leaf_order);
   // Past 512 MiB of copies (10^7 points on the kd-tree, the scale runs) the leaves gather again.
   CHECK(structure_bytes_per_item("kd_tree", 10000000, with_layout(DiscBlockLayout::kAuto)) ==
         structure_footprint("kd_tree").item_order);

@@ -169,8 +169,10 @@ class Octree final : public Structure {
     bool found = false;
     while (top > 0) {
       const Todo cur = stack[size_t(--top)];
-      if (!may_improve(cur.t0, hit.t))
-        break;  // disjoint cells in depth-first order: the rest is further
+      if (!may_improve(cur.t0, hit.t)) {
+        if constexpr (kAny) continue;  // pushed in child order: only this cell is beyond
+        break;                         // disjoint cells in depth-first order: the rest is further
+      }
       const N& n = nodes[cur.node];
       if (n.count == 0) continue;  // a leaf the disc planes all missed (inner nodes count > 0)
       counters.add(kNodesVisited);
