@@ -42,7 +42,7 @@ expect_error "--out is required" render --method reference_splat --data sphere:n
 # disc blocks on the kd-tree: 142 B/point over the cloud, where the default needs 38). ASan
 # reserves terabytes of shadow address space, which the limits forbid: skipped there, said.
 if [ -n "${PCRT_SANITIZED:-}" ]; then
-  echo "cli_errors: the two out-of-memory cases are skipped under AddressSanitizer"
+  echo "cli_errors: the three out-of-memory cases are skipped under AddressSanitizer"
 else
   (fails=0; ulimit -v 600000 && expect_error "out of memory: sphere:n=200000000 is too large" info sphere:n=200000000; exit "$fails")
   [ $? -eq 0 ] || fails=$((fails + 1))
