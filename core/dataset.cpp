@@ -1,5 +1,7 @@
 #include "core/dataset.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -158,9 +160,8 @@ namespace {
 
 PointCloud generate(const std::string& name, const ParamValues& p, const Surface& surface,
                     const std::string& spec) {
-  return sample_points(surface, static_cast<size_t>(p.at("n")),
-                       static_cast<uint64_t>(p.at("seed")), p.at("noise"), p.at("density"), spec,
-                       placement_of(name, p));
+  return sample_points(surface, static_cast<size_t>(p.at("n")), static_cast<uint64_t>(p.at("seed")),
+                       p.at("noise"), p.at("density"), spec, placement_of(name, p));
 }
 
 bool is_volume_generator(const std::string& name) {
@@ -354,8 +355,15 @@ const Aabb& PointStream::bounds() const {
 std::unique_ptr<PointStream> open_point_stream(const std::string& spec) {
   std::error_code ec;
   if (spec.empty()) input_error("dataset '': empty name");
-  if (std::filesystem::exists(spec, ec))
-    input_error("{}: files are not streamed (a generator spec such as sphere:n=... is)", spec);
+  if (std::filesystem::exists(spec, ec)) {
+    std::string ext = std::filesystem::path(spec).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (ext != ".ply")
+      input_error("{}: only binary PLY files and generator specs (sphere:n=...) are streamed",
+                  spec);
+    return open_ply_stream(spec);
+  }
   const GeneratorInfo* info = nullptr;
   ParamValues values = parse_generator_spec(spec, &info);
   if (is_volume_generator(info->name))

@@ -123,7 +123,7 @@ TEST_CASE("only surface generators stream: one-line errors naming the input", "[
   REQUIRE_THROWS_WITH(open_point_stream("ball:n=100"), Contains("ball:n=100") && Contains("normals"));
   REQUIRE_THROWS_WITH(open_point_stream("cylinder:n=5"), Contains("not a generator"));
   REQUIRE_THROWS_WITH(open_point_stream((test::source_dir() / "README.md").string()),
-                      Contains("files are not streamed"));
+                      Contains("only binary PLY files"));
   REQUIRE_THROWS_WITH(open_point_stream(""), Contains("empty name"));
 }
 

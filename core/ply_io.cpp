@@ -4,12 +4,15 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <optional>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "core/file_output.hpp"
 #include "core/point_cloud_io.hpp"
+#include "core/point_stream.hpp"
 #include "core/text_scanner.hpp"
 
 namespace pcrt {
@@ -635,6 +638,131 @@ void write_ply(const std::string& path, const PointCloud& cloud, PlyFormat forma
         }
       },
       format != PlyFormat::kAscii);
+}
+
+namespace {
+
+// A binary PLY file's vertices, chunk by chunk (core/point_stream.hpp): what `pcrt render
+// --stream` reads a cloud too large to hold from. Only what a fixed-size record allows: binary,
+// the vertex element first, no list property in it, the file's own normals. Georeferenced files
+// are read relative to the local origin of their first vertex, as read_ply does.
+class PlyStream final : public PointStream {
+ public:
+  explicit PlyStream(std::string path) : path_(std::move(path)) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path_, ec))
+      input_error("{}: not a regular file (only files are streamed)", path_);
+    file_bytes_ = std::filesystem::file_size(path_, ec);
+    if (ec) input_error("{}: cannot read its size", path_);
+    header_ = parse_header(read_prefix(std::min<uint64_t>(file_bytes_, kMaxHeaderBytes)), path_);
+    check_streamable();
+    swap_ = (header_.format == PlyFormat::kBinaryBigEndian) ==
+            (std::endian::native == std::endian::little);
+    if (size() > 0) frame_.choose(first_position());
+  }
+
+  [[nodiscard]] const std::string& name() const override { return path_; }
+  [[nodiscard]] size_t size() const override { return size_t(vertex().count); }
+  [[nodiscard]] Vec3d origin() const override { return frame_.origin; }
+
+  void read(const std::function<void(const PointChunk&)>& chunk) const override {
+    std::ifstream in = open_at(header_.data_offset);
+    std::vector<char> bytes(kChunkPoints * record_);
+    std::vector<Vec3> positions(kChunkPoints), normals(kChunkPoints);
+    for (size_t first = 0; first < size(); first += kChunkPoints) {
+      const size_t count = std::min(kChunkPoints, size() - first);
+      if (!in.read(bytes.data(), std::streamsize(count * record_)))
+        input_error("{}: truncated: the file ended within vertex {} of {}", path_, first, size());
+      for (size_t i = 0; i < count; ++i)
+        decode(bytes.data() + i * record_, first + i, positions[i], normals[i]);
+      chunk(PointChunk{{positions.data(), count}, {normals.data(), count}, first});
+    }
+  }
+
+ private:
+  static constexpr uint64_t kMaxHeaderBytes = uint64_t(1) << 20;
+
+  [[nodiscard]] const PlyElement& vertex() const { return header_.elements.front(); }
+
+  [[nodiscard]] std::ifstream open_at(uint64_t offset) const {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in || !in.seekg(std::streamoff(offset))) input_error("{}: cannot be read", path_);
+    return in;
+  }
+  [[nodiscard]] std::string read_prefix(uint64_t bytes) const {
+    std::string text(size_t(bytes), '\0');
+    std::ifstream in = open_at(0);
+    if (!in.read(text.data(), std::streamsize(bytes))) input_error("{}: cannot be read", path_);
+    return text;
+  }
+
+  // What the fixed-size records need, each refusal one line naming the file.
+  void check_streamable() {
+    if (header_.format == PlyFormat::kAscii)
+      input_error("{}: an ascii PLY is not streamed (binary PLY is)", path_);
+    if (header_.elements.empty() || header_.elements.front().name != "vertex")
+      input_error("{}: the vertex element must come first to be streamed", path_);
+    record_ = 0;
+    for (const PlyProperty& p : vertex().properties) {
+      if (p.is_list) input_error("{}: vertex property '{}' is a list: not streamed", path_, p.name);
+      offsets_.push_back(record_);
+      record_ += type_size(p.type);
+    }
+    layout_ = vertex_layout(vertex(), path_);
+    if (layout_.nx < 0) input_error("{}: has no normals: only clouds with normals stream", path_);
+    if (layout_.gaussian()) input_error("{}: Gaussian particles are not streamed", path_);
+    if (record_ == 0 || vertex().count > (file_bytes_ - header_.data_offset) / record_)
+      input_error(
+          "{}: truncated: the header promises {} 'vertex' elements but the file is too short for "
+          "them",
+          path_, vertex().count);
+  }
+
+  [[nodiscard]] double field(const char* record, int property) const {
+    const auto k = size_t(property);
+    return load_binary(record + offsets_[k], vertex().properties[k].type, swap_);
+  }
+  [[nodiscard]] Vec3d world(const char* record) const {
+    return {field(record, layout_.x), field(record, layout_.y), field(record, layout_.z)};
+  }
+  [[nodiscard]] Vec3d first_position() const {
+    const std::string r = [&] {
+      std::string b(record_, '\0');
+      std::ifstream in = open_at(header_.data_offset);
+      in.read(b.data(), std::streamsize(record_));
+      return b;
+    }();
+    return world(r.data());
+  }
+  // Vertex `index`'s position (relative to the origin) and unit normal, checked as read_ply does.
+  void decode(const char* record, uint64_t index, Vec3& position, Vec3& normal) const {
+    const Vec3d w = world(record);
+    if (!within_coordinate_range(w))
+      input_error("{}: vertex {} has a coordinate that is not finite or beyond +-{:g}", path_,
+                  index, kMaxCoordinate);
+    position = to_local(w, frame_.origin);
+    normal = Vec3(float(field(record, layout_.nx)), float(field(record, layout_.ny)),
+                  float(field(record, layout_.nz)));
+    const float len = normal.norm();
+    if (!normal.allFinite() || !(len > 1e-12f))
+      input_error("{}: vertex {} has a zero or non-finite normal", path_, index);
+    normal /= len;
+  }
+
+  std::string path_;
+  uint64_t file_bytes_ = 0;
+  PlyHeader header_;
+  VertexLayout layout_;
+  std::vector<size_t> offsets_;  // of each vertex property in a record
+  size_t record_ = 0;
+  bool swap_ = false;
+  LocalFrame frame_;
+};
+
+}  // namespace
+
+std::unique_ptr<PointStream> open_ply_stream(const std::string& path) {
+  return std::make_unique<PlyStream>(path);
 }
 
 }  // namespace pcrt

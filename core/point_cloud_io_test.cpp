@@ -10,6 +10,7 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/point_stream.hpp"
 #include "tests/test_helpers.hpp"
 #include "tests/test_paths.hpp"
 
@@ -338,4 +339,59 @@ TEST_CASE("malformed Gaussian files are rejected with the file and vertex named"
   REQUIRE_INPUT_ERROR(bad.validate(), "point 2 has opacity");
   bad.gaussians.opacities.pop_back();
   REQUIRE_INPUT_ERROR(bad.validate(), "2 opacities for 3 points");
+}
+
+namespace {
+
+// Every point a stream delivers, in order.
+PointCloud drain(const PointStream& stream) {
+  PointCloud c;
+  stream.read([&](const PointChunk& k) {
+    c.positions.insert(c.positions.end(), k.positions.begin(), k.positions.end());
+    c.normals.insert(c.normals.end(), k.normals.begin(), k.normals.end());
+  });
+  return c;
+}
+
+}  // namespace
+
+// `pcrt render --stream` on a file: the reader's points, origin and normals, chunk by chunk.
+TEST_CASE("a binary PLY streams the points read_ply reads", "[io][stream]") {
+  PointCloud cloud = load_dataset_in_input_order("torus:n=150000,seed=3").cloud;
+  for (const bool georeferenced : {false, true}) {
+    cloud.origin = georeferenced ? Vec3d(597000.25, -244000.5, 12.0) : Vec3d::Zero();
+    for (PlyFormat f : {PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian}) {
+      INFO("georeferenced " << georeferenced << ", format " << int(f));
+      const std::string path = (pcrt::test::scratch_dir() / "stream.PLY").string();
+      write_ply(path, cloud, f);
+      const PointCloud read = read_ply(path);
+      const auto stream = open_point_stream(path);
+      REQUIRE(stream->size() == read.size());
+      CHECK(stream->origin() == read.origin);
+      const PointCloud streamed = drain(*stream);
+      CHECK(streamed.positions == read.positions);
+      CHECK(streamed.normals == read.normals);
+      CHECK(stream->bounds().lo == read.bounds().lo);
+      CHECK(stream->bounds().hi == read.bounds().hi);
+    }
+  }
+}
+
+TEST_CASE("a file that cannot stream is one error naming it", "[io][stream][errors]") {
+  const PointCloud cloud = load_dataset_in_input_order("sphere:n=1000").cloud;
+  const auto dir = pcrt::test::scratch_dir();
+  const std::string ascii = (dir / "ascii.ply").string(), bare = (dir / "bare.ply").string(),
+                    cut = (dir / "cut.ply").string(), xyz = (dir / "c.xyz").string();
+  write_ply(ascii, cloud, PlyFormat::kAscii);
+  PointCloud no_normals = cloud;
+  no_normals.normals.clear();
+  write_ply(bare, no_normals);
+  write_ply(cut, cloud);
+  std::filesystem::resize_file(cut, std::filesystem::file_size(cut) - 7);
+  write_text(xyz, "0 0 0\n1 0 0\n");
+  REQUIRE_INPUT_ERROR(open_point_stream(ascii), "ascii.ply: an ascii PLY is not streamed");
+  REQUIRE_INPUT_ERROR(open_point_stream(bare), "bare.ply: has no normals");
+  REQUIRE_INPUT_ERROR(open_point_stream(cut), "cut.ply: truncated");
+  REQUIRE_INPUT_ERROR(open_point_stream(xyz), "c.xyz: only binary PLY files");
+  REQUIRE_INPUT_ERROR(open_point_stream(dir.string() + "/"), "only binary PLY files");
 }

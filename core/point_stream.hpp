@@ -1,6 +1,7 @@
 // Points delivered in chunks, in the same order on every read: what a streaming build takes in
 // place of a whole cloud, so that no process holds the float positions and normals of all of them
-// (24 bytes a point: 22 GiB at 10^9). A generator re-draws its points on every read.
+// (24 bytes a point: 22 GiB at 10^9). A generator re-draws its points on every read; a binary PLY
+// file is read again.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +29,8 @@ class PointStream {
   [[nodiscard]] virtual const std::string& name() const = 0;
   // How many points every read delivers, known before reading (a generator's n).
   [[nodiscard]] virtual size_t size() const = 0;
+  // What every position is relative to (a georeferenced file's local origin), else zero.
+  [[nodiscard]] virtual Vec3d origin() const { return Vec3d::Zero(); }
   // Calls `chunk` on consecutive chunks of at most kChunkPoints points until all size() points
   // are delivered, in the same order and with the same values on every call.
   virtual void read(const std::function<void(const PointChunk&)>& chunk) const = 0;
@@ -42,8 +45,15 @@ class PointStream {
 };
 
 // The stream of a surface generator spec (`sphere:n=...`, core/dataset.hpp), in the generator's
-// own order: the same points as load_dataset_in_input_order(spec), never all in memory. Throws
-// InputError naming the spec for files, volume generators (no normals) and unknown generators.
+// own order: the same points as load_dataset_in_input_order(spec), never all in memory; or of a
+// binary PLY file with normals (open_ply_stream). Throws InputError naming the spec for other
+// files, volume generators (no normals) and unknown generators.
 std::unique_ptr<PointStream> open_point_stream(const std::string& spec);
+
+// A binary PLY file's vertices in file order, relative to the local origin read_ply would choose
+// (the same positions and unit normals as read_ply, which also drops exact duplicates: a stream
+// keeps them). InputError naming the file for ascii PLY, a vertex element that is not first or
+// holds a list, no normals, Gaussian particles, a truncated file, a bad coordinate or normal.
+std::unique_ptr<PointStream> open_ply_stream(const std::string& path);
 
 }  // namespace pcrt

@@ -152,6 +152,7 @@ std::unique_ptr<LoadedScene> load_streamed_scene(const SceneArgs& a) {
   s->params = scene_json(*s->points, s->data.cloud, data);
   s->params["N"] = s->stream->size();
   s->params["streamed"] = true;
+  if (const Vec3d o = s->stream->origin(); !o.isZero()) s->params["origin"] = {o.x(), o.y(), o.z()};
   return s;
 }
 
@@ -325,8 +326,8 @@ int command_render(const RenderOptions& o) {
     if (o.stream) input_error("pcrt render: --stream does not apply to --scene");
     return render_scene_file(o, rs);
   }
-  const auto loaded = o.stream ? load_streamed_scene(o.scene)
-                               : load_scene(o.scene, "render", RenderOptions::usage);
+  const auto loaded =
+      o.stream ? load_streamed_scene(o.scene) : load_scene(o.scene, "render", RenderOptions::usage);
   const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
   Timings& timings = loaded->timings;
   RenderResult r = loaded->render_frame(rs);
@@ -335,9 +336,9 @@ int command_render(const RenderOptions& o) {
   stage_render_images(outputs, r, o.out, o.depth.value_or(""), o.normals.value_or(""));
   if (o.stats) outputs.stage(*o.stats, json_writer(render_stats(*loaded, rs, r, setup_cpu)));
   outputs.commit();
-  std::printf("%s: %s, %zu points%s, %dx%d, S=%d B=%d\n", o.out.c_str(),
-              loaded->label().c_str(), loaded->point_count(), loaded->stream ? " (streamed)" : "",
-              rs.width, rs.height, rs.spp, rs.bounces);
+  std::printf("%s: %s, %zu points%s, %dx%d, S=%d B=%d\n", o.out.c_str(), loaded->label().c_str(),
+              loaded->point_count(), loaded->stream ? " (streamed)" : "", rs.width, rs.height,
+              rs.spp, rs.bounces);
   std::printf("  prepare %.3f s, build %.3f s, render %.3f s (%.2f frames/s)\n", timings["prepare"],
               timings["build"], r.seconds, r.seconds > 0 ? 1.0 / r.seconds : 0.0);
   for (const auto& [name, value] : r.counters.to_map())

@@ -56,6 +56,9 @@ fi
 expect_error "sphere:n=1000: method reference_splat does not prepare from a stream" render --stream --method reference_splat --data sphere:n=1000 --out "$dir/a.png"
 expect_error "method hubo_2006 does not prepare from a stream with these parameters" render --stream --method hubo_2006 --data sphere:n=1000 --out "$dir/a.png"
 expect_error "ball:n=1000': ball has no normals" render --stream --method hubo_2006 --set quantized=1 --data ball:n=1000 --out "$dir/a.png"
+"$pcrt" convert sphere:n=100 --out "$dir/ascii.ply" --ascii >/dev/null
+expect_error "ascii.ply: an ascii PLY is not streamed (binary PLY is)" render --stream --method hubo_2006 --set quantized=1 --data "$dir/ascii.ply" --out "$dir/a.png"
+expect_error "nan.xyz: only binary PLY files and generator specs" render --stream --method hubo_2006 --set quantized=1 --data "$dir/nan.xyz" --out "$dir/a.png"
 expect_error "--stream does not apply to --mesh" render --stream --mesh "$dir/nan.xyz" --out "$dir/a.png"
 # Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
 expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"

@@ -33,6 +33,18 @@ assert j["counters"]["primary_rays"] == 32 * 32 and j["counters"]["ray_hits"] > 
 assert "prepare/quantized_kd_tree" in j["timings"] and "prepare/spacing" in j["timings"]
 assert 0 < j["process"]["estimated_scene_bytes"] < 30000 * 20
 PY
+# ... and a binary PLY file's, chunk by chunk: the same hits as the file read whole.
+"$pcrt" convert sphere:n=30000 --out "$dir/s.ply" >/dev/null
+for mode in "" --stream; do
+  "$pcrt" render $mode --method hubo_2006 --set quantized=1 --data "$dir/s.ply" --out "$dir/f.png" \
+    --width 32 --height 32 --threads 2 --stats "$dir/file$mode.json" >/dev/null
+done
+python3 - "$dir/file.json" "$dir/file--stream.json" <<'PY'
+import json, sys
+whole, streamed = (json.load(open(p)) for p in sys.argv[1:])
+assert streamed["params"]["streamed"] is True and streamed["params"]["N"] == 30000
+assert streamed["counters"]["ray_hits"] == whole["counters"]["ray_hits"] > 100, (streamed["counters"], whole["counters"])
+PY
 printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n0,0,5,0,0,1\n5,0,0,-2,0,0\n' >"$dir/rays.csv"
 "$pcrt" trace --method reference_splat --data fibonacci_sphere:n=20000 --rays "$dir/rays.csv" --out "$dir/hits.csv" >/dev/null
 python3 - "$dir/hits.csv" <<'PY'
