@@ -8,6 +8,7 @@
 # holds (prepare counters qkd_bytes, codebook_bytes). One JSON line per run appended to
 # OUT/runs.jsonl; OUT/summary.md is regenerated from it. Clouds are generated, never committed.
 # Usage: scripts/scale.sh OUT "N ..." "METHOD[@k=v] ..." [build/bin/pcrt]
+# (PCRT_DATA=FILE renders that file instead of the generated sphere; give its point count as N.)
 # METHOD may name a structure after '/' and carry --set values after '@', comma separated
 # (e.g. reference_splat/kd_tree, hubo_2006@quantized=1); a trailing +stream renders with --stream
 # (the generator's points straight into the method, never the whole cloud: hubo_2006@quantized=1+stream).
@@ -37,18 +38,18 @@ for n in $sizes; do
       IFS=',' read -ra kv <<<"${base#*@}"
       for x in "${kv[@]}"; do sets+=(--set "$x"); done
     fi
-    data="sphere:n=$n,seed=1"
+    data=${PCRT_DATA:-sphere:n=$n,seed=1}  # PCRT_DATA: a file of N points instead
     set +e
     /usr/bin/time -v -o "$tmp/time" "$pcrt" render --method "$m" "${sets[@]}" --data "$data" \
       --out "$tmp/frame.png" --width 512 --height 512 --bounces 0 --no-light \
       --threads "$threads" --stats "$tmp/stats.json" >/dev/null 2>"$tmp/err"
     rc=$?
     set -e
-    /usr/bin/python3 - "$tmp" "$spec" "$n" "$rc" "$threads" "$(git rev-parse --short HEAD)" \
+    /usr/bin/python3 - "$tmp" "$spec" "$n" "$rc" "$threads" "$(git rev-parse --short HEAD)" "$data" \
       >>"$out/runs.jsonl" <<'PY'
 import json, re, sys
 from pathlib import Path
-tmp, spec, n, rc, threads, commit = Path(sys.argv[1]), sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), sys.argv[6]
+tmp, spec, n, rc, threads, commit, data = Path(sys.argv[1]), sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), sys.argv[6], sys.argv[7]
 t = (tmp / "time").read_text()
 def field(name):
     m = re.search(re.escape(name) + r":\s*([0-9.:]+)", t)
@@ -57,7 +58,7 @@ rss_kb = int(field("Maximum resident set size (kbytes)"))
 cpu = float(field("User time (seconds)")) + float(field("System time (seconds)"))
 row = {"method": spec, "N": n, "exit": rc, "commit": commit, "threads": threads,
        "peak_rss_bytes": rss_kb * 1024, "bytes_per_point": rss_kb * 1024 / n, "cpu_seconds": cpu,
-       "wall_seconds": field("Elapsed (wall clock) time (h:mm:ss or m:ss)")}
+       "wall_seconds": field("Elapsed (wall clock) time (h:mm:ss or m:ss)"), "dataset": data}
 if rc == 0:
     s = json.loads((tmp / "stats.json").read_text())
     tm = s["timings"]
