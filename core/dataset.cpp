@@ -1,7 +1,6 @@
 #include "core/dataset.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -356,10 +355,7 @@ std::unique_ptr<PointStream> open_point_stream(const std::string& spec) {
   std::error_code ec;
   if (spec.empty()) input_error("dataset '': empty name");
   if (std::filesystem::exists(spec, ec)) {
-    std::string ext = std::filesystem::path(spec).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return std::tolower(c); });
-    if (ext != ".ply")
+    if (lowercase_extension(spec) != ".ply")
       input_error("{}: only binary PLY files and generator specs (sphere:n=...) are streamed",
                   spec);
     return open_ply_stream(spec);

@@ -12,6 +12,9 @@
 
 namespace pcrt {
 
+// A path's extension in lower case, with its dot (".ply"), or empty: what picks a reader.
+std::string lowercase_extension(const std::string& path);
+
 // Chooses the reader by extension (.ply, .xyz, .pwn, .off; case-insensitive), validates the
 // result and drops exact duplicate points with a note on stderr.
 PointCloud read_point_cloud(const std::string& path);

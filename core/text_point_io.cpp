@@ -1,5 +1,6 @@
 // XYZ/PWN and OFF readers, file loading and the extension dispatch.
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -221,10 +222,15 @@ PointCloud parse_off(const std::string& text, const std::string& path,
   return cloud;
 }
 
-PointCloud read_point_cloud(const std::string& path) {
+std::string lowercase_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+PointCloud read_point_cloud(const std::string& path) {
+  const std::string ext = lowercase_extension(path);
   PointCloud cloud;
   if (ext == ".ply")
     cloud = read_ply(path);

@@ -22,12 +22,17 @@ assert j["params"]["method"] == "reference_splat" and j["params"]["M"] == 48 * 3
 assert j["counters"]["primary_rays"] == 48 * 32 * 2
 assert "render" in j["timings"] and "prepare" in j["timings"]
 PY
-# --stream: the generator's points go straight into hubo_2006's quantized tree.
-"$pcrt" render --stream --method hubo_2006 --set quantized=1 --data sphere:n=30000 --out "$dir/s.png" \
-  --width 32 --height 32 --threads 2 --stats "$dir/stream.json" >/dev/null
-python3 - "$dir/stream.json" <<'PY'
+# --stream: the generator's points go straight into hubo_2006's quantized tree; the same frame,
+# counters and build counts on 1 and 2 threads.
+for t in 1 2; do
+  "$pcrt" render --stream --method hubo_2006 --set quantized=1 --data sphere:n=30000 --out "$dir/s$t.png" \
+    --width 32 --height 32 --threads $t --stats "$dir/stream$t.json" >/dev/null
+done
+cmp "$dir/s1.png" "$dir/s2.png"
+python3 - "$dir/stream2.json" "$dir/stream1.json" <<'PY'
 import json, sys
-j = json.load(open(sys.argv[1]))
+j, one = (json.load(open(p)) for p in sys.argv[1:])
+assert j["counters"] == one["counters"] and j["prepare_counters"] == one["prepare_counters"]
 assert j["params"]["streamed"] is True and j["params"]["N"] == 30000, j["params"]
 assert j["counters"]["primary_rays"] == 32 * 32 and j["counters"]["ray_hits"] > 100, j["counters"]
 assert "prepare/quantized_kd_tree" in j["timings"] and "prepare/spacing" in j["timings"]
