@@ -82,6 +82,8 @@ json method_json(const MethodInfo& m) {
           {"iteration_counters", iteration_json(m.iterations)},
           {"hits_counter", counter_name(m.hits)},
           {"own_items", m.own_items},
+          // Prepares from a stream (`pcrt render --stream`) for some of its parameters.
+          {"streams", bool(m.stream_bytes_per_point)},
           {"designs", designs},
           {"real_time_designs", real_time_json(m)}};
 }

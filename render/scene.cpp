@@ -1,7 +1,11 @@
 #include "render/scene.hpp"
 
+#include <fmt/ranges.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+
+#include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
@@ -57,15 +61,20 @@ PointScene::PointScene(const PointCloud& cloud, const SceneOptions& options, OpC
   prepare_and_build([&](PrepareContext& ctx) { method_->prepare(cloud, ctx); }, counters, timings);
 }
 
-PointScene::PointScene(const PointStream& stream, const SceneOptions& options,
-                       OpCounters& counters, Timings& timings) {
+PointScene::PointScene(const PointStream& stream, const SceneOptions& options, OpCounters& counters,
+                       Timings& timings) {
   resolve(options);
   const auto& per_point = method_info_->stream_bytes_per_point;
   const size_t bytes = per_point ? per_point(method_params_) : 0;
-  if (bytes == 0)
-    input_error("{}: method {} does not prepare from a stream with these parameters (see pcrt "
-                "methods)",
-                stream.name(), method_info_->id);
+  if (bytes == 0) {
+    std::vector<std::string> streaming;
+    for (const MethodInfo& m : MethodRegistry::instance().all())
+      if (m.stream_bytes_per_point) streaming.push_back(m.id);
+    input_error(
+        "{}: method {} does not prepare from a stream with these parameters (methods "
+        "that can, for some parameters: {})",
+        stream.name(), method_info_->id, fmt::join(streaming, ", "));
+  }
   // Refused before the first point is drawn if it cannot fit.
   estimated_bytes_ = bytes * stream.size();
   require_memory(estimated_bytes_, fmt::format("{} streamed into {} ({} points)", stream.name(),
