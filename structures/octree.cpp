@@ -6,9 +6,11 @@
 // and, for discs the method hits only on the disc, whose plane cuts its cube (a quarter fewer
 // references on a sphere); a child no item reaches is not stored. A leaf's references are 16-bit
 // offsets from its lowest item where they fit (compact_refs; items are in Morton order, so a cell's
-// neighbours are mostly near), decoded onto the stack when a ray reaches it. Traversal: depth
-// first, the children a ray crosses sorted by entry distance, so leaves come front to back (cells
-// are disjoint).
+// neighbours are mostly near), decoded onto the stack when a ray reaches it. Each stored node also
+// keeps the box of its items' footprints within its cell, 8 bits a side relative to the cell
+// (child_bounds, for methods whose hits are points of their discs): a surface fills a thin slab of
+// most cells it crosses, and a ray that crosses the cell but misses the slab does not visit it. Traversal: depth first, the children a ray crosses
+// sorted by entry distance, so leaves come front to back (cells, and so their boxes, are disjoint).
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -27,9 +29,23 @@ namespace {
 // references of the node being built: the top segment of `stack`, from a given start to the end.
 // Building a node pops its segment; splitting one replaces it by its eight children's, child 0 on
 // top, so that it is built first.
+// The box of a node's footprints within its cell [lo, lo + side]: per axis lo + q * quantum with
+// quantum = side / 254, so that q = 255 reaches past the cell's far side whatever the rounding
+// (q = 0 is the cell's near side exactly). lo[0] > hi[0]: no footprint (a leaf the disc planes
+// all missed).
+struct CellBox {
+  std::array<uint8_t, 3> lo{255, 255, 255};
+  std::array<uint8_t, 3> hi{0, 0, 0};
+  [[nodiscard]] bool empty() const { return lo[0] > hi[0]; }
+};
+static_assert(sizeof(CellBox) == 6);
+constexpr float kInv254 = 1.0f / 254.0f;
+inline float cell_quantum(float side) { return side * kInv254; }
+
 template <class N>
 struct OctBuild {
   ChunkedArray<N> nodes;
+  ChunkedArray<CellBox> boxes;  // one per node, pushed with it (same handles), if child_bounds
   ChunkedArray<uint32_t> refs;
   ChunkedArray<uint16_t> refs16;
   uint64_t references = 0;  // over all leaves, compact or not
@@ -53,6 +69,7 @@ struct OctreeParams {
   size_t leaf_size = 8;
   int max_depth = 21;
   bool compact_refs = true;
+  bool child_bounds = true;
 };
 const ParamList<OctreeParams>& octree_params() {
   using P = OctreeParams;
@@ -65,7 +82,12 @@ const ParamList<OctreeParams>& octree_params() {
                {"compact_refs", 1, 0, 1,
                 "1: a leaf's references as 16-bit offsets from its lowest item where they fit "
                 "(half the bytes; leaves are decoded for the method, so no leaf-order disc "
-                "copy, disc_blocks=1); 0: one 32-bit reference array"});
+                "copy, disc_blocks=1); 0: one 32-bit reference array"})
+          .add(&P::child_bounds,
+               {"child_bounds", 1, 0, 1,
+                "1: for methods hit on their discs, each node keeps its footprints' box within "
+                "its cell (6 bytes, 8 bits a side) and rays skip the children whose box they "
+                "miss; 0: the cells alone"});
   return l;
 }
 
@@ -83,7 +105,10 @@ class Octree final : public Structure {
 
  public:
   explicit Octree(const OctreeParams& p)
-      : leaf_size_(p.leaf_size), max_depth_(p.max_depth), compact_(p.compact_refs) {}
+      : leaf_size_(p.leaf_size),
+        max_depth_(p.max_depth),
+        compact_(p.compact_refs),
+        child_bounds_(p.child_bounds) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
@@ -95,6 +120,9 @@ class Octree final : public Structure {
     const float side = b.empty() ? 0.0f : 1.0137f * b.extent().maxCoeff();
     root_lo_ = b.empty() ? Vec3::Zero() : Vec3(b.lo - Vec3::Constant(0.0049f * side));
     root_side_ = side;
+    // Implicit-surface methods search a leaf's whole cell interval, where their surface may lie off
+    // every footprint: only hits on the discs are sure to lie within the boxes.
+    keeps_boxes_ = child_bounds_ && culls_by_plane();
     try {
       build_all(nodes32_);
       release(nodes64_);
@@ -127,14 +155,17 @@ class Octree final : public Structure {
   }
   [[nodiscard]] size_t memory_bytes() const override {
     return nodes32_.capacity() * sizeof(OctNode32) + nodes64_.capacity() * sizeof(OctNode64) +
-           refs_.capacity() * sizeof(uint32_t) + refs16_.capacity() * sizeof(uint16_t);
+           boxes_.capacity() * sizeof(CellBox) + refs_.capacity() * sizeof(uint32_t) +
+           refs16_.capacity() * sizeof(uint16_t);
   }
 
  private:
+  // A node to visit: its cell, where the ray enters its box (`near`, what orders and ends the
+  // walk) and the ray's interval in its cell (what a leaf is handed).
   struct Todo {
     uint32_t node;
     Vec3 lo;
-    float side, t0, t1;
+    float side, near, t0, t1;
   };
 
   [[nodiscard]] bool wide() const { return !nodes64_.empty(); }
@@ -165,11 +196,15 @@ class Octree final : public Structure {
     float t0 = 0, t1 = 0;
     if (!Aabb{root_lo_, root_lo_ + Vec3::Constant(root_side_)}.intersect(ray, inv, t0, t1))
       return false;
-    stack[size_t(top++)] = Todo{0, root_lo_, root_side_, t0, t1};
+    float near = t0, far = t1;
+    if (!boxes_.empty() &&
+        !narrow_to_box(boxes_[0], root_lo_, cell_quantum(root_side_), slabs, near, far))
+      return false;
+    stack[size_t(top++)] = Todo{0, root_lo_, root_side_, near, t0, t1};
     bool found = false;
     while (top > 0) {
       const Todo cur = stack[size_t(--top)];
-      if (!may_improve(cur.t0, hit.t)) {
+      if (!may_improve(cur.near, hit.t)) {
         if constexpr (kAny) continue;  // pushed in child order: only this cell is beyond
         break;                         // disjoint cells in depth-first order: the rest is further
       }
@@ -208,11 +243,12 @@ class Octree final : public Structure {
   // visits every cell it crosses anyway); returns the new top. Empty leaves too: the pop reads a
   // node anyway, and reading each child here to skip them was a cache miss per child pushed (9% of
   // the walk). The eight child cubes are tested at once (two SSE halves), as the bvh tests its wide
-  // nodes: the same slab t and the exit widened by kWiden.
+  // nodes: the same slab t and the exit widened by kWiden; then each crossed child's box, if kept.
   template <bool kAny, class N>
-  static int push_children(const N& n, const Todo& cur, const RaySlabs& slabs, float tmax,
-                           Todo* stack, int top) {
+  int push_children(const N& n, const Todo& cur, const RaySlabs& slabs, float tmax, Todo* stack,
+                    int top) const {
     const float half = 0.5f * cur.side;
+    const float quantum = cell_quantum(half);
     alignas(16) float t0s[8], t1s[8];
     const uint32_t children = n.child_mask();
     const uint32_t hit = child_test(cur.lo, half, slabs, tmax, t0s, t1s) & children;
@@ -222,15 +258,17 @@ class Octree final : public Structure {
       const auto c = uint32_t(__builtin_ctz(mask));
       const uint32_t node = first + kBitsSet[children & ((1u << c) - 1)];
       const Vec3 lo = cur.lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-      const Todo x{node, lo, half, t0s[c], t1s[c]};
+      float near = t0s[c], far = t1s[c];
+      if (!boxes_.empty() && !narrow_to_box(boxes_[node], lo, quantum, slabs, near, far)) continue;
+      const Todo x{node, lo, half, near, t0s[c], t1s[c]};
       if constexpr (kAny) {
         stack[top++] = x;
         continue;
       }
       // Insertion sort, far first (ties: the higher node below): a ray crosses at most 4.
       int j = top++;
-      for (; j > base &&
-             (stack[j - 1].t0 < x.t0 || (stack[j - 1].t0 == x.t0 && stack[j - 1].node < x.node));
+      for (; j > base && (stack[j - 1].near < x.near ||
+                          (stack[j - 1].near == x.near && stack[j - 1].node < x.node));
            --j)
         stack[j] = stack[j - 1];
       stack[j] = x;
@@ -260,6 +298,44 @@ class Octree final : public Structure {
     return mask;
   }
 
+  // Narrows [near, far] to the ray's interval in box q of the cell at lo (quantum: cell_quantum
+  // of its side), as slab_axis_sse does; false when the ray misses the box or it is empty.
+  static bool narrow_to_box(const CellBox& q, const Vec3& lo, float quantum, const RaySlabs& r,
+                            float& near, float& far) {
+    if (q.empty()) return false;
+    for (int a = 0; a < 3; ++a) {
+      const float blo = lo[a] + quantum * float(q.lo[size_t(a)]);
+      const float bhi = lo[a] + quantum * float(q.hi[size_t(a)]);
+      const float tn = ((r.neg[a] ? bhi : blo) - r.o[a]) * r.inv[a];
+      const float tf = ((r.neg[a] ? blo : bhi) - r.o[a]) * r.inv[a] * kWiden;
+      near = tn > near ? tn : near;  // NaN (0 * inf) keeps the interval
+      far = tf < far ? tf : far;
+    }
+    return near <= far;
+  }
+
+  // The quantized box of `b` (a box within the cell [lo, lo + side]) for narrow_to_box: the
+  // smallest one whose planes, computed as narrow_to_box computes them, hold b.
+  static CellBox quantize(const Aabb& b, const Vec3& lo, float side) {
+    CellBox q;
+    if (b.empty()) return q;
+    const float quantum = cell_quantum(side);
+    for (size_t a = 0; a < 3; ++a) {
+      const auto at = [&](int k) { return lo[long(a)] + quantum * float(k); };
+      const float rel_lo = quantum > 0 ? (b.lo[long(a)] - lo[long(a)]) / quantum : 0.0f;
+      const float rel_hi = quantum > 0 ? (b.hi[long(a)] - lo[long(a)]) / quantum : 255.0f;
+      int k_lo = int(std::clamp(std::floor(rel_lo), 0.0f, 255.0f));
+      int k_hi = int(std::clamp(std::ceil(rel_hi), 0.0f, 255.0f));
+      while (k_lo > 0 && at(k_lo) > b.lo[long(a)]) --k_lo;
+      while (k_hi < 255 && at(k_hi) < b.hi[long(a)]) ++k_hi;
+      // One step more each way where there is room: a build whose multiply-adds fuse rounds the
+      // planes differently (k = 0 and 255 hold the cell whatever the rounding).
+      q.lo[a] = uint8_t(std::max(k_lo - 1, 0));
+      q.hi[a] = uint8_t(std::min(k_hi + 1, 255));
+    }
+    return q;
+  }
+
   // The whole tree with nodes N, flattened into `nodes` and refs_.
   template <class N>
   void build_all(std::vector<N>& nodes) {
@@ -268,9 +344,11 @@ class Octree final : public Structure {
     b.stack_touched = b.stack.size();
     for (uint32_t i = 0; i < b.stack.size(); ++i) b.stack[i] = i;
     const auto root = b.nodes.push_back(N{});
+    if (keeps_boxes_) b.boxes.push_back(CellBox{});
     build_node(b, root, 0, root_lo_, root_side_, 0);
     release(b.stack);
     nodes = b.nodes.flatten();
+    boxes_ = b.boxes.flatten();
     refs_ = b.refs.flatten();
     refs16_ = b.refs16.flatten();
     references_ = b.references;
@@ -307,10 +385,19 @@ class Octree final : public Structure {
     return out;
   }
 
-  // Builds the subtree of the references stack[begin, end) into `node` and pops them.
+  // Builds the subtree of the references stack[begin, end) into `node` and pops them, keeping the
+  // box of its footprints within the cell (if child_bounds); returns that box.
   template <class N>
-  void build_node(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
+  Aabb build_node(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
                   const Vec3& lo, float side, int depth) {
+    const Aabb box = build_subtree(b, node, begin, lo, side, depth);
+    if (keeps_boxes_) b.boxes[{node.chunk, node.pos}] = quantize(box, lo, side);
+    return box;
+  }
+
+  template <class N>
+  Aabb build_subtree(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
+                     const Vec3& lo, float side, int depth) {
     std::vector<uint32_t>& st = b.stack;
     const size_t n = st.size() - begin;
     if (n <= leaf_size_ || depth >= max_depth_ || !(side > 0))
@@ -328,16 +415,20 @@ class Octree final : public Structure {
     if (refs >= 3 * n && 2 * fullest > n) return make_leaf(b, node, begin, lo, side);
     const std::array<size_t, 8> at = split_in_place(b, begin, mid, counts.count);
     b.nodes[node] = N::make(node_index32(b.nodes.size(), "octree"), oct_inner(counts.reached));
-    const auto kids = b.nodes.push_n(size_t(__builtin_popcount(counts.reached)), N{});
+    const size_t stored = size_t(__builtin_popcount(counts.reached));
+    const auto kids = b.nodes.push_n(stored, N{});
+    if (keeps_boxes_) b.boxes.push_n(stored, CellBox{});  // the same chunks, so the same handles
     size_t rank = 0;
+    Aabb box;
     for (uint32_t c = 0; c < 8; ++c) {  // child 0's references are on top
       if (!((counts.reached >> c) & 1)) {
         st.resize(at[c]);
         continue;
       }
       const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-      build_node(b, {kids.chunk, kids.pos + rank++}, at[c], clo, half, depth + 1);
+      box.extend(build_node(b, {kids.chunk, kids.pos + rank++}, at[c], clo, half, depth + 1));
     }
+    return box;
   }
 
   // Replaces stack[begin, end) by the children's references, child 7's lowest and child 0's on
@@ -364,12 +455,13 @@ class Octree final : public Structure {
   }
 
   // A leaf keeps the references on the top of the stack whose footprint reaches into its cube,
-  // compact where they fit.
+  // compact where they fit; returns the box of their footprints within the cube.
   template <class N>
-  void make_leaf(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
+  Aabb make_leaf(OctBuild<N>& b, typename ChunkedArray<N>::Handle node, size_t begin,
                  const Vec3& lo, float side) {
     if (culls_by_plane()) keep_discs_cutting(b.stack, begin, lo, side);
     const std::span<const uint32_t> items{b.stack.data() + begin, b.stack.size() - begin};
+    const Aabb box = keeps_boxes_ ? footprint_within(items, lo, side) : Aabb{};
     if (items.size() >= kOctCompact) throw std::length_error("octree: a leaf of 2^30 references");
     const auto n = uint32_t(items.size());
     b.references += n;
@@ -387,6 +479,20 @@ class Octree final : public Structure {
     }
     b.stack.resize(begin);
     b.trim_stack();
+    return box;
+  }
+
+  // The box of the items' footprints clipped to the cube [lo, lo + side] (its far planes computed
+  // as the child test computes them); empty for no items.
+  [[nodiscard]] Aabb footprint_within(std::span<const uint32_t> items, const Vec3& lo,
+                                      float side) const {
+    Aabb box;
+    for (const uint32_t i : items) box.extend(items_.box(i));
+    if (box.empty()) return box;
+    const Vec3 hi = lo + Vec3::Constant(side);
+    box.lo = box.lo.cwiseMax(lo);
+    box.hi = box.hi.cwiseMin(hi);
+    return box;
   }
 
   // A leaf's items as its lowest item (two 16-bit halves) and each item's offset from it, in the
@@ -457,6 +563,8 @@ class Octree final : public Structure {
   size_t leaf_size_;
   int max_depth_;
   bool compact_;
+  bool child_bounds_;
+  bool keeps_boxes_ = false;  // child_bounds_, for items hit only on their discs
   uint64_t references_ = 0;
   ItemSet items_;
   Vec3 root_lo_ = Vec3::Zero();
@@ -465,6 +573,7 @@ class Octree final : public Structure {
   std::vector<OctNode64> nodes64_;  // otherwise
   std::vector<uint32_t> refs_;      // leaves of 32-bit items
   std::vector<uint16_t> refs16_;    // compact leaves: base item halves, then offsets
+  std::vector<CellBox> boxes_;      // per node, if child_bounds: its footprints within its cell
 };
 
 }  // namespace
@@ -479,8 +588,10 @@ StructureFootprint octree_footprint(const ParamValues& params) {
   // With compact references a leaf-order copy is refused when the method binds (there is no
   // array to copy along), so it is priced as item order: the refusal, not a memory error.
   // Methods without disc blocks keep every box reference: schaufler_jensen_2000's peak at 10^7
-  // over its cloud, radii and records (results/scale/octree at 4f1fe68), plus 10%.
-  return is_compact ? StructureFootprint{24, 24, 7.2, 41} : StructureFootprint{37, 249, 7.2, 60};
+  // over its cloud, radii and records (results/scale/octree at 4f1fe68), plus 10%. The footprint
+  // boxes of methods hit on their discs (child_bounds) add 2.4 B/item to the peak at 10^7
+  // (reference_splat on the sphere: 48.8 -> 51.2 B/item).
+  return is_compact ? StructureFootprint{26, 26, 7.2, 41} : StructureFootprint{40, 252, 7.2, 60};
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "core/dataset.hpp"
 #include "core/rng.hpp"
 #include "methods/method.hpp"
+#include "render/scene.hpp"
 #include "structures/structure.hpp"
 #include "structures/wide_node.hpp"
 #include "tests/test_paths.hpp"
@@ -365,4 +366,40 @@ TEST_CASE("the octree's compact references trace as its 32-bit ones, in fewer by
   REQUIRE_THROWS_WITH(leaf_order->bind_leaf_references(compact->leaf_references()),
                       Catch::Contains("compact_refs=0"));
   REQUIRE_NOTHROW(leaf_order->bind_leaf_references(plain->leaf_references()));
+}
+
+TEST_CASE("the octree's child boxes find its cells' hits for every method, in fewer nodes",
+          "[structures]") {
+  // A ray skips a child whose footprint box it misses; every method's hits lie within its items'
+  // footprints, so the hits (item and t, closest and any) are the cells' own, bit for bit.
+  const PointCloud cloud = load_dataset("bumpy_sphere:n=4000,seed=5").cloud;
+  const auto rays = random_rays(cloud, 20000, 21);
+  size_t fewer = 0;
+  for (const MethodInfo& info : MethodRegistry::instance().all()) {
+    if (!info.own_structure.empty()) continue;
+    INFO(info.id);
+    OpCounters c;
+    Timings t;
+    const PointScene cells(cloud, SceneOptions{info.id, "octree", {{"child_bounds", 0}}}, c, t);
+    const PointScene boxes(cloud, SceneOptions{info.id, "octree", {}}, c, t);
+    size_t differ = 0, hits = 0;
+    uint64_t nodes_cells = 0, nodes_boxes = 0;
+    for (const Ray& r : rays) {
+      Hit a, b;
+      OpCounters ca, cb;
+      const bool fa = cells.closest_hit(r, a, ca), fb = boxes.closest_hit(r, b, cb);
+      hits += size_t(fa);
+      differ += size_t(fa != fb || (fa && (a.prim != b.prim || a.t != b.t)) ||
+                       cells.any_hit(r, ca) != boxes.any_hit(r, cb));
+      nodes_cells += ca.get(kNodesVisited);
+      nodes_boxes += cb.get(kNodesVisited);
+    }
+    CHECK(differ == 0);
+    CHECK(hits > rays.size() / 10);
+    // Methods hit on their discs keep the boxes; the others' walk is the cells' own.
+    INFO("nodes visited " << nodes_cells << " -> " << nodes_boxes);
+    CHECK(nodes_boxes <= nodes_cells);
+    fewer += size_t(nodes_boxes * 10 < nodes_cells * 9);
+  }
+  CHECK(fewer >= 4);  // the splat family at least
 }
