@@ -76,16 +76,14 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
     CHECK(automatic == (leaf_chosen ? leaf : item));
   }
   // The structures that duplicate references hold more of them than the object partitions;
-  // reference_splat's default copies the kd-tree's (3.7 per item) in leaf order and gathers the
-  // octree's compact ones.
+  // reference_splat's default copies the kd-tree's (3.7 per item) and the octree's (7.2) in leaf
+  // order while the copy stays under the cap, and gathers beyond it.
   CHECK(structure_footprint("kd_tree").references_per_item >
         structure_footprint("bvh").references_per_item);
   CHECK(structure_footprint("octree").references_per_item >
         structure_footprint("sphere_tree").references_per_item);
   CHECK(structure_bytes_per_item("kd_tree", 1000000, with_layout(DiscBlockLayout::kAuto)) ==
         structure_footprint("kd_tree").leaf_order);
-  CHECK(structure_bytes_per_item("octree", 1000000, with_layout(DiscBlockLayout::kAuto)) ==
-        structure_footprint("octree").item_order);
   // Just past the cap at the footprint's references the layout could go either way (a scan has
   // fewer): the estimate prices the copy.
   const double kd_refs = structure_footprint("kd_tree").references_per_item;
@@ -98,17 +96,29 @@ TEST_CASE("memory estimate: the disc blocks' layout prices its copy") {
         structure_footprint("kd_tree").item_order);
   CHECK(structure_bytes_per_item("kd_tree", 100000000, with_layout(DiscBlockLayout::kAuto)) ==
         structure_footprint("kd_tree").item_order);
-  // The octree's 32-bit references cost more than its compact ones (the default).
+}
+
+TEST_CASE("memory estimate: the octree's reference layouts") {
+  const auto& splat = MethodRegistry::instance().get("reference_splat", "method");
+  const auto with_layout = [&](DiscBlockLayout l) {
+    return resolve_params(splat.params, {{"disc_blocks", double(l)}}, "test");
+  };
+  CHECK(structure_bytes_per_item("octree", 1000000, with_layout(DiscBlockLayout::kAuto)) ==
+        structure_footprint("octree").leaf_order);
+  CHECK(structure_bytes_per_item("octree", 10000000, with_layout(DiscBlockLayout::kAuto)) ==
+        structure_footprint("octree").item_order);
+  // The octree's 32-bit references cost more than its compact ones; the default (32-bit up to
+  // 2^21 items, compact beyond) is priced as 32-bit, so that it never errs low.
   CHECK(structure_footprint("octree", {{"compact_refs", 0}}).item_order >
         structure_footprint("octree", {{"compact_refs", 1}}).item_order);
   CHECK(structure_footprint("octree").item_order ==
-        structure_footprint("octree", {{"compact_refs", 1}}).item_order);
+        structure_footprint("octree", {{"compact_refs", 0}}).item_order);
   // Methods without disc blocks keep every box reference there: priced above the discs' figure.
   const auto& projection = MethodRegistry::instance().get("schaufler_jensen_2000", "method");
   const ParamValues none = resolve_params(projection.params, {}, "test");
   CHECK(structure_bytes_per_item("octree", 1000, none) > structure_footprint("octree").item_order);
   CHECK(structure_bytes_per_item("octree", 1000, none, {{"compact_refs", 0}}) >
-        structure_bytes_per_item("octree", 1000, none));
+        structure_bytes_per_item("octree", 1000, none, {{"compact_refs", 1}}));
 }
 
 TEST_CASE("memory estimate: a method's own per-splat data is added") {

@@ -65,10 +65,21 @@ struct OctBuild {
 // OctNode64.
 struct NeedsWideOffsets {};
 
+// How a leaf stores its references (the parameter compact_refs).
+enum class OctRefs : uint8_t {
+  k32Bit = 0,    // one 32-bit array, which a method may copy its discs along (leaf order)
+  kCompact = 1,  // 16-bit offsets from the leaf's lowest item where they fit
+  kAuto = 2,     // 32-bit up to kCompactAbove items, compact beyond
+};
+// Up to 2^21 items the octree's references (7 to 10 per item on a surface) copied as 28-byte
+// discs stay near SplatLeafBlocks' 512 MiB cap for a leaf-order copy, which compact references
+// rule out; beyond it no copy is made, and the compact ones halve the references' bytes.
+constexpr size_t kCompactAbove = size_t(1) << 21;
+
 struct OctreeParams {
   size_t leaf_size = 8;
   int max_depth = 21;
-  bool compact_refs = true;
+  OctRefs compact_refs = OctRefs::kAuto;
   bool child_bounds = true;
 };
 const ParamList<OctreeParams>& octree_params() {
@@ -79,10 +90,11 @@ const ParamList<OctreeParams>& octree_params() {
                                "stop splitting at this many items (K of the leaf-based methods)"})
           .add(&P::max_depth, {"max_depth", 21, 0, 30, "maximum depth"})
           .add(&P::compact_refs,
-               {"compact_refs", 1, 0, 1,
+               {"compact_refs", 2, 0, 2,
                 "1: a leaf's references as 16-bit offsets from its lowest item where they fit "
                 "(half the bytes; leaves are decoded for the method, so no leaf-order disc "
-                "copy, disc_blocks=1); 0: one 32-bit reference array"})
+                "copy, disc_blocks=1); 0: one 32-bit reference array; 2: 32-bit up to 2^21 "
+                "items (where a leaf-order copy may fit), compact beyond"})
           .add(&P::child_bounds,
                {"child_bounds", 1, 0, 1,
                 "1: for methods hit on their discs, each node keeps its footprints' box within "
@@ -107,7 +119,7 @@ class Octree final : public Structure {
   explicit Octree(const OctreeParams& p)
       : leaf_size_(p.leaf_size),
         max_depth_(p.max_depth),
-        compact_(p.compact_refs),
+        refs_mode_(p.compact_refs),
         child_bounds_(p.child_bounds) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
@@ -120,6 +132,8 @@ class Octree final : public Structure {
     const float side = b.empty() ? 0.0f : 1.0137f * b.extent().maxCoeff();
     root_lo_ = b.empty() ? Vec3::Zero() : Vec3(b.lo - Vec3::Constant(0.0049f * side));
     root_side_ = side;
+    compact_ = refs_mode_ == OctRefs::kCompact ||
+               (refs_mode_ == OctRefs::kAuto && items_.size() > kCompactAbove);
     // Implicit-surface methods search a leaf's whole cell interval, where their surface may lie off
     // every footprint: only hits on the discs are sure to lie within the boxes.
     keeps_boxes_ = child_bounds_ && culls_by_plane();
@@ -562,7 +576,8 @@ class Octree final : public Structure {
 
   size_t leaf_size_;
   int max_depth_;
-  bool compact_;
+  OctRefs refs_mode_;
+  bool compact_ = false;  // as refs_mode_ decides for this build
   bool child_bounds_;
   bool keeps_boxes_ = false;  // child_bounds_, for items hit only on their discs
   uint64_t references_ = 0;
@@ -582,9 +597,10 @@ namespace {
 
 // From results/scale/octree at 6b7fb5f (compact references or not) and its leaf order at 667aa3e.
 StructureFootprint octree_footprint(const ParamValues& params) {
-  // Compact references (the default) or 32-bit ones, which the leaf-order copy needs.
-  const auto compact = params.find("compact_refs");
-  const bool is_compact = compact == params.end() || compact->second != 0;
+  // Compact references or 32-bit ones, which the leaf-order copy needs. The default (kAuto) is
+  // priced as 32-bit: what it builds where a copy may be chosen, high by 14 B/item beyond.
+  const auto mode = params.find("compact_refs");
+  const bool is_compact = mode != params.end() && OctRefs(int(mode->second)) == OctRefs::kCompact;
   // With compact references a leaf-order copy is refused when the method binds (there is no
   // array to copy along), so it is priced as item order: the refusal, not a memory error.
   // Methods without disc blocks keep every box reference: schaufler_jensen_2000's peak at 10^7

@@ -61,7 +61,7 @@ expect_error "ascii.ply: an ascii PLY is not streamed (binary PLY is)" render --
 expect_error "nan.xyz: only binary PLY files and generator specs" render --stream --method hubo_2006 --set quantized=1 --data "$dir/nan.xyz" --out "$dir/a.png"
 expect_error "--stream does not apply to --mesh" render --stream --mesh "$dir/nan.xyz" --out "$dir/a.png"
 # Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
-expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"
+expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set compact_refs=1 --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"
 expect_error "zero_dir.csv: line 2: zero direction" trace --method reference_splat --data sphere:n=100 --rays "$dir/zero_dir.csv" --out "$dir/h.csv"
 expect_error "bad_header.csv: line 1" trace --method reference_splat --data sphere:n=100 --rays "$dir/bad_header.csv" --out "$dir/h.csv"
 expect_error "short_row.csv: line 3" trace --method reference_splat --data sphere:n=100 --rays "$dir/short_row.csv" --out "$dir/h.csv"

@@ -13,7 +13,7 @@ const ParamList<DiscBlockParams>& DiscBlockParams::list() {
   static const auto l = ParamList<P>().add(
       &P::layout, {"disc_blocks", 0, 0, 2,
                    "disc layout for the leaves: 0 leaf order where the structure references "
-                   "each disc at most 4 times and the copy stays under 512 MiB, else item "
+                   "each disc at most 12 times and the copy stays under 512 MiB, else item "
                    "order; 1 leaf order (a copy per "
                    "reference, fastest); 2 item order (no copy, leaves gather)"});
   return l;

@@ -38,13 +38,14 @@ struct DiscBlockParams {
 class SplatLeafBlocks {
  public:
   // kAuto's rule: leaf order while the structure references each item at most
-  // kLeafOrderMaxRefsPerItem times (the kd-tree's 3.7 on a surface, not the octree's 7) and the
-  // copy, a 28-byte disc per reference, stays under kLeafOrderMaxBytes (512 MiB: about 5x10^6
-  // points on the kd-tree, above every thesis sweep, below the scale runs' 10^7 and 10^8). Leaf
-  // order is up to twice as fast on the kd-tree (pcrt anchor, issue 31); beyond the cap memory,
-  // not speed, is what large clouds are short of. A sweep across the cap changes layout (and
-  // time, not operation counts): fix `disc_blocks` to hold it.
-  static constexpr double kLeafOrderMaxRefsPerItem = 4.0;
+  // kLeafOrderMaxRefsPerItem times (the kd-tree's 3.7 and the octree's 7 to 10 on a surface; not
+  // a grid coarsened to its 32) and the copy, a 28-byte disc per reference, stays under
+  // kLeafOrderMaxBytes (512 MiB: about 5x10^6 points on the kd-tree, 2x10^6 on the octree, above
+  // every thesis sweep, below the scale runs' 10^7 and 10^8). Leaf order is up to twice as fast on
+  // the kd-tree and 15-20% on the octree (pcrt anchor, issue 31); beyond the cap memory, not
+  // speed, is what large clouds are short of. A sweep across the cap changes layout (and time,
+  // not operation counts): fix `disc_blocks` to hold it.
+  static constexpr double kLeafOrderMaxRefsPerItem = 12.0;
   static constexpr double kLeafOrderMaxBytes = double(uint64_t(1) << 29);
   static constexpr bool auto_leaf_order(double refs, double items) {
     return refs <= kLeafOrderMaxRefsPerItem * items &&

@@ -37,18 +37,18 @@ TEST_CASE("disc lanes: the widest kernel accepts exactly the scalar kernel's dis
     centres.push_back(s.c), normals.push_back(s.n), radii.push_back(s.r);
   }
   const SplatSet set = make_splat_set(centres, normals, radii, ids);
-  // References once per item or each five times (above kLeafOrderMaxRefsPerItem: kAuto
+  // References once per item or each 13 times (above kLeafOrderMaxRefsPerItem: kAuto
   // chooses item order, leaves gather), in each layout.
-  const bool five_times = GENERATE(false, true);
-  static_assert(SplatLeafBlocks::kLeafOrderMaxRefsPerItem < 5);
+  const bool many_times = GENERATE(false, true);
+  static_assert(SplatLeafBlocks::kLeafOrderMaxRefsPerItem < 13);
   // The byte cap: the kd-tree's 3.7 references per point copied at 10^6 points, not at 10^7.
   static_assert(SplatLeafBlocks::auto_leaf_order(3.7e6, 1e6));
   static_assert(!SplatLeafBlocks::auto_leaf_order(3.7e7, 1e7));
   const DiscBlockLayout layout =
       GENERATE(DiscBlockLayout::kAuto, DiscBlockLayout::kLeafOrder, DiscBlockLayout::kItemOrder);
   std::vector<uint32_t> refs = ids;
-  if (five_times) {
-    for (int k = 0; k < 2; ++k) {
+  if (many_times) {
+    for (int k = 0; k < 6; ++k) {
       refs.insert(refs.end(), ids.rbegin(), ids.rend());
       refs.insert(refs.end(), ids.begin(), ids.end());
     }
@@ -56,7 +56,7 @@ TEST_CASE("disc lanes: the widest kernel accepts exactly the scalar kernel's dis
   SplatLeafBlocks blocks, unbound;
   blocks.bind(refs, set, layout);
   REQUIRE(blocks.leaf_order() == (layout == DiscBlockLayout::kLeafOrder ||
-                                  (layout == DiscBlockLayout::kAuto && !five_times)));
+                                  (layout == DiscBlockLayout::kAuto && !many_times)));
   REQUIRE(blocks.memory_bytes() ==
           (blocks.leaf_order() ? (refs.size() / kDiscGroup + 1) * sizeof(DiscBlock) : 0));
   size_t candidates = 0;
