@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One structure's before and after in the same binary, on the anchor's three data sets: the
 # "before" is the structure with the given parameters (an engineering switch turned off), run
-# just before the defaults. Usage: scripts/anchor_ab.sh OUT_DIR STRUCTURE "NAME=VALUE ..." [THREADS]
+# just before the "after" (the defaults, or AFTER's parameters). Usage:
+# scripts/anchor_ab.sh OUT_DIR STRUCTURE "NAME=VALUE ..." [THREADS] ["NAME=VALUE ..." (AFTER)]
 # Writes OUT_DIR/before/{sphere_1e6,building,b9_training}.json and OUT_DIR/*.json; compare with
 # scripts/anchor_summary.py --ratios OUT_DIR/before/X.json OUT_DIR/X.json.
 set -euo pipefail
@@ -10,10 +11,13 @@ out=${1:?usage: anchor_ab.sh OUT_DIR STRUCTURE "NAME=VALUE ..." [THREADS]}
 structure=${2:?structure}
 before_sets=${3:?parameters of the before run}
 threads=${4:-2}
+after_sets=${5:-}
 pcrt=${PCRT:-build/bin/pcrt}
 mkdir -p "$out/before"
 sets=()
 for s in $before_sets; do sets+=(--set "$s"); done
+after=()
+for s in $after_sets; do after+=(--set "$s"); done
 run() {
   local dest=$1 data=$2
   shift 2
@@ -26,6 +30,6 @@ for spec in sphere_1e6=sphere:n=1000000 building=data/cgal/points_3/building.ply
   name=${spec%%=*}
   data=${spec#*=}
   run "$out/before/$name.json" "$data" "${sets[@]}"
-  run "$out/$name.json" "$data"
+  run "$out/$name.json" "$data" "${after[@]}"
   echo "$name done"
 done

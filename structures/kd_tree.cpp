@@ -41,11 +41,23 @@ struct Subtree {
 
 constexpr size_t kParallelBuildItems = 50000;
 
+// Where a node splits (the parameter `split`).
+enum class KdSplit : uint8_t {
+  kMedian = 0,  // the papers' rule: the median item centre on the axis of widest spread
+  kSah = 1,     // the surface area heuristic over the items' boxes clipped to the cell (binned)
+};
+
 struct KdTreeParams {
   size_t leaf_size = 8;
   int max_depth = 40;
   double max_straddle = 0.4;
+  KdSplit split = KdSplit::kMedian;
 };
+
+// The SAH's costs of a traversal step and of an item test: Wald and Havran's (2006) 15 and 20,
+// the item's divided by 8, as the leaf kernels test eight discs a pass (disc_lanes.hpp).
+constexpr float kSahTraversal = 15.0f, kSahItem = 20.0f / 8.0f;
+constexpr int kSahBins = 32;
 const ParamList<KdTreeParams>& kd_tree_params() {
   using P = KdTreeParams;
   static const auto l =
@@ -55,14 +67,23 @@ const ParamList<KdTreeParams>& kd_tree_params() {
           .add(&P::max_depth, {"max_depth", 40, 0, 100, "maximum depth"})
           .add(&P::max_straddle,
                {"max_straddle", 0.4, 0, 0.9,
-                "stop splitting when more than this fraction of the items straddle the plane"});
+                "stop splitting when more than this fraction of the items straddle the plane "
+                "(median splits)"})
+          .add(&P::split,
+               {"split", 0, 0, 1,
+                "0: the median item centre on the axis of widest spread (the papers' rule); 1: "
+                "the surface area heuristic over the items' boxes clipped to the cell, 32 bins "
+                "an axis (Wald and Havran 2006), a leaf where no split costs less"});
   return l;
 }
 
 class KdTree final : public Structure {
  public:
   explicit KdTree(const KdTreeParams& p)
-      : leaf_size_(p.leaf_size), max_depth_(p.max_depth), max_straddle_(p.max_straddle) {}
+      : leaf_size_(p.leaf_size),
+        max_depth_(p.max_depth),
+        max_straddle_(p.max_straddle),
+        split_(p.split) {}
 
   // Sum over leaves of references x levels from the root (the build's partitioning work).
   [[nodiscard]] uint64_t item_visits(uint32_t node, uint64_t level) const {
@@ -199,16 +220,11 @@ class KdTree final : public Structure {
     if (depth >= max_depth_) return make_leaf(out, begin);
     if (cut_empty_space(out, begin, cell, depth)) return;
     if (n <= leaf_size_) return make_leaf(out, begin);
-    const int ax = spread_axis(st, begin, cell);
-    if (ax < 0) return make_leaf(out, begin);
-    auto key = [&](uint32_t i) {
-      return std::clamp(items_.positions[i][ax], cell.lo[ax], cell.hi[ax]);
-    };
-    const auto first = st.begin() + long(begin), mid = first + long(n / 2);
-    std::nth_element(first, mid, st.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-    float split = key(*mid);
-    // A median on the cell's wall would give an empty side; take the cell's middle instead.
-    if (split <= cell.lo[ax] || split >= cell.hi[ax]) split = cell.center()[ax];
+    const Plane plane =
+        split_ == KdSplit::kSah ? sah_split(st, begin, cell) : median_split(st, begin, cell);
+    if (plane.axis < 0) return make_leaf(out, begin);
+    const int ax = plane.axis;
+    const float split = plane.at;
     size_t nl = 0, nr = 0;
     for (size_t k = begin; k < st.size(); ++k) {
       nl += lo(st[k], ax) <= split;
@@ -216,8 +232,10 @@ class KdTree final : public Structure {
     }
     // A split must pay: if over max_straddle of the items straddle the plane (footprints wider
     // than the cell, or identical points) the children would only duplicate references; stop
-    // here (such leaves exceed leaf_size) rather than recurse to max_depth.
-    if (nl + nr > n + size_t(double(n) * max_straddle_)) return make_leaf(out, begin);
+    // here (such leaves exceed leaf_size) rather than recurse to max_depth. (The SAH weighs the
+    // duplicates itself.)
+    if (split_ == KdSplit::kMedian && nl + nr > n + size_t(double(n) * max_straddle_))
+      return make_leaf(out, begin);
     Aabb lcell = cell, rcell = cell;
     lcell.hi[ax] = split;
     rcell.lo[ax] = split;
@@ -243,6 +261,65 @@ class KdTree final : public Structure {
     out.append(std::move(lsub));
     out.nodes[me].a = node_index32(out.nodes.size(), "kd_tree");
     out.append(std::move(rsub));
+  }
+
+  struct Plane {
+    int axis = -1;  // -1: no split (a leaf)
+    float at = 0;
+  };
+
+  // The papers' plane: the median item centre (clamped to the cell) on the axis of widest spread.
+  Plane median_split(std::vector<uint32_t>& st, size_t begin, const Aabb& cell) const {
+    const int ax = spread_axis(st, begin, cell);
+    if (ax < 0) return {};
+    auto key = [&](uint32_t i) {
+      return std::clamp(items_.positions[i][ax], cell.lo[ax], cell.hi[ax]);
+    };
+    const auto first = st.begin() + long(begin), mid = first + long((st.size() - begin) / 2);
+    std::nth_element(first, mid, st.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+    float split = key(*mid);
+    // A median on the cell's wall would give an empty side; take the cell's middle instead.
+    if (split <= cell.lo[ax] || split >= cell.hi[ax]) split = cell.center()[ax];
+    return {ax, split};
+  }
+
+  // The SAH's plane: on each axis, the items' boxes clipped to the cell counted into kSahBins
+  // bins by where they start and end; the bin boundary whose children cost least, a leaf if none
+  // costs less than testing every item here (cost = traversal + item cost x the children's items
+  // weighted by their share of the cell's surface).
+  Plane sah_split(const std::vector<uint32_t>& st, size_t begin, const Aabb& cell) const {
+    const Vec3 ext = cell.extent();
+    const auto half_area = [](const Vec3& e) { return e.x() * e.y() + e.y() * e.z() + e.z() * e.x(); };
+    const float area = half_area(ext);
+    if (!(area > 0)) return {};
+    Plane best;
+    float best_cost = kSahItem * float(st.size() - begin);
+    for (int ax = 0; ax < 3; ++ax) {
+      if (!(ext[ax] > 0)) continue;
+      std::array<uint32_t, kSahBins> starts{}, ends{};
+      const float scale = float(kSahBins) / ext[ax];
+      const auto bin = [&](float x) {
+        const float b = (x - cell.lo[ax]) * scale;
+        return b > 0 ? std::min(int(b), kSahBins - 1) : 0;  // NaN and below: bin 0
+      };
+      for (size_t k = begin; k < st.size(); ++k) {
+        ++starts[size_t(bin(lo(st[k], ax)))];
+        ++ends[size_t(bin(hi(st[k], ax)))];
+      }
+      uint32_t left = 0, right = uint32_t(st.size() - begin);
+      for (int j = 1; j < kSahBins; ++j) {  // the plane between bins j - 1 and j
+        left += starts[size_t(j - 1)];
+        right -= ends[size_t(j - 1)];
+        const float at = cell.lo[ax] + float(j) * (ext[ax] / float(kSahBins));
+        Vec3 le = ext, re = ext;
+        le[ax] = at - cell.lo[ax];
+        re[ax] = cell.hi[ax] - at;
+        const float cost = kSahTraversal + kSahItem * (half_area(le) * float(left) +
+                                                       half_area(re) * float(right)) / area;
+        if (cost < best_cost) best_cost = cost, best = {ax, at};
+      }
+    }
+    return best;
   }
 
   // The axis along which the item centres (clamped to the cell) spread most, or -1 if they do
@@ -317,6 +394,7 @@ class KdTree final : public Structure {
   size_t leaf_size_;
   int max_depth_;
   double max_straddle_;
+  KdSplit split_;
   ItemSet items_;
   Aabb bounds_;
   std::vector<KdNode> nodes_;

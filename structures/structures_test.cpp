@@ -19,12 +19,27 @@ using namespace pcrt;
 
 namespace {
 
-// Every registered structure but the oracle itself: a new one is checked without being named.
+// Every registered structure but the oracle itself: a new one is checked without being named;
+// and the variants whose build differs ("id:name=value").
 std::vector<std::string> structures_to_check() {
   std::vector<std::string> ids;
   for (const StructureInfo& info : StructureRegistry::instance().all())
     if (info.id != "brute_force") ids.push_back(info.id);
+  ids.push_back("kd_tree:split=1");
   return ids;
+}
+
+// The structure "id" or "id:name=value", not built yet.
+std::unique_ptr<Structure> create_structure(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  const std::string id = spec.substr(0, colon);
+  ParamValues set;
+  if (colon != std::string::npos) {
+    const size_t eq = spec.find('=', colon);
+    set[spec.substr(colon + 1, eq - colon - 1)] = std::stod(spec.substr(eq + 1));
+  }
+  const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
+  return info.create(resolve_params(info.params, set, id));
 }
 
 // Primary-like rays from outside aimed at cloud points, incoherent rays from inside the bounds,
@@ -120,8 +135,7 @@ void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const 
   method->prepare(cloud, ctx);
   const auto rays = random_rays(cloud, ray_count, 99);
   auto make = [&](const std::string& id) {
-    const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
-    auto s = info.create(resolve_params(info.params, {}, id));
+    auto s = create_structure(id);
     OpCounters c;
     s->build(method->items(), c);
     return s;
@@ -211,8 +225,7 @@ TEST_CASE("structure parameters and memory", "[structures]") {
   const Dataset d = load_dataset("sphere:n=20000,seed=2");
   std::vector<float> radii(d.cloud.size(), 0.01f);
   for (const std::string& id : structures_to_check()) {
-    const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
-    auto s = info.create(resolve_params(info.params, {}, id));
+    auto s = create_structure(id);
     OpCounters c;
     s->build(ItemSet{d.cloud.positions, radii, {}}, c);
     INFO(id << ": " << s->memory_bytes() << " bytes");
