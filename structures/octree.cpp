@@ -606,7 +606,7 @@ StructureFootprint octree_footprint(const ParamValues& params) {
   // Methods without disc blocks keep every box reference: schaufler_jensen_2000's peak at 10^7
   // over its cloud, radii and records (results/scale/octree at 4f1fe68), plus 10%. The footprint
   // boxes of methods hit on their discs (child_bounds) add 2.4 B/item to the peak at 10^7
-  // (reference_splat on the sphere: 48.8 -> 51.2 B/item).
+  // (reference_splat on the sphere: 48.8 -> 51.2 B/item, results/scale/octree_boxes).
   return is_compact ? StructureFootprint{26, 26, 7.2, 41} : StructureFootprint{40, 252, 7.2, 60};
 }
 
