@@ -42,9 +42,9 @@ class SplatLeafBlocks {
   // a grid coarsened to its 32) and the copy, a 28-byte disc per reference, stays under
   // kLeafOrderMaxBytes (512 MiB: about 5x10^6 points on the kd-tree, 2x10^6 on the octree, above
   // every thesis sweep, below the scale runs' 10^7 and 10^8). Leaf order is up to twice as fast on
-  // the kd-tree and 15-20% on the octree (pcrt anchor, issue 31); beyond the cap memory, not
-  // speed, is what large clouds are short of. A sweep across the cap changes layout (and time,
-  // not operation counts): fix `disc_blocks` to hold it.
+  // the kd-tree and part of the octree's gain in results/anchor/octree_boxes (issue 31); beyond
+  // the cap memory, not speed, is what large clouds are short of. A sweep across the cap changes
+  // layout (and time, not operation counts): fix `disc_blocks` to hold it.
   static constexpr double kLeafOrderMaxRefsPerItem = 12.0;
   static constexpr double kLeafOrderMaxBytes = double(uint64_t(1) << 29);
   static constexpr bool auto_leaf_order(double refs, double items) {
