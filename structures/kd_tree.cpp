@@ -289,7 +289,9 @@ class KdTree final : public Structure {
   // weighted by their share of the cell's surface).
   Plane sah_split(const std::vector<uint32_t>& st, size_t begin, const Aabb& cell) const {
     const Vec3 ext = cell.extent();
-    const auto half_area = [](const Vec3& e) { return e.x() * e.y() + e.y() * e.z() + e.z() * e.x(); };
+    const auto half_area = [](const Vec3& e) {
+      return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
+    };
     const float area = half_area(ext);
     if (!(area > 0)) return {};
     Plane best;
@@ -314,8 +316,9 @@ class KdTree final : public Structure {
         Vec3 le = ext, re = ext;
         le[ax] = at - cell.lo[ax];
         re[ax] = cell.hi[ax] - at;
-        const float cost = kSahTraversal + kSahItem * (half_area(le) * float(left) +
-                                                       half_area(re) * float(right)) / area;
+        const float cost =
+            kSahTraversal +
+            kSahItem * (half_area(le) * float(left) + half_area(re) * float(right)) / area;
         if (cost < best_cost) best_cost = cost, best = {ax, at};
       }
     }

@@ -9,8 +9,9 @@
 // neighbours are mostly near), decoded onto the stack when a ray reaches it. Each stored node also
 // keeps the box of its items' footprints within its cell, 8 bits a side relative to the cell
 // (child_bounds, for methods whose hits are points of their discs): a surface fills a thin slab of
-// most cells it crosses, and a ray that crosses the cell but misses the slab does not visit it. Traversal: depth first, the children a ray crosses
-// sorted by entry distance, so leaves come front to back (cells, and so their boxes, are disjoint).
+// most cells it crosses, and a ray that crosses the cell but misses the slab does not visit it.
+// Traversal: depth first, the children a ray crosses sorted by where it enters their boxes, so
+// leaves come front to back (cells, and so their boxes, are disjoint).
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -25,10 +26,6 @@
 namespace pcrt {
 namespace {
 
-// The growing arrays of a build with nodes N (OctNode32 or OctNode64, tree_nodes.hpp), and the
-// references of the node being built: the top segment of `stack`, from a given start to the end.
-// Building a node pops its segment; splitting one replaces it by its eight children's, child 0 on
-// top, so that it is built first.
 // The box of a node's footprints within its cell [lo, lo + side]: per axis lo + q * quantum with
 // quantum = side / 254, so that q = 255 reaches past the cell's far side whatever the rounding
 // (q = 0 is the cell's near side exactly). lo[0] > hi[0]: no footprint (a leaf the disc planes
@@ -42,6 +39,10 @@ static_assert(sizeof(CellBox) == 6);
 constexpr float kInv254 = 1.0f / 254.0f;
 inline float cell_quantum(float side) { return side * kInv254; }
 
+// The growing arrays of a build with nodes N (OctNode32 or OctNode64, tree_nodes.hpp), and the
+// references of the node being built: the top segment of `stack`, from a given start to the end.
+// Building a node pops its segment; splitting one replaces it by its eight children's, child 0 on
+// top, so that it is built first.
 template <class N>
 struct OctBuild {
   ChunkedArray<N> nodes;
