@@ -386,7 +386,7 @@ TEST_CASE("the octree's child boxes find its cells' hits for every method, in fe
   // A ray skips a child whose footprint box it misses; every method's hits lie within its items'
   // footprints, so the hits (item and t, closest and any) are the cells' own, bit for bit.
   const PointCloud cloud = load_dataset("bumpy_sphere:n=4000,seed=5").cloud;
-  const auto rays = random_rays(cloud, 20000, 21);
+  const auto rays = random_rays(cloud, 6000, 21);
   size_t fewer = 0;
   for (const MethodInfo& info : MethodRegistry::instance().all()) {
     if (!info.own_structure.empty()) continue;
