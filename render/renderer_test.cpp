@@ -18,13 +18,13 @@ struct Frame {
 };
 
 Frame render_with_threads(const PointCloud& cloud, int threads,
-                          const std::string& structure = "brute_force") {
+                          const std::string& structure = "brute_force", ParamValues set = {}) {
   // Preparation (normals, radii) runs on TBB too: limit it the same way the CLI does.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
   OpCounters prep;
   Timings t;
-  const PointScene scene(
-      cloud, SceneOptions{"reference_splat", structure, {{"estimate_normals", 1}}}, prep, t);
+  set["estimate_normals"] = 1;
+  const PointScene scene(cloud, SceneOptions{"reference_splat", structure, set}, prep, t);
   RenderSettings s;
   s.width = 40;
   s.height = 30;
@@ -55,10 +55,16 @@ TEST_CASE("every structure renders the same image with the same counters at 1 an
           "[renderer]") {
   const Dataset d = load_dataset("bumpy_sphere:n=20000,seed=5");
   const Frame reference = render_with_threads(d.cloud, 1);
-  for (const char* id : {"kd_tree", "octree", "sphere_tree", "grid", "bvh"}) {
-    INFO(id);
-    const Frame one = render_with_threads(d.cloud, 1, id);
-    const Frame two = render_with_threads(d.cloud, 2, id);
+  // Every structure with its defaults, and the variants whose build or walk differs.
+  const std::vector<std::pair<std::string, ParamValues>> runs = {
+      {"kd_tree", {}},     {"kd_tree", {{"split", 1}}},
+      {"octree", {}},      {"octree", {{"child_bounds", 0}}},
+      {"sphere_tree", {}}, {"grid", {}},
+      {"bvh", {}}};
+  for (const auto& [id, set] : runs) {
+    INFO(id << (set.empty() ? "" : " (a variant)"));
+    const Frame one = render_with_threads(d.cloud, 1, id, set);
+    const Frame two = render_with_threads(d.cloud, 2, id, set);
     REQUIRE(one.result.counters.to_map() == two.result.counters.to_map());
     REQUIRE(one.result.image.pixels() == two.result.image.pixels());
     // Exact closest hits: the image is brute force's, pixel for pixel.
