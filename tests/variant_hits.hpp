@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <span>
 #include <string>
 
 #include "core/dataset.hpp"
@@ -18,6 +19,29 @@ struct VariantHits {
   size_t far = 0;   // of `both`, hits more than far_h spacings apart along the surface normal
 };
 
+// The closest hits of two scenes on the same rays; `far_apart(a, b)` says when two hits count as
+// far apart.
+template <class FarApart>
+VariantHits compare_scene_hits(const SceneIntersector& first, const SceneIntersector& second,
+                               std::span<const Ray> rays, FarApart&& far_apart) {
+  OpCounters c;
+  VariantHits v;
+  for (const Ray& r : rays) {
+    Hit a, b;
+    const bool ha = first.closest_hit(r, a, c), hb = second.closest_hit(r, b, c);
+    if (ha != hb) ++v.one;
+    if (!(ha && hb)) continue;
+    ++v.both;
+    if (far_apart(a, b)) ++v.far;
+  }
+  return v;
+}
+
+// Whether hit b lies more than `limit` from hit a along a's normal.
+inline auto apart_along_normal(double limit) {
+  return [limit](const Hit& a, const Hit& b) { return std::abs((a.p - b.p).dot(a.n)) > limit; };
+}
+
 inline VariantHits compare_variant_hits(const std::string& data, const std::string& method,
                                         const ParamValues& variant, double far_h, size_t rays) {
   const Dataset d = load_dataset(data);
@@ -26,16 +50,8 @@ inline VariantHits compare_variant_hits(const std::string& data, const std::stri
   Timings t;
   const PointScene plain(d.cloud, SceneOptions{method, "", {}}, c, t);
   const PointScene other(d.cloud, SceneOptions{method, "", variant}, c, t);
-  VariantHits v;
-  for (const Ray& r : accuracy_rays(*d.truth, h, rays, 5)) {
-    Hit a, b;
-    const bool ha = plain.closest_hit(r, a, c), hb = other.closest_hit(r, b, c);
-    if (ha != hb) ++v.one;
-    if (!(ha && hb)) continue;
-    ++v.both;
-    if (std::abs((a.p - b.p).dot(a.n)) > far_h * h) ++v.far;
-  }
-  return v;
+  return compare_scene_hits(plain, other, accuracy_rays(*d.truth, h, rays, 5),
+                            apart_along_normal(far_h * h));
 }
 
 }  // namespace pcrt::test

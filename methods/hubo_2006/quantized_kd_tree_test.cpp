@@ -150,15 +150,8 @@ TEST_CASE("hubo_2006 quantized from a stream finds the in-memory hits", "[quanti
   const SceneOptions quantized{"hubo_2006", "", {{"quantized", 1}}};
   const PointScene in_memory(d.cloud, quantized, c, t);
   const PointScene streamed(*stream, quantized, c, t);
-  size_t both = 0, one = 0, far = 0;
-  for (const Ray& r : accuracy_rays(*d.truth, h, 3000, 5)) {
-    Hit a, b;
-    const bool ha = in_memory.closest_hit(r, a, c), hb = streamed.closest_hit(r, b, c);
-    one += ha != hb;
-    if (!(ha && hb)) continue;
-    ++both;
-    far += std::abs((a.p - b.p).dot(a.n)) > 0.01 * h;
-  }
+  const auto [both, one, far] = test::compare_scene_hits(
+      in_memory, streamed, accuracy_rays(*d.truth, h, 3000, 5), test::apart_along_normal(0.01 * h));
   INFO("one-sided " << one << ", apart " << far << " of " << both);
   CHECK(both > 1000);
   CHECK(one <= 3);
@@ -186,18 +179,16 @@ TEST_CASE("hubo_2006 quantized streamed from a real scan finds the whole-read hi
     const SceneOptions quantized{"hubo_2006", "", {{"quantized", 1}}};
     const PointScene whole(d.cloud, quantized, c, t), streamed(*stream, quantized, c, t);
     const Aabb box = d.cloud.bounds();
-    size_t rays = 0, both = 0, one = 0, far = 0;
-    for (size_t i = 0; i < d.cloud.size(); i += 10, ++rays) {
+    std::vector<Ray> towards;
+    for (size_t i = 0; i < d.cloud.size(); i += 10) {
       const Vec3 p = d.cloud.positions[i];
       const Vec3 from = box.center() + box.diagonal() * (p - box.center()).normalized() * 2;
-      const Ray r{from, (p - from).normalized()};
-      Hit a, b;
-      const bool ha = whole.closest_hit(r, a, c), hb = streamed.closest_hit(r, b, c);
-      one += ha != hb;
-      if (!(ha && hb)) continue;
-      ++both;
-      far += std::abs(a.t - b.t) > 0.05 * h;
+      towards.push_back(Ray{from, (p - from).normalized()});
     }
+    const size_t rays = towards.size();
+    const auto [both, one, far] = test::compare_scene_hits(
+        whole, streamed, towards,
+        [&](const Hit& a, const Hit& b) { return std::abs(a.t - b.t) > 0.05 * h; });
     INFO("one-sided " << one << ", apart " << far << " of " << both << " (" << rays << " rays)");
     CHECK(both > rays / 2);
     CHECK(one <= rays / 200);
