@@ -138,26 +138,37 @@ TEST_CASE("quantized kd-tree: a streamed build holds every streamed point", "[qu
   CHECK(std::abs(tree.sampled_mean_spacing(2000, c) / h - 1) < 0.03);
 }
 
+// hubo_2006 quantized prepared twice from `spec`: from the whole cloud and from its stream.
+struct QuantizedBothWays {
+  explicit QuantizedBothWays(const std::string& spec)
+      : d(load_dataset(spec)),
+        stream(open_point_stream(spec)),
+        h(mean_spacing(d.cloud.positions, c)),
+        whole(d.cloud, options(), c, t),
+        streamed(*stream, options(), c, t) {}
+  static SceneOptions options() { return {"hubo_2006", "", {{"quantized", 1}}}; }
+
+  OpCounters c;
+  Timings t;
+  Dataset d;
+  std::unique_ptr<PointStream> stream;
+  double h;  // the whole cloud's mean spacing
+  PointScene whole, streamed;
+};
+
 // What `pcrt render --stream` traces: hubo_2006 prepared from the stream finds the hits of the
 // same method prepared from the whole cloud (its spacing h sampled, not averaged over all).
 TEST_CASE("hubo_2006 quantized from a stream finds the in-memory hits", "[quantized_kd_tree]") {
-  const char* spec = "sphere:n=20000,seed=3";
-  const Dataset d = load_dataset(spec);
-  const auto stream = open_point_stream(spec);
-  OpCounters c;
-  Timings t;
-  const double h = mean_spacing(d.cloud.positions, c);
-  const SceneOptions quantized{"hubo_2006", "", {{"quantized", 1}}};
-  const PointScene in_memory(d.cloud, quantized, c, t);
-  const PointScene streamed(*stream, quantized, c, t);
-  const auto [both, one, far] = test::compare_scene_hits(
-      in_memory, streamed, accuracy_rays(*d.truth, h, 3000, 5), test::apart_along_normal(0.01 * h));
+  QuantizedBothWays q("sphere:n=20000,seed=3");
+  const auto [both, one, far] =
+      test::compare_scene_hits(q.whole, q.streamed, accuracy_rays(*q.d.truth, q.h, 3000, 5),
+                               test::apart_along_normal(0.01 * q.h));
   INFO("one-sided " << one << ", apart " << far << " of " << both);
   CHECK(both > 1000);
   CHECK(one <= 3);
   CHECK(far <= both / 200);
   const SceneOptions plain{"reference_splat", "", {}};
-  REQUIRE_THROWS_WITH(PointScene(*stream, plain, c, t),
+  REQUIRE_THROWS_WITH(PointScene(*q.stream, plain, q.c, q.t),
                       Catch::Matchers::Contains("does not prepare from a stream"));
 }
 
@@ -171,24 +182,18 @@ TEST_CASE("hubo_2006 quantized streamed from a real scan finds the whole-read hi
   for (const char* name : {"oni.ply", "hippo1.ply"}) {
     const std::string path = (dir / name).string();
     INFO(path);
-    const Dataset d = load_dataset(path);
-    const auto stream = open_point_stream(path);
-    OpCounters c;
-    Timings t;
-    const double h = mean_spacing(d.cloud.positions, c);
-    const SceneOptions quantized{"hubo_2006", "", {{"quantized", 1}}};
-    const PointScene whole(d.cloud, quantized, c, t), streamed(*stream, quantized, c, t);
-    const Aabb box = d.cloud.bounds();
+    QuantizedBothWays q(path);
+    const Aabb box = q.d.cloud.bounds();
     std::vector<Ray> towards;
-    for (size_t i = 0; i < d.cloud.size(); i += 10) {
-      const Vec3 p = d.cloud.positions[i];
+    for (size_t i = 0; i < q.d.cloud.size(); i += 10) {
+      const Vec3 p = q.d.cloud.positions[i];
       const Vec3 from = box.center() + box.diagonal() * (p - box.center()).normalized() * 2;
       towards.push_back(Ray{from, (p - from).normalized()});
     }
     const size_t rays = towards.size();
     const auto [both, one, far] = test::compare_scene_hits(
-        whole, streamed, towards,
-        [&](const Hit& a, const Hit& b) { return std::abs(a.t - b.t) > 0.05 * h; });
+        q.whole, q.streamed, towards,
+        [&](const Hit& a, const Hit& b) { return std::abs(a.t - b.t) > 0.05 * q.h; });
     INFO("one-sided " << one << ", apart " << far << " of " << both << " (" << rays << " rays)");
     CHECK(both > rays / 2);
     CHECK(one <= rays / 200);
