@@ -308,11 +308,12 @@ class KdTree final : public Structure {
         ++starts[size_t(bin(lo(st[k], ax)))];
         ++ends[size_t(bin(hi(st[k], ax)))];
       }
+      const float step = ext[ax] / float(kSahBins);
       uint32_t left = 0, right = uint32_t(st.size() - begin);
       for (int j = 1; j < kSahBins; ++j) {  // the plane between bins j - 1 and j
         left += starts[size_t(j - 1)];
         right -= ends[size_t(j - 1)];
-        const float at = cell.lo[ax] + float(j) * (ext[ax] / float(kSahBins));
+        const float at = cell.lo[ax] + float(j) * step;
         Vec3 le = ext, re = ext;
         le[ax] = at - cell.lo[ax];
         re[ax] = cell.hi[ax] - at;
