@@ -179,11 +179,13 @@ std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& d
                                  const json& shard_record = json()) {
   make_output_directory(dir, "--out");
   const FolderLock lock(dir);
+  // Read before --overwrite moves the folder's committed results aside, which would make the
+  // source tree read as modified (git status) when only the results are.
+  json context = machine_context(config.raw);
   claim_folder(dir, resume, overwrite);
   const std::string jsonl = dir + "/runs.jsonl";
   const bool resuming = resume && fs::exists(jsonl);
   const std::set<std::string> done = resuming ? resume_from(jsonl) : std::set<std::string>{};
-  json context = machine_context(config.raw);
   if (!shard_record.is_null()) context["shard"] = shard_record;
   if (resuming) context["earlier"] = earlier_runs_context(dir, done.size());
   // Written first: on a read-only or full file system this is the one-line error, before the
