@@ -210,9 +210,9 @@ std::function<double(double, double)> growth(Growth m) {
 }  // namespace
 
 // Issue 27's power requirement, on every growth design of configs/thesis.json, through the same
-// fit_growth as `pcrt fit`, near the median replicate scatter of the committed fits (op counts:
-// 2% relative, median 2.2%; times: 5%, median 4.2%; a tenth are noisier than 5% and 13%, where
-// the power is lower), 400 seeded data sets per case:
+// fit_growth as `pcrt fit`, at 2% relative noise for op counts and 5% for times (the committed
+// fits' replicate scatter: op counts median 2.3%, times median 10.0%, where the power is lower:
+// docs/verdicts.md), 400 seeded data sets per case:
 //   the claim exactly true (pure; with a constant; with its lower-order term added or
 //   subtracted, as N ln N + c N, or a negative intercept) -> exceeds <= 5%;
 //   a violation one class up, pure or added so that it doubles y at x_max -> exceeds >= 90%;
