@@ -5,9 +5,12 @@ bounce and shadow rays, and the disc tests per ray.
 
 Usage: anchor_summary.py BEFORE.json AFTER.json
        anchor_summary.py --ratios [--reference K] BEFORE.json AFTER.json
+       anchor_summary.py --table [--reference K] FILE.json [FILE.json ...]
 --ratios prints one table of "before -> after" ratios per ray kind against reference K (0: Embree
 ray by ray in Morton order, the default; 3: Embree in packets of 16 where the files have it), with
-each file's load average, so that the README and docs quote the files and nothing else."""
+each file's load average, so that the README and docs quote the files and nothing else. --table
+prints one table of several files (one data set each, one column each: primary / bounce / shadow)
+with each file's commit, CPU and load average."""
 import argparse
 import json
 import sys
@@ -87,13 +90,41 @@ def detail_table(bj, before, aj, after):
                     label, k, b["method"], b["structure"], b["primary"]["references"][0]["ratio"]))
 
 
+def files_table(paths, ref):
+    """One column per file (data set), cells primary / bounce / shadow against reference ref."""
+    files = [rows(path) for path in paths]
+    for path, (j, _) in zip(paths, files):
+        c = j.get("context", {})
+        print("- %s: %s, N = %d, commit %s%s, %s, %d threads, load %s" % (
+            path, j["dataset"], j["N"], c.get("git_commit", "?")[:7],
+            " (uncommitted changes)" if c.get("git_dirty") else "",
+            c.get("machine", {}).get("cpu", "?"), j.get("threads", 0), load(j)))
+    print("\nRatio against %s, primary / bounce / shadow:\n" % reference_name(files[0][0], ref))
+    print("| method | structure | %s |" % " | ".join(j["dataset"] for j, _ in files))
+    print("|---|---|%s" % ("---|" * len(files)))
+    for key in sorted(set().union(*(set(r) for _, r in files))):
+        cells = [" / ".join(fmt(ratio(r.get(key), k, ref)) for k in KINDS) for _, r in files]
+        if all(c == "- / - / -" for c in cells):
+            continue
+        print("| %s | %s | %s |" % (key[0], key[1], " | ".join(cells)))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("before")
-    p.add_argument("after")
+    p.add_argument("files", nargs="+", help="BEFORE.json AFTER.json, or with --table any number")
     p.add_argument("--ratios", action="store_true", help="before -> after ratios per ray kind")
-    p.add_argument("--reference", type=int, default=0, help="with --ratios: reference index")
+    p.add_argument("--table", action="store_true", help="one table of several files")
+    p.add_argument("--reference", type=int, default=0, help="with --ratios or --table: reference index")
     a = p.parse_args()
+    if a.table:
+        try:
+            files_table(a.files, a.reference)
+        except (OSError, ValueError, KeyError) as e:
+            sys.exit("anchor_summary.py: cannot read %s: %s" % (" ".join(a.files), e))
+        return
+    if len(a.files) != 2:
+        sys.exit("anchor_summary.py: give BEFORE.json AFTER.json (or --table FILE...)")
+    a.before, a.after = a.files
     try:
         bj, before = rows(a.before)
         aj, after = rows(a.after)
