@@ -365,8 +365,11 @@ class Octree final : public Structure {
 
   // Narrows [near, far] to the ray's interval in box q of the cell at lo (quantum: cell_quantum
   // of its side), as slab_axis_sse does; false when the ray misses the box or it is empty.
-  static bool narrow_to_box(const CellBox& q, const Vec3& lo, float quantum, const RaySlabs& r,
-                            float& near, float& far) {
+  // Always inlined, so that the AVX2 walk runs it in its own encoding: called from there, an SSE
+  // function runs with the upper halves of the registers dirty (a transition per call).
+  __attribute__((always_inline)) static bool narrow_to_box(const CellBox& q, const Vec3& lo,
+                                                           float quantum, const RaySlabs& r,
+                                                           float& near, float& far) {
     if (q.empty()) return false;
     for (int a = 0; a < 3; ++a) {
       const float blo = lo[a] + quantum * kByteFloat[q.lo[size_t(a)]];
