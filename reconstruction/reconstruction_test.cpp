@@ -198,6 +198,7 @@ TEST_CASE("The triangle BVH returns exactly brute force's closest triangle", "[r
     ++hits;
     REQUIRE(h.t == best_t);
     REQUIRE(h.prim == best);
+    REQUIRE(h.n == r.mesh.normal(best));  // the normal from the leaf's block is the mesh's
   }
   REQUIRE(hits > 500);  // about 800 of the 2000 rays hit
 }

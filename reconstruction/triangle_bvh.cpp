@@ -183,6 +183,7 @@ class TriangleBvh final : public MeshEngine {
     float t_max = kAny ? ray.tmax : std::min(ray.tmax, hit.t);
     stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, t_max};
     bool found = false;
+    uint32_t hit_at = 0;  // the closest hit's block * kLanes + lane
     uint64_t nodes = 0, leaves = 0, tests = 0;
     while (top > 0) {
       const WideTodo cur = stack[size_t(--top)];
@@ -194,7 +195,7 @@ class TriangleBvh final : public MeshEngine {
         if constexpr (kAny) {
           if ((found = occludes_leaf(ray, cur.index, cur.count, t_max))) break;
         } else {
-          found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit);
+          found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit, hit_at);
         }
         continue;
       }
@@ -208,17 +209,26 @@ class TriangleBvh final : public MeshEngine {
     counters.add(kTriangleTests, tests);
     if (!kAny && found) {
       hit.p = ray.at(hit.t);
-      hit.n = mesh_.normal(hit.prim);
+      hit.n = block_normal(blocks_[hit_at / kLanes], hit_at % kLanes);
       hit.footprint = 0;
     }
     return found;
   }
 
+  // TriangleMesh::normal of lane k's triangle from its block: e1 x e2 are the floats it computes
+  // from the vertices (the same subtractions), so the same normal, without reading the mesh's
+  // indices and vertices (four cache misses per hit on a large mesh).
+  static Vec3 block_normal(const TriangleBlock& b, uint32_t k) {
+    const Vec3 e1(b.e1[0][k], b.e1[1][k], b.e1[2][k]), e2(b.e2[0][k], b.e2[1][k], b.e2[2][k]);
+    const Vec3 n = e1.cross(e2);
+    return n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
+  }
+
   // The leaf's triangles against [ray.tmin, t_max]; narrows t_max and hit.t, hit.prim. Four at
   // a time against the t_max the block starts with, then lane by lane in leaf order against the
   // narrowed one, so the result is the scalar loop's.
-  bool intersect_leaf(const Ray& ray, uint32_t first, uint32_t count, float& t_max,
-                      Hit& hit) const {
+  bool intersect_leaf(const Ray& ray, uint32_t first, uint32_t count, float& t_max, Hit& hit,
+                      uint32_t& hit_at) const {
     const RayLanes r(ray);
     bool found = false;
     for (uint32_t g = 0; g * kLanes < count; ++g) {
@@ -232,6 +242,7 @@ class TriangleBvh final : public MeshEngine {
         const float t = ts[k];
         if (!(t < next_up(t_max)) || (t == t_max && b.prim[k] > hit.prim)) continue;
         t_max = t, hit.t = t, hit.prim = b.prim[k], found = true;
+        hit_at = (first + g) * kLanes + uint32_t(k);
       }
     }
     return found;
