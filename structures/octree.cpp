@@ -351,12 +351,7 @@ class Octree final : public Structure {
     for (int a = 0; a < 3; ++a) {
       const __m256 clo =
           _mm256_add_ps(_mm256_set1_ps(lo[a]), _mm256_mul_ps(h, _mm256_load_ps(kBit[a])));
-      const __m256 chi = _mm256_add_ps(clo, h);
-      const __m256 o = _mm256_set1_ps(r.o[a]), inv = _mm256_set1_ps(r.inv[a]);
-      const __m256 near = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? chi : clo, o), inv);
-      const __m256 far = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? clo : chi, o), inv);
-      tn = _mm256_max_ps(near, tn);
-      tf = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(kWiden)), tf);
+      slab_axis_avx2(clo, _mm256_add_ps(clo, h), r, a, tn, tf);
     }
     _mm256_store_ps(t0s, tn);
     _mm256_store_ps(t1s, tf);
