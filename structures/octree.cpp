@@ -280,8 +280,9 @@ class Octree final : public Structure {
   // first (kAny: in child order, as any blocker ends an occlusion query and an unblocked ray
   // visits every cell it crosses anyway); returns the new top. Empty leaves too: the pop reads a
   // node anyway, and reading each child here to skip them was a cache miss per child pushed (9% of
-  // the walk). The eight child cubes are tested at once (two SSE halves), as the bvh tests its wide
-  // nodes: the same slab t and the exit widened by kWiden; then each crossed child's box, if kept.
+  // the walk). The eight child cubes are tested at once (octant_test_*: AVX2 or SSE), as the bvh
+  // tests its wide nodes: the same slab t and the exit widened by kWiden; then each crossed child's
+  // box, if kept.
   template <bool kAny, bool kAvx2, class N>
   __attribute__((always_inline)) int push_children(const N& n, const Todo& cur,
                                                    const RaySlabs& slabs, float tmax, Todo* stack,
@@ -290,8 +291,8 @@ class Octree final : public Structure {
     const float quantum = cell_quantum(half);
     alignas(32) float t0s[8], t1s[8];
     const uint32_t children = n.child_mask();
-    const uint32_t hit = (kAvx2 ? child_test_avx2(cur.lo, half, slabs, tmax, t0s, t1s)
-                                : child_test(cur.lo, half, slabs, tmax, t0s, t1s)) &
+    const uint32_t hit = (kAvx2 ? octant_test_avx2(cur.lo, half, slabs, tmax, t0s, t1s)
+                                : octant_test_sse(cur.lo, half, slabs, tmax, t0s, t1s)) &
                          children;
     const auto first = uint32_t(n.first());
     const int base = top;
@@ -315,47 +316,6 @@ class Octree final : public Structure {
       stack[j] = x;
     }
     return top;
-  }
-
-  // The slab test of the eight children of the cube at `lo` (children of side `half`; child c's
-  // cube starts half further along axis a where bit a of c is set) against [slabs.tmin, tmax]:
-  // a bit per child hit, entry and exit t in t0s, t1s. NaN (0 * inf) keeps the interval.
-  static uint32_t child_test(const Vec3& lo, float half, const RaySlabs& r, float tmax, float* t0s,
-                             float* t1s) {
-    alignas(16) static constexpr float kBit[3][8] = {
-        {0, 1, 0, 1, 0, 1, 0, 1}, {0, 0, 1, 1, 0, 0, 1, 1}, {0, 0, 0, 0, 1, 1, 1, 1}};
-    const __m128 h = _mm_set1_ps(half);
-    uint32_t mask = 0;
-    for (int q = 0; q < 8; q += 4) {
-      __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(tmax);
-      for (int a = 0; a < 3; ++a) {
-        const __m128 clo = _mm_add_ps(_mm_set1_ps(lo[a]), _mm_mul_ps(h, _mm_load_ps(kBit[a] + q)));
-        slab_axis_sse(clo, _mm_add_ps(clo, h), r, a, tn, tf);
-      }
-      _mm_store_ps(t0s + q, tn);
-      _mm_store_ps(t1s + q, tf);
-      mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << q;
-    }
-    return mask;
-  }
-
-  // child_test in one 8-lane pass: per lane the same operations in the same order, so the same
-  // children and the same t bit for bit.
-  __attribute__((target("avx2"))) static uint32_t child_test_avx2(const Vec3& lo, float half,
-                                                                  const RaySlabs& r, float tmax,
-                                                                  float* t0s, float* t1s) {
-    alignas(32) static constexpr float kBit[3][8] = {
-        {0, 1, 0, 1, 0, 1, 0, 1}, {0, 0, 1, 1, 0, 0, 1, 1}, {0, 0, 0, 0, 1, 1, 1, 1}};
-    const __m256 h = _mm256_set1_ps(half);
-    __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(tmax);
-    for (int a = 0; a < 3; ++a) {
-      const __m256 clo =
-          _mm256_add_ps(_mm256_set1_ps(lo[a]), _mm256_mul_ps(h, _mm256_load_ps(kBit[a])));
-      slab_axis_avx2(clo, _mm256_add_ps(clo, h), r, a, tn, tf);
-    }
-    _mm256_store_ps(t0s, tn);
-    _mm256_store_ps(t1s, tf);
-    return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
   }
 
   // Narrows [near, far] to the ray's interval in box q of the cell at lo (quantum: cell_quantum

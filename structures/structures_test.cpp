@@ -312,6 +312,33 @@ TEST_CASE("the 8-wide node test hits the same children with AVX2 and with SSE", 
   REQUIRE(hits > 500);  // about 1300 children hit
 }
 
+TEST_CASE("the octree's eight octants are the same with AVX2 and with SSE", "[structures]") {
+  if (!wide_nodes_use_avx2()) PCRT_SKIP("no AVX2 on this CPU: nothing to compare");
+  Rng rng(29);
+  size_t hits = 0;
+  for (int r = 0; r < 20000; ++r) {
+    const Vec3 lo(rng.uniform() * 2 - 1, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1);
+    const float half = r % 13 == 0 ? 0.0f : 0.5f * rng.uniform();  // a zero-size cube too
+    Vec3 o(rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2);
+    Vec3 d = Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f).normalized();
+    if (r % 7 == 0) d[r % 3] = 0;          // axis-parallel rays: inv = inf
+    if (r % 11 == 0) o[1] = lo[1] + half;  // an origin on a mid-plane: 0 * inf = NaN
+    const RaySlabs slabs(Ray{o, d});
+    const float limit = r % 3 == 0 ? kInfinity : 2.0f;
+    alignas(32) float a0[8], a1[8], b0[8], b1[8];
+    const uint32_t ma = octant_test_sse(lo, half, slabs, limit, a0, a1);
+    const uint32_t mb = octant_test_avx2(lo, half, slabs, limit, b0, b1);
+    REQUIRE(ma == mb);
+    for (int k = 0; k < 8; ++k) {
+      if (!((ma >> k) & 1)) continue;
+      REQUIRE(std::memcmp(&a0[k], &b0[k], sizeof(float)) == 0);
+      REQUIRE(std::memcmp(&a1[k], &b1[k], sizeof(float)) == 0);
+      ++hits;
+    }
+  }
+  REQUIRE(hits > 500);  // about 680 octants hit
+}
+
 TEST_CASE("the octree's leaves drop the discs whose plane misses them", "[structures]") {
   // The same boxes twice: stored (so nothing says the items are discs) and derived from the disc
   // normals of a method that hits only on the discs. Splits go by the boxes, so the trees have the

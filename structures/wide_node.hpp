@@ -94,6 +94,47 @@ __attribute__((target("avx2"))) inline uint32_t node_test_avx2(const WideNode& n
   return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
 }
 
+// The octree's child test: the slab test of the eight octants of the cube at `lo` (octants of
+// side `half`; octant c starts half further along axis a where bit a of c is set) against
+// [r.tmin, limit]: a bit per octant hit, entry and exit t in t0s, t1s (aligned to 32 bytes). NaN
+// (0 * inf) keeps the interval. Two SSE halves, or one AVX2 pass with the same operations per
+// lane, so both hit the same octants with the same t bit for bit.
+alignas(32) inline constexpr float kOctantBit[3][8] = {
+    {0, 1, 0, 1, 0, 1, 0, 1}, {0, 0, 1, 1, 0, 0, 1, 1}, {0, 0, 0, 0, 1, 1, 1, 1}};
+
+inline uint32_t octant_test_sse(const Vec3& lo, float half, const RaySlabs& r, float limit,
+                                float* t0s, float* t1s) {
+  const __m128 h = _mm_set1_ps(half);
+  uint32_t mask = 0;
+  for (int q = 0; q < 8; q += 4) {
+    __m128 tn = _mm_set1_ps(r.tmin), tf = _mm_set1_ps(limit);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 clo =
+          _mm_add_ps(_mm_set1_ps(lo[a]), _mm_mul_ps(h, _mm_load_ps(kOctantBit[a] + q)));
+      slab_axis_sse(clo, _mm_add_ps(clo, h), r, a, tn, tf);
+    }
+    _mm_store_ps(t0s + q, tn);
+    _mm_store_ps(t1s + q, tf);
+    mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(tn, tf))) << q;
+  }
+  return mask;
+}
+
+__attribute__((target("avx2"))) inline uint32_t octant_test_avx2(const Vec3& lo, float half,
+                                                                 const RaySlabs& r, float limit,
+                                                                 float* t0s, float* t1s) {
+  const __m256 h = _mm256_set1_ps(half);
+  __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
+  for (int a = 0; a < 3; ++a) {
+    const __m256 clo =
+        _mm256_add_ps(_mm256_set1_ps(lo[a]), _mm256_mul_ps(h, _mm256_load_ps(kOctantBit[a])));
+    slab_axis_avx2(clo, _mm256_add_ps(clo, h), r, a, tn, tf);
+  }
+  _mm256_store_ps(t0s, tn);
+  _mm256_store_ps(t1s, tf);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+}
+
 // Whether this CPU runs node_test_avx2 (checked once).
 bool wide_nodes_use_avx2();
 
