@@ -36,6 +36,39 @@ struct CellBox {
   [[nodiscard]] bool empty() const { return lo[0] > hi[0]; }
 };
 static_assert(sizeof(CellBox) == 6);
+
+// The CellBoxes of one node's k stored children (nodes first .. first + k - 1) at byte 6 * first,
+// axis by axis: the lo bytes of axis a at a * k + rank, the hi bytes at (3 + a) * k + rank. The
+// same 6 bytes a node as CellBoxes side by side, but the walk loads one axis of all siblings at
+// once (8 bytes, the padding past the last group covering lanes beyond k). The root is a group of
+// one at byte 0.
+struct GroupBoxes {
+  static constexpr size_t kPadding = 8;
+  const uint8_t* bytes;  // the group's first byte
+  uint32_t k;
+  [[nodiscard]] CellBox box(uint32_t rank) const {
+    CellBox b;
+    for (size_t a = 0; a < 3; ++a)
+      b.lo[a] = bytes[a * k + rank], b.hi[a] = bytes[(3 + a) * k + rank];
+    return b;
+  }
+};
+
+// The bits set in each byte: a child's rank among its stored siblings. The build has no -mpopcnt,
+// so __builtin_popcount is a libgcc call, 8% of the walk's time per child pushed.
+constexpr auto kBitsSet = [] {
+  std::array<uint8_t, 256> t{};
+  for (size_t i = 1; i < t.size(); ++i) t[i] = uint8_t(t[i >> 1] + (i & 1));
+  return t;
+}();
+// For each child mask, child c's rank among the stored children (the siblings before it), for
+// c = 0..7: the lane permutation from a group's ranks to child order.
+alignas(8) constexpr auto kRankOf = [] {
+  std::array<std::array<uint8_t, 8>, 256> t{};
+  for (size_t m = 0; m < t.size(); ++m)
+    for (size_t c = 0; c < 8; ++c) t[m][c] = kBitsSet[m & ((1u << c) - 1)];
+  return t;
+}();
 constexpr float kInv254 = 1.0f / 254.0f;
 // float(q) for every byte q: a load instead of a conversion per plane in the walk (exact).
 constexpr auto kByteFloat = [] {
@@ -110,14 +143,6 @@ const ParamList<OctreeParams>& octree_params() {
   return l;
 }
 
-// The bits set in each byte: a child's rank among its stored siblings. The build has no -mpopcnt,
-// so __builtin_popcount is a libgcc call, 8% of the walk's time per child pushed.
-constexpr auto kBitsSet = [] {
-  std::array<uint8_t, 256> t{};
-  for (size_t i = 1; i < t.size(); ++i) t[i] = uint8_t(t[i >> 1] + (i & 1));
-  return t;
-}();
-
 class Octree final : public Structure {
   // Compact leaves hold at most this many items (decoded onto the walk's stack, 1 KiB).
   static constexpr size_t kCompactMax = 256;
@@ -182,7 +207,7 @@ class Octree final : public Structure {
   }
   [[nodiscard]] size_t memory_bytes() const override {
     return nodes32_.capacity() * sizeof(OctNode32) + nodes64_.capacity() * sizeof(OctNode64) +
-           boxes_.capacity() * sizeof(CellBox) + refs_.capacity() * sizeof(uint32_t) +
+           boxes_.capacity() + refs_.capacity() * sizeof(uint32_t) +
            refs16_.capacity() * sizeof(uint16_t);
   }
 
@@ -235,32 +260,36 @@ class Octree final : public Structure {
     if (!Aabb{root_lo_, root_lo_ + Vec3::Constant(root_side_)}.intersect(ray, inv, t0, t1))
       return false;
     float near = t0, far = t1;
-    if (!boxes_.empty() &&
-        !narrow_to_box(boxes_[0], root_lo_, cell_quantum(root_side_), slabs, near, far))
+    if (!boxes_.empty() && !narrow_to_box(GroupBoxes{boxes_.data(), 1}.box(0), root_lo_,
+                                          cell_quantum(root_side_), slabs, near, far))
       return false;
-    stack[size_t(top++)] = Todo{0, root_lo_, root_side_, near, t0, t1};
+    // The next node to visit stays out of the stack: reading back a Todo just written piecewise
+    // stalled store forwarding (15% of the walk).
+    Todo cur{0, root_lo_, root_side_, near, t0, t1};
     bool found = false;
-    while (top > 0) {
-      const Todo cur = stack[size_t(--top)];
-      if (!may_improve(cur.near, hit.t)) {
-        if constexpr (kAny) continue;  // pushed in child order: only this cell is beyond
-        break;                         // disjoint cells in depth-first order: the rest is further
-      }
-      const N& n = nodes[cur.node];
-      if (n.count == 0) continue;  // a leaf the disc planes all missed (inner nodes count > 0)
-      counters.add(kNodesVisited);
-      if (!n.leaf()) {
-        top = push_children<kAny, kAvx2>(n, cur, slabs, ray.tmax, stack.data(), top);
-        continue;
-      }
-      counters.add(kLeavesVisited);
-      counters.add(kItemsVisited, n.leaf_count());
-      const LeafVisit visit{leaf_items(n, decoded), cur.t0, cur.t1};
-      if constexpr (kAny) {
-        if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
-      } else {
-        found |= leaf.intersect_leaf(ray, visit, hit, counters);
-      }
+    while (true) {
+      if (may_improve(cur.near, hit.t)) {
+        const N& n = nodes[cur.node];
+        if (n.count != 0) {  // else a leaf the disc planes all missed (inner nodes count > 0)
+          counters.add(kNodesVisited);
+          if (!n.leaf()) {
+            if (next_children<kAny, kAvx2>(n, slabs, ray.tmax, stack.data(), top, cur)) continue;
+          } else {
+            counters.add(kLeavesVisited);
+            counters.add(kItemsVisited, n.leaf_count());
+            const LeafVisit visit{leaf_items(n, decoded), cur.t0, cur.t1};
+            if constexpr (kAny) {
+              if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+            } else {
+              found |= leaf.intersect_leaf(ray, visit, hit, counters);
+            }
+          }
+        }
+      } else if constexpr (!kAny) {
+        break;  // disjoint cells in depth-first order: the rest is further
+      }         // kAny: pushed in child order, only this cell is beyond
+      if (top == 0) break;
+      cur = stack[size_t(--top)];
     }
     return found;
   }
@@ -276,46 +305,121 @@ class Octree final : public Structure {
     return {decoded.data(), n.leaf_count()};
   }
 
-  // Pushes the children of `n` that the ray crosses, far to near so that the nearest is popped
-  // first (kAny: in child order, as any blocker ends an occlusion query and an unblocked ray
-  // visits every cell it crosses anyway); returns the new top. Empty leaves too: the pop reads a
-  // node anyway, and reading each child here to skip them was a cache miss per child pushed (9% of
-  // the walk). The eight child cubes are tested at once (octant_test_*: AVX2 or SSE), as the bvh
-  // tests its wide nodes: the same slab t and the exit widened by kWiden; then each crossed child's
-  // box, if kept.
+  // The children of `n` (the node of `cur`) that the ray crosses, in the order a stack pops them:
+  // near to far (ties: the lower child first), or for kAny in reverse child order (any blocker
+  // ends an occlusion query and an unblocked ray visits every cell it crosses anyway). The first
+  // replaces `cur`, the others are pushed; false if there are none. The eight child cubes are
+  // tested at once (octant_test_*: AVX2 or SSE), as the bvh tests its wide nodes, and then the
+  // crossed children's boxes, if kept (child_tests).
   template <bool kAny, bool kAvx2, class N>
-  __attribute__((always_inline)) int push_children(const N& n, const Todo& cur,
-                                                   const RaySlabs& slabs, float tmax, Todo* stack,
-                                                   int top) const {
+  __attribute__((always_inline)) bool next_children(const N& n, const RaySlabs& slabs, float tmax,
+                                                    Todo* stack, int& top, Todo& cur) const {
     const float half = 0.5f * cur.side;
-    const float quantum = cell_quantum(half);
-    alignas(32) float t0s[8], t1s[8];
+    const Vec3 lo = cur.lo;
+    alignas(32) float t0s[8], t1s[8], nears[8];
     const uint32_t children = n.child_mask();
-    const uint32_t hit = (kAvx2 ? octant_test_avx2(cur.lo, half, slabs, tmax, t0s, t1s)
-                                : octant_test_sse(cur.lo, half, slabs, tmax, t0s, t1s)) &
-                         children;
     const auto first = uint32_t(n.first());
-    const int base = top;
+    const uint32_t hit =
+        child_tests<kAvx2>(children, first, lo, half, slabs, tmax, t0s, t1s, nears);
+    if (hit == 0) return false;
+    // Bottom of the stack to top: far to near (a ray crosses at most 4), else child order.
+    std::array<uint32_t, 8> order;
+    int m = 0;
     for (uint32_t mask = hit; mask; mask &= mask - 1) {
       const auto c = uint32_t(__builtin_ctz(mask));
-      const uint32_t node = first + kBitsSet[children & ((1u << c) - 1)];
-      const Vec3 lo = cur.lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-      float near = t0s[c], far = t1s[c];
-      if (!boxes_.empty() && !narrow_to_box(boxes_[node], lo, quantum, slabs, near, far)) continue;
-      const Todo x{node, lo, half, near, t0s[c], t1s[c]};
-      if constexpr (kAny) {
-        stack[top++] = x;
-        continue;
-      }
-      // Insertion sort, far first (ties: the higher node below): a ray crosses at most 4.
-      int j = top++;
-      for (; j > base && (stack[j - 1].near < x.near ||
-                          (stack[j - 1].near == x.near && stack[j - 1].node < x.node));
-           --j)
-        stack[j] = stack[j - 1];
-      stack[j] = x;
+      int j = m++;
+      if constexpr (!kAny)
+        for (; j > 0 && nears[order[size_t(j - 1)]] <= nears[c]; --j)
+          order[size_t(j)] = order[size_t(j - 1)];
+      order[size_t(j)] = c;
     }
-    return top;
+    for (int k = 0; k < m; ++k) {
+      const uint32_t c = order[size_t(k)];
+      const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+      const Todo x{first + kRankOf[children][c], clo, half, nears[c], t0s[c], t1s[c]};
+      if (k + 1 < m) {
+        stack[top++] = x;
+      } else {
+        cur = x;
+      }
+    }
+    return true;
+  }
+
+  // The stored children of a cell at lo (children of side `half`) that the ray crosses: a bit per
+  // child, their cells' intervals in t0s and t1s and where the ray enters their boxes in nears
+  // (the cells' entries without kept boxes). Empty leaves too: the pop reads a node anyway, and
+  // reading each child here to skip them was a cache miss per child pushed (9% of the walk).
+  template <bool kAvx2>
+  __attribute__((always_inline)) uint32_t child_tests(uint32_t children, uint32_t first,
+                                                      const Vec3& lo, float half,
+                                                      const RaySlabs& slabs, float tmax, float* t0s,
+                                                      float* t1s, float* nears) const {
+    const GroupBoxes group{boxes_.data() + 6 * size_t(first),
+                           uint32_t(kBitsSet[children])};  // unread without boxes
+    if constexpr (kAvx2) {
+      if (!boxes_.empty())
+        return cells_and_boxes_avx2(children, group, lo, half, slabs, tmax, t0s, t1s, nears);
+    }
+    uint32_t hit = (kAvx2 ? octant_test_avx2(lo, half, slabs, tmax, t0s, t1s)
+                          : octant_test_sse(lo, half, slabs, tmax, t0s, t1s)) &
+                   children;
+    if (boxes_.empty()) {
+      std::memcpy(nears, t0s, 8 * sizeof(float));
+      return hit;
+    }
+    const float quantum = cell_quantum(half);
+    for (uint32_t mask = hit; mask; mask &= mask - 1) {
+      const auto c = uint32_t(__builtin_ctz(mask));
+      const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+      float far = t1s[c];
+      nears[c] = t0s[c];
+      if (!narrow_to_box(group.box(kRankOf[children][c]), clo, quantum, slabs, nears[c], far))
+        hit &= ~(1u << c);
+    }
+    return hit;
+  }
+
+  // Eight bytes of a group (one bound of one axis, by rank) as eight int lanes in child order.
+  __attribute__((target("avx2"), always_inline)) static __m256i bytes_by_child(const uint8_t* at,
+                                                                               __m256i rank) {
+    const __m128i b = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(at));  // NOLINT: intrinsic
+    return _mm256_permutevar8x32_epi32(_mm256_cvtepu8_epi32(b), rank);
+  }
+
+  // child_tests in eight AVX2 lanes, cells and boxes: the cells as octant_test_avx2, then each
+  // child's box (its group's bytes permuted from rank to child order) as narrow_to_box computes it
+  // (the same IEEE operations in the same order, so the same children and t bit for bit).
+  __attribute__((target("avx2"))) static uint32_t cells_and_boxes_avx2(
+      uint32_t children, const GroupBoxes& group, const Vec3& lo, float half, const RaySlabs& slabs,
+      float tmax, float* t0s, float* t1s, float* nears) {
+    const __m256 h = _mm256_set1_ps(half), quantum = _mm256_set1_ps(cell_quantum(half));
+    __m256 tn = _mm256_set1_ps(slabs.tmin), tf = _mm256_set1_ps(tmax);
+    __m256 clo[3];
+    for (int a = 0; a < 3; ++a) {
+      clo[a] =
+          _mm256_add_ps(_mm256_set1_ps(lo[a]), _mm256_mul_ps(h, _mm256_load_ps(kOctantBit[a])));
+      slab_axis_avx2(clo[a], _mm256_add_ps(clo[a], h), slabs, a, tn, tf);
+    }
+    _mm256_store_ps(t0s, tn);
+    _mm256_store_ps(t1s, tf);
+    const uint32_t cells = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+    if ((cells & children) == 0) return 0;
+    const __m256i rank = _mm256_cvtepu8_epi32(_mm_loadl_epi64(
+        reinterpret_cast<const __m128i*>(kRankOf[children].data())));  // NOLINT: intrinsic load
+    uint32_t empty = 0;
+    for (uint32_t a = 0; a < 3; ++a) {
+      const __m256i qlo = bytes_by_child(group.bytes + a * group.k, rank);
+      const __m256i qhi = bytes_by_child(group.bytes + (3 + a) * group.k, rank);
+      if (a == 0)
+        empty = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(qlo, qhi))));
+      const __m256 blo = _mm256_add_ps(clo[a], _mm256_mul_ps(quantum, _mm256_cvtepi32_ps(qlo)));
+      const __m256 bhi = _mm256_add_ps(clo[a], _mm256_mul_ps(quantum, _mm256_cvtepi32_ps(qhi)));
+      slab_axis_avx2(blo, bhi, slabs, int(a), tn, tf);
+    }
+    _mm256_store_ps(nears, tn);
+    return cells & children & ~empty &
+           uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
   }
 
   // Narrows [near, far] to the ray's interval in box q of the cell at lo (quantum: cell_quantum
@@ -359,6 +463,24 @@ class Octree final : public Structure {
     return q;
   }
 
+  // The CellBoxes of a build (one per node) regrouped by siblings (GroupBoxes), with the
+  // padding of the last group's load.
+  template <class N>
+  static std::vector<uint8_t> group_boxes(const std::vector<N>& nodes,
+                                          const std::vector<CellBox>& boxes) {
+    std::vector<uint8_t> out(6 * boxes.size() + GroupBoxes::kPadding, 0);
+    const auto put = [&](size_t first, uint32_t k) {
+      uint8_t* g = out.data() + 6 * first;
+      for (uint32_t r = 0; r < k; ++r)
+        for (size_t a = 0; a < 3; ++a)
+          g[a * k + r] = boxes[first + r].lo[a], g[(3 + a) * k + r] = boxes[first + r].hi[a];
+    };
+    put(0, 1);
+    for (const N& n : nodes)
+      if (!n.leaf()) put(n.first(), kBitsSet[n.child_mask()]);
+    return out;
+  }
+
   // The whole tree with nodes N, flattened into `nodes` and refs_.
   template <class N>
   void build_all(std::vector<N>& nodes) {
@@ -371,7 +493,7 @@ class Octree final : public Structure {
     build_node(b, root, 0, root_lo_, root_side_, 0);
     release(b.stack);
     nodes = b.nodes.flatten();
-    boxes_ = b.boxes.flatten();
+    boxes_ = keeps_boxes_ ? group_boxes(nodes, b.boxes.flatten()) : std::vector<uint8_t>{};
     refs_ = b.refs.flatten();
     refs16_ = b.refs16.flatten();
     references_ = b.references;
@@ -598,7 +720,9 @@ class Octree final : public Structure {
   std::vector<OctNode64> nodes64_;  // otherwise
   std::vector<uint32_t> refs_;      // leaves of 32-bit items
   std::vector<uint16_t> refs16_;    // compact leaves: base item halves, then offsets
-  std::vector<CellBox> boxes_;      // per node, if child_bounds: its footprints within its cell
+  // If child_bounds: each node's footprint box within its cell (CellBox), grouped by siblings
+  // (GroupBoxes): 6 bytes a node, as CellBoxes, plus the padding of one 8-byte load.
+  std::vector<uint8_t> boxes_;
 };
 
 }  // namespace
