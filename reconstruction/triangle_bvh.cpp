@@ -181,28 +181,30 @@ class TriangleBvh final : public MeshEngine {
     std::array<WideTodo, (kWideWidth - 1) * 64 + kWideWidth> stack;
     int top = 0;
     float t_max = kAny ? ray.tmax : std::min(ray.tmax, hit.t);
-    stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, t_max};
+    WideTodo cur{0, 0, ray.tmin, t_max};  // the next node, kept out of the stack
     bool found = false;
     uint32_t hit_at = 0;  // the closest hit's block * kLanes + lane
     uint64_t nodes = 0, leaves = 0, tests = 0;
-    while (top > 0) {
-      const WideTodo cur = stack[size_t(--top)];
-      if (cur.t0 > t_max) continue;  // entered beyond the hit found since it was pushed
-      ++nodes;
-      if (cur.count > 0) {
-        ++leaves;
-        tests += cur.count;
-        if constexpr (kAny) {
-          if ((found = occludes_leaf(ray, cur.index, cur.count, t_max))) break;
+    while (true) {
+      if (cur.t0 <= t_max) {  // else entered beyond the hit found since it was pushed
+        ++nodes;
+        if (cur.count > 0) {
+          ++leaves;
+          tests += cur.count;
+          if constexpr (kAny) {
+            if ((found = occludes_leaf(ray, cur.index, cur.count, t_max))) break;
+          } else {
+            found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit, hit_at);
+          }
         } else {
-          found |= intersect_leaf(ray, cur.index, cur.count, t_max, hit, hit_at);
+          alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
+          const WideNode& n = wide_[cur.index];
+          const uint32_t mask = kTest(n, slabs, t_max * kWiden, t0s, t1s);
+          if (next_children<kAny>(n, mask, t0s, t1s, stack.data(), top, cur)) continue;
         }
-        continue;
       }
-      alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
-      const uint32_t mask = kTest(wide_[cur.index], slabs, t_max * kWiden, t0s, t1s);
-      top = kAny ? push_any_children(wide_[cur.index], mask, t0s, t1s, stack.data(), top)
-                 : push_hit_children(wide_[cur.index], mask, t0s, t1s, stack.data(), top);
+      if (top == 0) break;
+      cur = stack[size_t(--top)];
     }
     counters.add(kNodesVisited, nodes);
     counters.add(kLeavesVisited, leaves);

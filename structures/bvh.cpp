@@ -155,29 +155,30 @@ class Bvh final : public Structure {
     const RaySlabs slabs(ray);
     std::array<WideTodo, (kWideWidth - 1) * kMaxDepth + kWideWidth> stack;
     int top = 0;
-    stack[size_t(top++)] = WideTodo{0, 0, ray.tmin, ray.tmax};
+    WideTodo cur{0, 0, ray.tmin, ray.tmax};  // the next node, kept out of the stack
     bool found = false;
-    while (top > 0) {
-      const WideTodo cur = stack[size_t(--top)];
-      if (!may_improve(cur.t0, hit.t)) continue;
-      counters.add(kNodesVisited);
-      if (cur.count > 0) {
-        counters.add(kLeavesVisited);
-        counters.add(kItemsVisited, cur.count);
-        const LeafVisit visit{{order_.data() + cur.index, cur.count}, cur.t0, cur.t1};
-        if constexpr (kAny) {
-          if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+    while (true) {
+      if (may_improve(cur.t0, hit.t)) {
+        counters.add(kNodesVisited);
+        if (cur.count > 0) {
+          counters.add(kLeavesVisited);
+          counters.add(kItemsVisited, cur.count);
+          const LeafVisit visit{{order_.data() + cur.index, cur.count}, cur.t0, cur.t1};
+          if constexpr (kAny) {
+            if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
+          } else {
+            found |= leaf.intersect_leaf(ray, visit, hit, counters);
+          }
         } else {
-          found |= leaf.intersect_leaf(ray, visit, hit, counters);
+          const WideNode& n = wide_[cur.index];
+          const float limit = std::min(ray.tmax * kWiden, hit.t * (1.0f + 1e-5f) + 1e-30f);
+          alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
+          const uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
+          if (next_children<kAny>(n, mask, t0s, t1s, stack.data(), top, cur)) continue;
         }
-        continue;
       }
-      const WideNode& n = wide_[cur.index];
-      const float limit = std::min(ray.tmax * kWiden, hit.t * (1.0f + 1e-5f) + 1e-30f);
-      alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
-      const uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
-      top = kAny ? push_any_children(n, mask, t0s, t1s, stack.data(), top)
-                 : push_hit_children(n, mask, t0s, t1s, stack.data(), top);
+      if (top == 0) break;
+      cur = stack[size_t(--top)];
     }
     return found;
   }

@@ -211,34 +211,34 @@ struct WideTodo {
   float t0, t1;
 };
 
-// Pushes the children of n hit by the ray (bits of mask, entry and exit t in t0s, t1s) onto
-// stack[top...], farthest first, so the nearest is walked next (an insertion sort in place: no
-// copy loop the compiler would turn into a memcpy call). Empty slots (which NaN may let pass) are
-// skipped.
-inline int push_hit_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
-                             WideTodo* stack, int top) {
-  const int base = top;
+// The children of n hit by the ray (bits of mask, entry and exit t in t0s, t1s) in the order a
+// stack pops them: nearest first (ties: the higher slot first), or for kAny the higher slot first
+// without a sort (any blocker ends an occlusion query, and a ray nothing blocks visits every child
+// it crosses whatever the order: Embree's any-hit traversal). The first goes to `next`, the others
+// onto stack[top...]: popping a WideTodo just written field by field stalled store forwarding.
+// Empty slots (which NaN may let pass) are skipped. False when no child is left.
+template <bool kAny>
+inline bool next_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
+                          WideTodo* stack, int& top, WideTodo& next) {
+  std::array<int, kWideWidth> order;  // bottom of the stack to top
+  int m = 0;
   for (; mask; mask &= mask - 1) {
     const int k = __builtin_ctz(mask);
     if (n.child[k] == 0 && n.count[k] == 0) continue;
-    const WideTodo t{n.child[k], n.count[k], t0s[k], t1s[k]};
-    int j = top++;
-    for (; j > base && stack[j - 1].t0 < t.t0; --j) stack[j] = stack[j - 1];
-    stack[j] = t;
+    int j = m++;
+    if constexpr (!kAny)
+      for (; j > 0 && t0s[order[size_t(j - 1)]] < t0s[k]; --j)
+        order[size_t(j)] = order[size_t(j - 1)];
+    order[size_t(j)] = k;
   }
-  return top;
-}
-
-// push_hit_children without the sort, for occlusion queries: any blocker ends them, and a ray no
-// triangle blocks visits every child it crosses whatever the order (Embree's any-hit traversal).
-inline int push_any_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
-                             WideTodo* stack, int top) {
-  for (; mask; mask &= mask - 1) {
-    const int k = __builtin_ctz(mask);
-    if (n.child[k] == 0 && n.count[k] == 0) continue;
+  if (m == 0) return false;
+  for (int i = 0; i + 1 < m; ++i) {
+    const int k = order[size_t(i)];
     stack[top++] = WideTodo{n.child[k], n.count[k], t0s[k], t1s[k]};
   }
-  return top;
+  const int k = order[size_t(m - 1)];
+  next = WideTodo{n.child[k], n.count[k], t0s[k], t1s[k]};
+  return true;
 }
 
 }  // namespace pcrt
