@@ -17,6 +17,15 @@ struct BuildInfo {
 
 const BuildInfo& build_info();
 
+// The commit this binary was built from and whether tracked files differed from it ("true",
+// "false", "null" when git could not tell; commit "unknown" without git), generated at every build
+// (cmake/build_revision.cmake). Results record it beside the source tree's revision at run time.
+struct BuildRevision {
+  std::string commit;
+  std::string dirty;
+};
+const BuildRevision& build_revision();
+
 // A script pcrt runs (report.py): in the source tree it was built from, else where
 // `cmake --install` put it (<prefix>/share/pcrt, beside <prefix>/bin/pcrt). Throws InputError
 // naming both places when neither has it.

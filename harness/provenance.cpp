@@ -82,6 +82,8 @@ json machine_context(const json& config) {
           {"dependencies", build_info().dependencies},
           {"git_commit", commit},
           {"git_dirty", dirty},
+          {"build_commit", build_revision().commit},
+          {"build_dirty", json::parse(build_revision().dirty)},
           {"config", config}};
 }
 

@@ -1,5 +1,7 @@
 // What a sweep's numbers were made on (DIR/context.json): the machine, the build (build_info),
-// the source revision and the config.
+// the source tree's revision at run time (git_commit, git_dirty), the revision the binary was
+// built from (build_commit, build_dirty: the same unless an older build ran in a newer tree) and
+// the config.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -90,6 +90,14 @@ def detail_table(bj, before, aj, after):
                     label, k, b["method"], b["structure"], b["primary"]["references"][0]["ratio"]))
 
 
+def build_note(c):
+    """Where the binary's own revision (recorded since 2030a99) is not the tree's."""
+    build = c.get("build_commit")
+    if build is None or (build == c.get("git_commit") and c.get("build_dirty") == c.get("git_dirty")):
+        return ""
+    return ", built from %s%s" % (build[:7], " with uncommitted changes" if c.get("build_dirty") else "")
+
+
 def files_table(paths, ref):
     """One column per file (data set), cells primary / bounce / shadow against reference ref."""
     files = [rows(path) for path in paths]
@@ -98,7 +106,7 @@ def files_table(paths, ref):
         print("- %s: %s, N = %d, commit %s%s, %s, %d threads, load %s" % (
             path, j["dataset"], j["N"], c.get("git_commit", "?")[:7],
             " (uncommitted changes)" if c.get("git_dirty") else "",
-            c.get("machine", {}).get("cpu", "?"), j.get("threads", 0), load(j)))
+            c.get("machine", {}).get("cpu", "?"), j.get("threads", 0), load(j)) + build_note(c))
     print("\nRatio against %s, primary / bounce / shadow:\n" % reference_name(files[0][0], ref))
     print("| method | structure | %s |" % " | ".join(j["dataset"] for j, _ in files))
     print("|---|---|%s" % ("---|" * len(files)))

@@ -39,7 +39,11 @@ python3 - "$dir/a" <<'PY'
 import json, sys
 d = sys.argv[1]
 ctx = json.load(open(d + "/context.json"))
-assert {"machine", "compiler", "flags", "dependencies", "git_commit", "git_dirty", "config"} <= set(ctx), ctx.keys()
+assert {"machine", "compiler", "flags", "dependencies", "git_commit", "git_dirty", "build_commit",
+        "build_dirty", "config"} <= set(ctx), ctx.keys()
+# The binary's own revision, generated at build time (a commit, or "unknown" without git).
+assert ctx["build_commit"] == "unknown" or len(ctx["build_commit"]) == 40, ctx["build_commit"]
+assert ctx["build_dirty"] in (True, False, None), ctx["build_dirty"]
 assert {"cpu", "cores", "memory", "governor"} <= set(ctx["machine"])
 fits = json.load(open(d + "/fits.json"))
 assert len(fits) == 3, len(fits)
