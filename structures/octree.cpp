@@ -355,7 +355,7 @@ class Octree final : public Structure {
                                                       const Vec3& lo, float half,
                                                       const RaySlabs& slabs, float tmax, float* t0s,
                                                       float* t1s, float* nears) const {
-    const GroupBoxes group{boxes_.data() + 6 * size_t(first),
+    const GroupBoxes group{boxes_.empty() ? nullptr : boxes_.data() + 6 * size_t(first),
                            uint32_t(kBitsSet[children])};  // unread without boxes
     if constexpr (kAvx2) {
       if (!boxes_.empty())
