@@ -3,6 +3,7 @@
 // where the source tree lies (and a compiler cache can share it between checkouts).
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace pcrt {
@@ -17,12 +18,12 @@ struct BuildInfo {
 
 const BuildInfo& build_info();
 
-// The commit this binary was built from and whether tracked files differed from it ("true",
-// "false", "null" when git could not tell; commit "unknown" without git), generated at every build
+// The commit this binary was built from and whether tracked files differed from it (nullopt when
+// git could not tell; commit "unknown" without git), generated at every build
 // (cmake/build_revision.cmake). Results record it beside the source tree's revision at run time.
 struct BuildRevision {
   std::string commit;
-  std::string dirty;
+  std::optional<bool> dirty;
 };
 const BuildRevision& build_revision();
 

@@ -83,7 +83,7 @@ json machine_context(const json& config) {
           {"git_commit", commit},
           {"git_dirty", dirty},
           {"build_commit", build_revision().commit},
-          {"build_dirty", json::parse(build_revision().dirty)},
+          {"build_dirty", build_revision().dirty ? json(*build_revision().dirty) : json(nullptr)},
           {"config", config}};
 }
 

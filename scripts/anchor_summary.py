@@ -91,7 +91,7 @@ def detail_table(bj, before, aj, after):
 
 
 def build_note(c):
-    """Where the binary's own revision (recorded since 2030a99) is not the tree's."""
+    """Where the binary's own revision (recorded since 3e87a8b) is not the tree's."""
     build = c.get("build_commit")
     if build is None or (build == c.get("git_commit") and c.get("build_dirty") == c.get("git_dirty")):
         return ""

@@ -48,8 +48,10 @@ struct GroupBoxes {
   uint32_t k;
   [[nodiscard]] CellBox box(uint32_t rank) const {
     CellBox b;
-    for (size_t a = 0; a < 3; ++a)
-      b.lo[a] = bytes[a * k + rank], b.hi[a] = bytes[(3 + a) * k + rank];
+    for (size_t a = 0; a < 3; ++a) {
+      b.lo[a] = bytes[a * k + rank];
+      b.hi[a] = bytes[(3 + a) * k + rank];
+    }
     return b;
   }
 };
@@ -472,8 +474,10 @@ class Octree final : public Structure {
     const auto put = [&](size_t first, uint32_t k) {
       uint8_t* g = out.data() + 6 * first;
       for (uint32_t r = 0; r < k; ++r)
-        for (size_t a = 0; a < 3; ++a)
-          g[a * k + r] = boxes[first + r].lo[a], g[(3 + a) * k + r] = boxes[first + r].hi[a];
+        for (size_t a = 0; a < 3; ++a) {
+          g[a * k + r] = boxes[first + r].lo[a];
+          g[(3 + a) * k + r] = boxes[first + r].hi[a];
+        }
     };
     put(0, 1);
     for (const N& n : nodes)

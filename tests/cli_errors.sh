@@ -34,6 +34,8 @@ expect_error "unknown method 'nope'" render --method nope --data sphere:n=100 --
 expect_error "unknown structure 'nope'" render --method reference_splat --structure nope --data sphere:n=100 --out "$dir/a.png"
 expect_error "--set zzz: not a parameter" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --set zzz=1
 expect_error "radius_k=0 is outside" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --set radius_k=0
+# An unknown node-lanes choice is refused rather than running the AVX2 walks under another name.
+PCRT_NODE_LANES=avx expect_error "PCRT_NODE_LANES=avx: unknown" render --method reference_splat --structure bvh --data sphere:n=100 --out "$dir/a.png"
 expect_error "--width 0 is outside" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --width 0
 expect_error "'x' is not an integer" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --spp x
 expect_error "--out is required" render --method reference_splat --data sphere:n=100
