@@ -121,6 +121,7 @@ constexpr size_t kCompactAbove = size_t(1) << 21;
 struct OctreeParams {
   size_t leaf_size = 8;
   int max_depth = 21;
+  double stop_refs = 3;
   OctRefs compact_refs = OctRefs::kAuto;
   bool child_bounds = true;
 };
@@ -131,6 +132,10 @@ const ParamList<OctreeParams>& octree_params() {
           .add(&P::leaf_size, {"leaf_size", 8, 1, 1e6,
                                "stop splitting at this many items (K of the leaf-based methods)"})
           .add(&P::max_depth, {"max_depth", 21, 0, 30, "maximum depth"})
+          .add(&P::stop_refs,
+               {"stop_refs", 3, 1, 3,
+                "stop splitting where the children would hold this many references per item "
+                "and the fullest child over half of the items (footprints wider than the cells)"})
           .add(&P::compact_refs,
                {"compact_refs", 2, 0, 2,
                 "1: a leaf's references as 16-bit offsets from its lowest item where they fit "
@@ -153,6 +158,7 @@ class Octree final : public Structure {
   explicit Octree(const OctreeParams& p)
       : leaf_size_(p.leaf_size),
         max_depth_(p.max_depth),
+        stop_refs_(p.stop_refs),
         refs_mode_(p.compact_refs),
         child_bounds_(p.child_bounds) {}
 
@@ -557,11 +563,15 @@ class Octree final : public Structure {
     // A split must pay: once footprints are wider than the cells, each item lands in several
     // children and the fullest child keeps most of them, so every further level only multiplies
     // references (identical points, or a dense plane of wide splats, would recurse to max_depth).
-    // Stop when both hold: 3 references per item and over half of the items in one child. (All
-    // items in one child alone is progress: the rest of the cell was empty.)
+    // Stop when both hold: stop_refs (3) references per item and over half of the items in one
+    // child. (All items in one child alone is progress: the rest of the cell was empty.)
     size_t refs = 0, fullest = 0;
-    for (size_t k : counts.count) refs += k, fullest = std::max(fullest, k);
-    if (refs >= 3 * n && 2 * fullest > n) return make_leaf(b, node, begin, lo, side);
+    for (size_t k : counts.count) {
+      refs += k;
+      fullest = std::max(fullest, k);
+    }
+    if (double(refs) >= stop_refs_ * double(n) && 2 * fullest > n)
+      return make_leaf(b, node, begin, lo, side);
     const std::array<size_t, 8> at = split_in_place(b, begin, mid, counts.count);
     b.nodes[node] = N::make(node_index32(b.nodes.size(), "octree"), oct_inner(counts.reached));
     const size_t stored = size_t(__builtin_popcount(counts.reached));
@@ -711,6 +721,7 @@ class Octree final : public Structure {
 
   size_t leaf_size_;
   int max_depth_;
+  double stop_refs_;  // exact for the integers it is compared with (refs, n < 2^53)
   OctRefs refs_mode_;
   bool compact_ = false;  // as refs_mode_ decides for this build
   bool child_bounds_;
