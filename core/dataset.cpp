@@ -355,9 +355,12 @@ std::unique_ptr<PointStream> open_point_stream(const std::string& spec) {
   std::error_code ec;
   if (spec.empty()) input_error("dataset '': empty name");
   if (std::filesystem::exists(spec, ec)) {
-    if (lowercase_extension(spec) != ".ply")
-      input_error("{}: only binary PLY files and generator specs (sphere:n=...) are streamed",
-                  spec);
+    const std::string ext = lowercase_extension(spec);
+    if (ext == ".xyz" || ext == ".pwn") return open_xyz_stream(spec);
+    if (ext != ".ply")
+      input_error(
+          "{}: only binary PLY, XYZ and PWN files and generator specs (sphere:n=...) are streamed",
+          spec);
     return open_ply_stream(spec);
   }
   const GeneratorInfo* info = nullptr;

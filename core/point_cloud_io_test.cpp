@@ -1,5 +1,7 @@
 #include "core/point_cloud_io.hpp"
 
+#include <fmt/format.h>
+
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -377,6 +379,73 @@ TEST_CASE("a binary PLY streams the points read_ply reads", "[io][stream]") {
   }
 }
 
+namespace {
+
+// The cloud as XYZ text, x y z nx ny nz, each number written to round-trip (positions in the
+// file's own coordinates: origin + local, in double), with a comment and a blank line.
+std::string xyz_text(const PointCloud& c) {
+  std::string t = "# x y z nx ny nz\n";
+  for (size_t i = 0; i < c.size(); ++i) {
+    const Vec3d w = c.origin + c.positions[i].cast<double>();
+    const Vec3& n = c.normals[i];
+    t += fmt::format("{} {} {} {} {} {}\n", w.x(), w.y(), w.z(), n.x(), n.y(), n.z());
+    if (i == 7) t += "\n";
+  }
+  return t;
+}
+
+}  // namespace
+
+// Over several of the stream's 4 MiB blocks and 2^16-point chunks.
+TEST_CASE("an XYZ or PWN file streams the points read_xyz reads", "[io][stream]") {
+  PointCloud cloud = load_dataset_in_input_order("torus:n=150000,seed=3").cloud;
+  for (const bool georeferenced : {false, true}) {
+    cloud.origin = georeferenced ? Vec3d(597000.25, -244000.5, 12.0) : Vec3d::Zero();
+    for (const char* name : {"stream.xyz", "stream.PWN"}) {
+      INFO("georeferenced " << georeferenced << ", " << name);
+      const std::string path = write_text(name, xyz_text(cloud));
+      const PointCloud read = read_xyz(path);
+      const auto stream = open_point_stream(path);
+      REQUIRE(stream->size() == read.size());
+      CHECK(stream->origin() == read.origin);
+      const PointCloud streamed = drain(*stream);
+      CHECK(streamed.positions == read.positions);
+      CHECK(streamed.normals == read.normals);
+      CHECK(stream->bounds().lo == read.bounds().lo);
+      CHECK(stream->bounds().hi == read.bounds().hi);
+    }
+  }
+}
+
+TEST_CASE("an XYZ stream names the file and line of what is wrong", "[io][stream][errors]") {
+  const auto open = [](const char* name, const std::string& text) {
+    return open_point_stream(write_text(name, text));
+  };
+  REQUIRE_INPUT_ERROR(open("none.xyz", ""), "none.xyz: no points");
+  REQUIRE_INPUT_ERROR(open("four.xyz", "1 2 3 4\n"), "four.xyz: line 1: 4 columns");
+  REQUIRE_INPUT_ERROR(open("five.xyz", "0 0 0 0 0 1\n# c\n1 1 1 0 1\n"),
+                      "five.xyz: line 3: 5 columns where earlier lines have 6");
+  REQUIRE_INPUT_ERROR(open("zero.xyz", "0 0 0 0 0 0\n1 1 1 0 0 0\n"),
+                      "zero.xyz: every normal is zero");
+  REQUIRE_INPUT_ERROR(open("word.xyz", "0 0 0 0 0 1\n1 1 1 0 x 1\n"),
+                      "word.xyz: line 2: 'x' is not a number");
+  // What only a full read finds: bounds() reads every point.
+  REQUIRE_INPUT_ERROR(open("zn.xyz", "0 0 0 0 0 1\n1 1 1 0 0 0\n")->bounds(),
+                      "zn.xyz: line 2: a zero or non-finite normal");
+  REQUIRE_INPUT_ERROR(open("inf.xyz", "0 0 0 0 0 1\n1 inf 1 0 0 1\n")->bounds(),
+                      "inf.xyz: line 2: a coordinate");
+  // Line numbers past the first 4 MiB block.
+  std::string big;
+  for (int i = 0; i < 200000; ++i) big += fmt::format("{} 0.5 0.25 0 0 1\n", i);
+  REQUIRE_INPUT_ERROR(open("late.xyz", big + "1 2 3 0 0 y\n"),
+                      "late.xyz: line 200001: 'y' is not a number");
+  // A file that changed between the count and a read.
+  const std::string grown = write_text("grown.xyz", "0 0 0 0 0 1\n");
+  const auto stream = open_point_stream(grown);
+  write_text("grown.xyz", "0 0 0 0 0 1\n1 1 1 0 0 1\n");
+  REQUIRE_INPUT_ERROR(stream->bounds(), "grown.xyz: line 2: more points than when it was opened");
+}
+
 TEST_CASE("a file that cannot stream is one error naming it", "[io][stream][errors]") {
   const PointCloud cloud = load_dataset_in_input_order("sphere:n=1000").cloud;
   const auto dir = pcrt::test::scratch_dir();
@@ -392,6 +461,6 @@ TEST_CASE("a file that cannot stream is one error naming it", "[io][stream][erro
   REQUIRE_INPUT_ERROR(open_point_stream(ascii), "ascii.ply: an ascii PLY is not streamed");
   REQUIRE_INPUT_ERROR(open_point_stream(bare), "bare.ply: has no normals");
   REQUIRE_INPUT_ERROR(open_point_stream(cut), "cut.ply: truncated");
-  REQUIRE_INPUT_ERROR(open_point_stream(xyz), "c.xyz: only binary PLY files");
-  REQUIRE_INPUT_ERROR(open_point_stream(dir.string() + "/"), "only binary PLY files");
+  REQUIRE_INPUT_ERROR(open_point_stream(xyz), "c.xyz: has no normals");
+  REQUIRE_INPUT_ERROR(open_point_stream(dir.string() + "/"), "only binary PLY, XYZ and PWN files");
 }

@@ -46,8 +46,9 @@ class PointStream {
 
 // The stream of a surface generator spec (`sphere:n=...`, core/dataset.hpp), in the generator's
 // own order: the same points as load_dataset_in_input_order(spec), never all in memory; or of a
-// binary PLY file with normals (open_ply_stream). Throws InputError naming the spec for other
-// files, volume generators (no normals) and unknown generators.
+// binary PLY file with normals (open_ply_stream) or an XYZ/PWN file with normals
+// (open_xyz_stream). Throws InputError naming the spec for other files (ascii PLY, OFF), volume
+// generators (no normals) and unknown generators.
 std::unique_ptr<PointStream> open_point_stream(const std::string& spec);
 
 // A binary PLY file's vertices in file order, relative to the local origin read_ply would choose
@@ -55,5 +56,12 @@ std::unique_ptr<PointStream> open_point_stream(const std::string& spec);
 // keeps them). InputError naming the file for ascii PLY, a vertex element that is not first or
 // holds a list, no normals, Gaussian particles, a truncated file, a bad coordinate or normal.
 std::unique_ptr<PointStream> open_ply_stream(const std::string& path);
+
+// An XYZ or PWN file's points in file order, six columns each (x y z nx ny nz), relative to the
+// local origin parse_xyz would choose: the same positions and unit normals as read_xyz (which
+// also drops exact duplicates: a stream keeps them), read line by line in blocks, never whole.
+// InputError naming the file (and line) for three columns (no normals), other column counts, a
+// bad number, coordinate or normal, every normal zero, no points, or a file changed between reads.
+std::unique_ptr<PointStream> open_xyz_stream(const std::string& path);
 
 }  // namespace pcrt

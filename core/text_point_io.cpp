@@ -6,9 +6,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <string_view>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/point_cloud_io.hpp"
+#include "core/point_stream.hpp"
 #include "core/text_scanner.hpp"
 
 namespace pcrt {
@@ -111,6 +115,135 @@ PointCloud parse_xyz(const std::string& text, const std::string& path) {
   if (cloud.positions.empty()) input_error("{}: no points", path);
   normalize_loaded_normals(cloud);
   return cloud;
+}
+
+namespace {
+
+// A text file read in blocks that end at a line's end: `block(text, lines_before)` for each, so
+// that a TextScanner over the block names the file's own line numbers. A line longer than a block
+// is refused (no point line is); the file is never held whole.
+void for_each_line_block(const std::string& path,
+                         const std::function<void(std::string_view, size_t)>& block) {
+  constexpr size_t kBlockBytes = size_t(1) << 22;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) input_error("{}: cannot open: {}", path, std::strerror(errno));
+  std::string buffer;
+  std::vector<char> chunk(kBlockBytes);
+  size_t lines = 0;
+  while (true) {
+    in.read(chunk.data(), std::streamsize(chunk.size()));
+    buffer.append(chunk.data(), size_t(in.gcount()));
+    if (in.bad()) input_error("{}: read error", path);
+    const bool end = !in;
+    const size_t cut = end ? buffer.size() : buffer.rfind('\n') + 1;  // npos + 1 = 0: no end yet
+    if (cut == 0 && !end) {
+      if (buffer.size() > kBlockBytes)
+        input_error("{}: line {}: longer than 4 MiB", path, lines + 1);
+      continue;
+    }
+    const std::string_view text(buffer.data(), cut);
+    block(text, lines);
+    lines += size_t(std::count(text.begin(), text.end(), '\n'));
+    buffer.erase(0, cut);
+    if (end) return;
+  }
+}
+
+// An XYZ or PWN file with normals (six columns), line by line (core/point_stream.hpp): the
+// positions, origin and unit normals parse_xyz gives, never the whole file. The constructor reads
+// the file once for the count and the columns; every read() parses it again.
+class XyzStream final : public PointStream {
+ public:
+  explicit XyzStream(std::string path) : path_(std::move(path)) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path_, ec))
+      input_error("{}: not a regular file (only files are streamed)", path_);
+    bool any_normal = false;
+    scan_lines([&](const TextScanner& scan) {
+      if (count_ == 0) scan_world(scan, frame_);         // chooses the origin as parse_xyz does
+      any_normal |= normal(scan).squaredNorm() != 0.0f;  // parses every normal
+      ++count_;
+    });
+    if (count_ == 0) input_error("{}: no points", path_);
+    if (!any_normal) input_error("{}: every normal is zero: has no normals to stream", path_);
+  }
+
+  [[nodiscard]] const std::string& name() const override { return path_; }
+  [[nodiscard]] size_t size() const override { return count_; }
+  [[nodiscard]] Vec3d origin() const override { return frame_.origin; }
+
+  void read(const std::function<void(const PointChunk&)>& chunk) const override {
+    std::vector<Vec3> positions, normals;
+    positions.reserve(kChunkPoints);
+    normals.reserve(kChunkPoints);
+    size_t first = 0;
+    auto flush = [&] {
+      chunk(PointChunk{positions, normals, first});
+      first += positions.size();
+      positions.clear();
+      normals.clear();
+    };
+    LocalFrame frame = frame_;
+    scan_lines([&](const TextScanner& scan) {
+      if (first + positions.size() == count_)
+        input_error("{}: line {}: more points than when it was opened", path_, scan.line());
+      const Vec3d p = scan_world(scan, frame);
+      if (!within_coordinate_range(p))
+        input_error("{}: line {}: a coordinate that is not finite or beyond +-{:g}", path_,
+                    scan.line(), kMaxCoordinate);
+      positions.push_back(frame.place(p));
+      normals.push_back(unit_normal(scan));
+      if (positions.size() == kChunkPoints) flush();
+    });
+    if (first + positions.size() != count_)
+      input_error("{}: {} points where there were {} when it was opened", path_,
+                  first + positions.size(), count_);
+    if (!positions.empty()) flush();
+  }
+
+ private:
+  // Every line with tokens, six columns each (parse_xyz's rule, with normals).
+  template <class F>
+  void scan_lines(F&& line) const {
+    bool first = true;
+    for_each_line_block(path_, [&](std::string_view text, size_t lines_before) {
+      TextScanner scan(text, path_, lines_before);
+      while (scan.next_line()) {
+        const size_t columns = scan.tokens().size();
+        if (first && columns == 3)
+          input_error("{}: has no normals (x y z only): only clouds with normals stream", path_);
+        if (first && columns != 6)
+          input_error("{}: line {}: {} columns; XYZ needs 3 (x y z) or 6 (x y z nx ny nz)", path_,
+                      scan.line(), columns);
+        if (columns != 6)
+          input_error("{}: line {}: {} columns where earlier lines have 6", path_, scan.line(),
+                      columns);
+        first = false;
+        line(scan);
+      }
+    });
+  }
+  static Vec3 normal(const TextScanner& scan) {
+    return {scan.number<float>(3), scan.number<float>(4), scan.number<float>(5)};
+  }
+  // normalize_loaded_normals on one point.
+  [[nodiscard]] Vec3 unit_normal(const TextScanner& scan) const {
+    const Vec3 n = normal(scan);
+    const float len = n.norm();
+    if (!n.allFinite() || !(len > 1e-12f))
+      input_error("{}: line {}: a zero or non-finite normal", path_, scan.line());
+    return n / len;
+  }
+
+  std::string path_;
+  size_t count_ = 0;
+  LocalFrame frame_;
+};
+
+}  // namespace
+
+std::unique_ptr<PointStream> open_xyz_stream(const std::string& path) {
+  return std::make_unique<XyzStream>(path);
 }
 
 PointCloud read_off(const std::string& path) { return read_off(path, nullptr); }
