@@ -133,9 +133,11 @@ const ParamList<OctreeParams>& octree_params() {
                                "stop splitting at this many items (K of the leaf-based methods)"})
           .add(&P::max_depth, {"max_depth", 21, 0, 30, "maximum depth"})
           .add(&P::stop_refs,
-               {"stop_refs", 3, 1, 3,
+               {"stop_refs", 3, 1.5, 3,
                 "stop splitting where the children would hold this many references per item "
-                "and the fullest child over half of the items (footprints wider than the cells)"})
+                "and the fullest child over half of the items (footprints wider than the cells; "
+                "from 1.5, since near 1 a cloud with over half its points in one octant would "
+                "stop at the root)"})
           .add(&P::compact_refs,
                {"compact_refs", 2, 0, 2,
                 "1: a leaf's references as 16-bit offsets from its lowest item where they fit "

@@ -172,14 +172,14 @@ TEST_CASE("hubo_2006 quantized from a stream finds the in-memory hits", "[quanti
                       Catch::Matchers::Contains("does not prepare from a stream"));
 }
 
-// Real scans (CGAL's binary PLYs with normals), streamed and read whole: rays from around the
-// scan towards every tenth point find the same surface.
+// Real scans (CGAL's binary PLYs and XYZ/PWN text with normals), streamed and read whole: rays
+// from around the scan towards every tenth point find the same surface.
 TEST_CASE("hubo_2006 quantized streamed from a real scan finds the whole-read hits",
           "[quantized_kd_tree]") {
   const std::filesystem::path dir = test::data_dir() / "cgal" / "points_3";
   if (!std::filesystem::exists(dir / "oni.ply"))
     PCRT_SKIP("data/ not fetched (scripts/fetch_data.sh)");
-  for (const char* name : {"oni.ply", "hippo1.ply"}) {
+  for (const char* name : {"oni.ply", "hippo1.ply", "oni.pwn", "kitten.xyz", "cube.pwn"}) {
     const std::string path = (dir / name).string();
     INFO(path);
     QuantizedBothWays q(path);
