@@ -97,6 +97,9 @@ for f in "${corpus[@]}"; do
       expect_rejected "$f" "$dir/out.png" render --method embree_oriented_disc --data "$f" --out "$dir/out.png" --width 8 --height 8
       expect_rejected "$f" "$dir/out.ply" convert "$f" --out "$dir/out.ply"
       expect_rejected "$f" "$dir/mesh.ply" reconstruct --method delaunay --data "$f" --out "$dir/mesh.ply"
+      case "$base" in *.off) ;; *)
+        expect_rejected "$f" "$dir/out.png" render --stream --method hubo_2006 --set quantized=1 --data "$f" --out "$dir/out.png" --width 8 --height 8
+      esac
       ;;
     *.csv)
       expect_rejected "$f" "$dir/hits.csv" trace --method reference_splat --data sphere:n=200 --rays "$f" --out "$dir/hits.csv"
