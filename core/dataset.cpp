@@ -358,9 +358,8 @@ std::unique_ptr<PointStream> open_point_stream(const std::string& spec) {
     const std::string ext = lowercase_extension(spec);
     if (ext == ".xyz" || ext == ".pwn") return open_xyz_stream(spec);
     if (ext != ".ply")
-      input_error(
-          "{}: only binary PLY, XYZ and PWN files and generator specs (sphere:n=...) are streamed",
-          spec);
+      input_error("{}: only PLY, XYZ and PWN files and generator specs (sphere:n=...) are streamed",
+                  spec);
     return open_ply_stream(spec);
   }
   const GeneratorInfo* info = nullptr;

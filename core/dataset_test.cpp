@@ -92,8 +92,8 @@ TEST_CASE("bad dataset specs are one-line errors naming the spec", "[data][error
 }
 
 TEST_CASE("a generator's stream delivers its cloud's points in input order", "[data]") {
-  for (const char* spec : {"torus:n=150000,seed=7,noise=0.01,density=0.5",
-                           "fibonacci_sphere:n=70000,radius=2"}) {
+  for (const char* spec :
+       {"torus:n=150000,seed=7,noise=0.01,density=0.5", "fibonacci_sphere:n=70000,radius=2"}) {
     INFO(spec);
     const PointCloud cloud = load_dataset_in_input_order(spec).cloud;
     const auto stream = open_point_stream(spec);
@@ -120,10 +120,11 @@ TEST_CASE("a generator's stream delivers its cloud's points in input order", "[d
 
 TEST_CASE("only surface generators stream: one-line errors naming the input", "[data][errors]") {
   using Catch::Matchers::Contains;
-  REQUIRE_THROWS_WITH(open_point_stream("ball:n=100"), Contains("ball:n=100") && Contains("normals"));
+  REQUIRE_THROWS_WITH(open_point_stream("ball:n=100"),
+                      Contains("ball:n=100") && Contains("normals"));
   REQUIRE_THROWS_WITH(open_point_stream("cylinder:n=5"), Contains("not a generator"));
   REQUIRE_THROWS_WITH(open_point_stream((test::source_dir() / "README.md").string()),
-                      Contains("only binary PLY files"));
+                      Contains("only PLY, XYZ and PWN files"));
   REQUIRE_THROWS_WITH(open_point_stream(""), Contains("empty name"));
 }
 

@@ -642,10 +642,26 @@ void write_ply(const std::string& path, const PointCloud& cloud, PlyFormat forma
 
 namespace {
 
-// A binary PLY file's vertices, chunk by chunk (core/point_stream.hpp): what `pcrt render
-// --stream` reads a cloud too large to hold from. Only what a fixed-size record allows: binary,
-// the vertex element first, no list property in it, the file's own normals. Georeferenced files
-// are read relative to the local origin of their first vertex, as read_ply does.
+// A vertex's property k, from its binary record or its ascii line's values.
+struct RecordField {
+  const char* record;
+  const std::vector<size_t>& offsets;  // of each property in a record
+  const PlyElement& vertex;
+  bool swap;
+  double operator()(int k) const {
+    return load_binary(record + offsets[size_t(k)], vertex.properties[size_t(k)].type, swap);
+  }
+};
+struct ValuesField {
+  const std::vector<double>& values;
+  double operator()(int k) const { return values[size_t(k)]; }
+};
+
+// A PLY file's vertices, chunk by chunk (core/point_stream.hpp): what `pcrt render --stream`
+// reads a cloud too large to hold from. The vertex element first, no list property in it, the
+// file's own normals; binary records read as they are, ascii lines in blocks (the same values as
+// read_ply's, parsed as it parses them). Georeferenced files are read relative to the local
+// origin of their first vertex, as read_ply does.
 class PlyStream final : public PointStream {
  public:
   explicit PlyStream(std::string path) : path_(std::move(path)) {
@@ -666,6 +682,7 @@ class PlyStream final : public PointStream {
   [[nodiscard]] Vec3d origin() const override { return frame_.origin; }
 
   void read(const std::function<void(const PointChunk&)>& chunk) const override {
+    if (ascii()) return read_lines(chunk);
     std::ifstream in = open_at(header_.data_offset);
     std::vector<char> bytes(kChunkPoints * record_);
     std::vector<Vec3> positions(kChunkPoints), normals(kChunkPoints);
@@ -674,12 +691,46 @@ class PlyStream final : public PointStream {
       if (!in.read(bytes.data(), std::streamsize(count * record_)))
         input_error("{}: truncated: the file ended within vertex {} of {}", path_, first, size());
       for (size_t i = 0; i < count; ++i)
-        decode(bytes.data() + i * record_, first + i, positions[i], normals[i]);
+        decode(record_field(bytes.data() + i * record_), first + i, positions[i], normals[i]);
       chunk(PointChunk{{positions.data(), count}, {normals.data(), count}, first});
     }
   }
 
  private:
+  [[nodiscard]] bool ascii() const { return header_.format == PlyFormat::kAscii; }
+
+  // The ascii vertex lines, kChunkPoints at a time.
+  void read_lines(const std::function<void(const PointChunk&)>& chunk) const {
+    std::vector<Vec3> positions(kChunkPoints), normals(kChunkPoints);
+    std::vector<double> values(vertex().properties.size());
+    size_t index = 0, held = 0;
+    auto flush = [&] {
+      chunk(PointChunk{{positions.data(), held}, {normals.data(), held}, index - held});
+      held = 0;
+    };
+    for_each_line_block(path_, header_.data_offset, header_.header_lines,
+                        [&](std::string_view text, size_t lines_before) {
+                          TextScanner scan(text, path_, lines_before);
+                          while (index < size() && scan.next_line(false)) {
+                            line_values(scan, index, values);
+                            decode(values_field(values), index++, positions[held], normals[held]);
+                            if (++held == kChunkPoints) flush();
+                          }
+                          return index < size();
+                        });
+    if (index < size())
+      input_error("{}: truncated: file ends at 'vertex' element {} of {}", path_, index, size());
+    if (held > 0) flush();
+  }
+  // Vertex `index`'s values from its line, as read_ply's ascii reader takes them.
+  void line_values(const TextScanner& scan, size_t index, std::vector<double>& values) const {
+    if (scan.tokens().size() < values.size())
+      input_error("{}: line {}: 'vertex' element {} has too few values", path_, scan.line(), index);
+    if (scan.tokens().size() > values.size())
+      input_error("{}: line {}: 'vertex' element {} has {} values, the header says {}", path_,
+                  scan.line(), index, scan.tokens().size(), values.size());
+    for (size_t k = 0; k < values.size(); ++k) values[k] = scan.number<double>(k);
+  }
   static constexpr uint64_t kMaxHeaderBytes = uint64_t(1) << 20;
 
   [[nodiscard]] const PlyElement& vertex() const { return header_.elements.front(); }
@@ -698,8 +749,6 @@ class PlyStream final : public PointStream {
 
   // What the fixed-size records need, each refusal one line naming the file.
   void check_streamable() {
-    if (header_.format == PlyFormat::kAscii)
-      input_error("{}: an ascii PLY is not streamed (binary PLY is)", path_);
     if (header_.elements.empty() || header_.elements.front().name != "vertex")
       input_error("{}: the vertex element must come first to be streamed", path_);
     record_ = 0;
@@ -711,38 +760,50 @@ class PlyStream final : public PointStream {
     layout_ = vertex_layout(vertex(), path_);
     if (layout_.nx < 0) input_error("{}: has no normals: only clouds with normals stream", path_);
     if (layout_.gaussian()) input_error("{}: Gaussian particles are not streamed", path_);
-    if (record_ == 0 || vertex().count > (file_bytes_ - header_.data_offset) / record_)
+    if (!ascii() &&
+        (record_ == 0 || vertex().count > (file_bytes_ - header_.data_offset) / record_))
       input_error(
           "{}: truncated: the header promises {} 'vertex' elements but the file is too short for "
           "them",
           path_, vertex().count);
   }
 
-  [[nodiscard]] double field(const char* record, int property) const {
-    const auto k = size_t(property);
-    return load_binary(record + offsets_[k], vertex().properties[k].type, swap_);
+  [[nodiscard]] RecordField record_field(const char* record) const {
+    return {record, offsets_, vertex(), swap_};
   }
-  [[nodiscard]] Vec3d world(const char* record) const {
-    return {field(record, layout_.x), field(record, layout_.y), field(record, layout_.z)};
+  static ValuesField values_field(const std::vector<double>& values) { return {values}; }
+  template <class Field>
+  [[nodiscard]] Vec3d world(const Field& field) const {
+    return {field(layout_.x), field(layout_.y), field(layout_.z)};
   }
   [[nodiscard]] Vec3d first_position() const {
-    const std::string r = [&] {
-      std::string b(record_, '\0');
-      std::ifstream in = open_at(header_.data_offset);
-      in.read(b.data(), std::streamsize(record_));
-      return b;
-    }();
-    return world(r.data());
+    if (ascii()) {
+      std::vector<double> values(vertex().properties.size());
+      bool found = false;
+      for_each_line_block(path_, header_.data_offset, header_.header_lines,
+                          [&](std::string_view text, size_t lines_before) {
+                            TextScanner scan(text, path_, lines_before);
+                            if ((found = scan.next_line(false))) line_values(scan, 0, values);
+                            return !found;
+                          });
+      if (!found)
+        input_error("{}: truncated: file ends at 'vertex' element 0 of {}", path_, size());
+      return world(values_field(values));
+    }
+    std::string b(record_, '\0');
+    std::ifstream in = open_at(header_.data_offset);
+    in.read(b.data(), std::streamsize(record_));
+    return world(record_field(b.data()));
   }
   // Vertex `index`'s position (relative to the origin) and unit normal, checked as read_ply does.
-  void decode(const char* record, uint64_t index, Vec3& position, Vec3& normal) const {
-    const Vec3d w = world(record);
+  template <class Field>
+  void decode(const Field& field, uint64_t index, Vec3& position, Vec3& normal) const {
+    const Vec3d w = world(field);
     if (!within_coordinate_range(w))
       input_error("{}: vertex {} has a coordinate that is not finite or beyond +-{:g}", path_,
                   index, kMaxCoordinate);
     position = to_local(w, frame_.origin);
-    normal = Vec3(float(field(record, layout_.nx)), float(field(record, layout_.ny)),
-                  float(field(record, layout_.nz)));
+    normal = Vec3(float(field(layout_.nx)), float(field(layout_.ny)), float(field(layout_.nz)));
     const float len = normal.norm();
     if (!normal.allFinite() || !(len > 1e-12f))
       input_error("{}: vertex {} has a zero or non-finite normal", path_, index);

@@ -358,11 +358,12 @@ PointCloud drain(const PointStream& stream) {
 }  // namespace
 
 // `pcrt render --stream` on a file: the reader's points, origin and normals, chunk by chunk.
-TEST_CASE("a binary PLY streams the points read_ply reads", "[io][stream]") {
+TEST_CASE("a PLY file streams the points read_ply reads", "[io][stream]") {
   PointCloud cloud = load_dataset_in_input_order("torus:n=150000,seed=3").cloud;
   for (const bool georeferenced : {false, true}) {
     cloud.origin = georeferenced ? Vec3d(597000.25, -244000.5, 12.0) : Vec3d::Zero();
-    for (PlyFormat f : {PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian}) {
+    for (PlyFormat f :
+         {PlyFormat::kBinaryLittleEndian, PlyFormat::kBinaryBigEndian, PlyFormat::kAscii}) {
       INFO("georeferenced " << georeferenced << ", format " << int(f));
       const std::string path = (pcrt::test::scratch_dir() / "stream.PLY").string();
       write_ply(path, cloud, f);
@@ -417,6 +418,19 @@ TEST_CASE("an XYZ or PWN file streams the points read_xyz reads", "[io][stream]"
   }
 }
 
+// CGAL's building scan, an ascii PLY of 10^5 points with normals, over several 4 MiB blocks.
+TEST_CASE("a real ascii PLY streams the points read_ply reads", "[io][stream]") {
+  const std::string path = (pcrt::test::data_dir() / "cgal" / "points_3" / "building.ply").string();
+  if (!std::filesystem::exists(path)) PCRT_SKIP("data/ not fetched (scripts/fetch_data.sh)");
+  const PointCloud read = read_ply(path);
+  const auto stream = open_point_stream(path);
+  const PointCloud streamed = drain(*stream);
+  REQUIRE(streamed.positions.size() == 100000);
+  CHECK(stream->origin() == read.origin);
+  CHECK(streamed.positions == read.positions);
+  CHECK(streamed.normals == read.normals);
+}
+
 TEST_CASE("an XYZ stream names the file and line of what is wrong", "[io][stream][errors]") {
   const auto open = [](const char* name, const std::string& text) {
     return open_point_stream(write_text(name, text));
@@ -452,15 +466,27 @@ TEST_CASE("a file that cannot stream is one error naming it", "[io][stream][erro
   const std::string ascii = (dir / "ascii.ply").string(), bare = (dir / "bare.ply").string(),
                     cut = (dir / "cut.ply").string(), xyz = (dir / "c.xyz").string();
   write_ply(ascii, cloud, PlyFormat::kAscii);
+  const std::string text = read_file(ascii);
+  write_text("short.ply", text.substr(0, text.rfind('\n', text.size() / 2) + 1));  // 500 lines
+  const size_t line3 = text.find("end_header\n") + 11;
+  const size_t after = text.find('\n', text.find('\n', line3) + 1) + 1;  // two vertex lines
+  write_text("few.ply", text.substr(0, after) + "1 2 3 0 0\n" + text.substr(after));
+  write_text("word.ply", text.substr(0, after) + "1 2 3 0 0 y\n" + text.substr(after));
   PointCloud no_normals = cloud;
   no_normals.normals.clear();
   write_ply(bare, no_normals);
   write_ply(cut, cloud);
   std::filesystem::resize_file(cut, std::filesystem::file_size(cut) - 7);
   write_text(xyz, "0 0 0\n1 0 0\n");
-  REQUIRE_INPUT_ERROR(open_point_stream(ascii), "ascii.ply: an ascii PLY is not streamed");
+  CHECK(drain(*open_point_stream(ascii)).positions == read_ply(ascii).positions);
+  REQUIRE_INPUT_ERROR(open_point_stream((dir / "short.ply").string())->bounds(),
+                      "short.ply: truncated: file ends at 'vertex' element");
+  REQUIRE_INPUT_ERROR(open_point_stream((dir / "few.ply").string())->bounds(),
+                      "few.ply: line 14: 'vertex' element 2 has too few values");
+  REQUIRE_INPUT_ERROR(open_point_stream((dir / "word.ply").string())->bounds(),
+                      "word.ply: line 14: 'y' is not a number");
   REQUIRE_INPUT_ERROR(open_point_stream(bare), "bare.ply: has no normals");
   REQUIRE_INPUT_ERROR(open_point_stream(cut), "cut.ply: truncated");
   REQUIRE_INPUT_ERROR(open_point_stream(xyz), "c.xyz: has no normals");
-  REQUIRE_INPUT_ERROR(open_point_stream(dir.string() + "/"), "only binary PLY, XYZ and PWN files");
+  REQUIRE_INPUT_ERROR(open_point_stream(dir.string() + "/"), "only PLY, XYZ and PWN files");
 }

@@ -1,7 +1,7 @@
 // Points delivered in chunks, in the same order on every read: what a streaming build takes in
 // place of a whole cloud, so that no process holds the float positions and normals of all of them
-// (24 bytes a point: 22 GiB at 10^9). A generator re-draws its points on every read; a binary PLY
-// file is read again.
+// (24 bytes a point: 22 GiB at 10^9). A generator re-draws its points on every read; a file is
+// read again.
 #pragma once
 
 #include <cstdint>
@@ -46,15 +46,16 @@ class PointStream {
 
 // The stream of a surface generator spec (`sphere:n=...`, core/dataset.hpp), in the generator's
 // own order: the same points as load_dataset_in_input_order(spec), never all in memory; or of a
-// binary PLY file with normals (open_ply_stream) or an XYZ/PWN file with normals
-// (open_xyz_stream). Throws InputError naming the spec for other files (ascii PLY, OFF), volume
-// generators (no normals) and unknown generators.
+// PLY file with normals (open_ply_stream) or an XYZ/PWN file with normals (open_xyz_stream).
+// Throws InputError naming the spec for other files (OFF), volume generators (no normals) and
+// unknown generators.
 std::unique_ptr<PointStream> open_point_stream(const std::string& spec);
 
-// A binary PLY file's vertices in file order, relative to the local origin read_ply would choose
-// (the same positions and unit normals as read_ply, which also drops exact duplicates: a stream
-// keeps them). InputError naming the file for ascii PLY, a vertex element that is not first or
-// holds a list, no normals, Gaussian particles, a truncated file, a bad coordinate or normal.
+// A PLY file's vertices in file order (binary records, or ascii lines read in blocks), relative to
+// the local origin read_ply would choose (the same positions and unit normals as read_ply, which
+// also drops exact duplicates: a stream keeps them; elements after the vertices are not read).
+// InputError naming the file for a vertex element that is not first or holds a list, no normals,
+// Gaussian particles, a truncated file, a bad line, coordinate or normal.
 std::unique_ptr<PointStream> open_ply_stream(const std::string& path);
 
 // An XYZ or PWN file's points in file order, six columns each (x y z nx ny nz), relative to the

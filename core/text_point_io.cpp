@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "core/point_cloud_io.hpp"
 #include "core/point_stream.hpp"
 #include "core/text_scanner.hpp"
@@ -24,6 +25,11 @@ std::string read_file(const std::string& path, size_t max_stream_bytes, FileGrow
   const auto file_size = regular ? std::filesystem::file_size(path, ec) : 0;
   // A regular file is read to its size; a stream without one (a pipe, /dev/zero) up to the cap.
   const size_t limit = regular && !ec && file_size > 0 ? size_t(file_size) : max_stream_bytes;
+  // The text and what is parsed from it are held together (an XYZ file's cloud is a third of its
+  // text, a binary PLY's about its size): refused before the first byte, not killed halfway.
+  if (regular && !ec)
+    require_memory(2 * size_t(file_size),
+                   fmt::format("{} ({} bytes, read whole)", path, file_size));
   std::ifstream in(path, std::ios::binary);
   if (!in) input_error("{}: cannot open: {}", path, std::strerror(errno));
   std::string text;
@@ -117,19 +123,15 @@ PointCloud parse_xyz(const std::string& text, const std::string& path) {
   return cloud;
 }
 
-namespace {
-
-// A text file read in blocks that end at a line's end: `block(text, lines_before)` for each, so
-// that a TextScanner over the block names the file's own line numbers. A line longer than a block
-// is refused (no point line is); the file is never held whole.
-void for_each_line_block(const std::string& path,
-                         const std::function<void(std::string_view, size_t)>& block) {
+void for_each_line_block(const std::string& path, uint64_t offset, size_t first_line,
+                         const std::function<bool(std::string_view, size_t)>& block) {
   constexpr size_t kBlockBytes = size_t(1) << 22;
   std::ifstream in(path, std::ios::binary);
-  if (!in) input_error("{}: cannot open: {}", path, std::strerror(errno));
+  if (!in || !in.seekg(std::streamoff(offset)))
+    input_error("{}: cannot open: {}", path, std::strerror(errno));
   std::string buffer;
   std::vector<char> chunk(kBlockBytes);
-  size_t lines = 0;
+  size_t lines = first_line;
   while (true) {
     in.read(chunk.data(), std::streamsize(chunk.size()));
     buffer.append(chunk.data(), size_t(in.gcount()));
@@ -142,12 +144,14 @@ void for_each_line_block(const std::string& path,
       continue;
     }
     const std::string_view text(buffer.data(), cut);
-    block(text, lines);
+    if (!block(text, lines)) return;
     lines += size_t(std::count(text.begin(), text.end(), '\n'));
     buffer.erase(0, cut);
     if (end) return;
   }
 }
+
+namespace {
 
 // An XYZ or PWN file with normals (six columns), line by line (core/point_stream.hpp): the
 // positions, origin and unit normals parse_xyz gives, never the whole file. The constructor reads
@@ -206,7 +210,7 @@ class XyzStream final : public PointStream {
   template <class F>
   void scan_lines(F&& line) const {
     bool first = true;
-    for_each_line_block(path_, [&](std::string_view text, size_t lines_before) {
+    for_each_line_block(path_, 0, 0, [&](std::string_view text, size_t lines_before) {
       TextScanner scan(text, path_, lines_before);
       while (scan.next_line()) {
         const size_t columns = scan.tokens().size();
@@ -221,6 +225,7 @@ class XyzStream final : public PointStream {
         first = false;
         line(scan);
       }
+      return true;
     });
   }
   static Vec3 normal(const TextScanner& scan) {

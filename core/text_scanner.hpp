@@ -3,6 +3,8 @@
 #pragma once
 
 #include <charconv>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -69,5 +71,12 @@ class TextScanner {
   size_t line_no_;
   std::vector<std::string_view> tokens_;
 };
+
+// A text file from byte `offset` on, read in blocks that end at a line's end: block(text,
+// lines_before) for each (lines_before counts from `first_line`, the lines before `offset`), so
+// that a TextScanner over the block names the file's own line numbers, until it returns false.
+// A line longer than a block (4 MiB) is an InputError; the file is never held whole.
+void for_each_line_block(const std::string& path, uint64_t offset, size_t first_line,
+                         const std::function<bool(std::string_view, size_t)>& block);
 
 }  // namespace pcrt

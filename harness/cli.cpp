@@ -221,8 +221,8 @@ void bind(CLI::App& c, RenderOptions& o) {
        "also write the primary-hit normal image (EXR: the signed normal)");
   text(c, "--stats", o.stats, "FILE.json", "write parameters, counters and timings as JSON");
   flag(c, "--stream", o.stream,
-       "stream a generator's points or a binary PLY file's into the method, never holding the "
-       "cloud (methods that stream: hubo_2006 with quantized=1)");
+       "stream a generator's points or a PLY, XYZ or PWN file's (with normals) into the method, "
+       "never holding the cloud (methods that stream: hubo_2006 with quantized=1)");
 }
 
 void bind(CLI::App& c, TraceOptions& o) {

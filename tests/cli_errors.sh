@@ -54,13 +54,21 @@ else
   (fails=0; ulimit -v 500000 && expect_error "out of memory: sphere:n=5000000 with reference_splat on 5000000 points is too large for this machine: about 0.66 GiB needed (estimate)" render --method reference_splat --structure kd_tree --set disc_blocks=1 --data sphere:n=5000000 --out "$dir/a.png"; exit "$fails")
   [ $? -eq 0 ] || fails=$((fails + 1))
 fi
+# A file too large to read whole (1 TiB, sparse: no disk used) is refused before its first byte;
+# streamed, its line of NUL bytes is too long, and a PLY of them has no header.
+truncate -s 1T "$dir/huge.xyz" && cp --sparse=always "$dir/huge.xyz" "$dir/huge.ply"
+expect_error "out of memory: $dir/huge.xyz (1099511627776 bytes, read whole) is too large" info "$dir/huge.xyz"
+expect_error "out of memory: $dir/huge.ply (1099511627776 bytes, read whole) is too large" render --method reference_splat --data "$dir/huge.ply" --out "$dir/a.png"
+expect_error "huge.xyz: line 1: longer than 4 MiB" render --stream --method hubo_2006 --set quantized=1 --data "$dir/huge.xyz" --out "$dir/a.png"
+expect_error "huge.ply: PLY header has no end_header line" render --stream --method hubo_2006 --set quantized=1 --data "$dir/huge.ply" --out "$dir/a.png"
+rm -f "$dir/huge.xyz" "$dir/huge.ply"
 # --stream: only the methods that prepare from a stream, only generators with normals.
 expect_error "sphere:n=1000: method reference_splat does not prepare from a stream" render --stream --method reference_splat --data sphere:n=1000 --out "$dir/a.png"
 expect_error "method hubo_2006 does not prepare from a stream with these parameters" render --stream --method hubo_2006 --data sphere:n=1000 --out "$dir/a.png"
 expect_error "ball:n=1000': ball has no normals" render --stream --method hubo_2006 --set quantized=1 --data ball:n=1000 --out "$dir/a.png"
 "$pcrt" convert sphere:n=100 --out "$dir/ascii.ply" --ascii >/dev/null
 expect_error "ascii.ply: an ascii PLY is not streamed (binary PLY is)" render --stream --method hubo_2006 --set quantized=1 --data "$dir/ascii.ply" --out "$dir/a.png"
-expect_error "nan.xyz: only binary PLY files and generator specs" render --stream --method hubo_2006 --set quantized=1 --data "$dir/nan.xyz" --out "$dir/a.png"
+expect_error "nan.xyz: has no normals (x y z only): only clouds with normals stream" render --stream --method hubo_2006 --set quantized=1 --data "$dir/nan.xyz" --out "$dir/a.png"
 expect_error "--stream does not apply to --mesh" render --stream --mesh "$dir/nan.xyz" --out "$dir/a.png"
 # Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
 expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set compact_refs=1 --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"
