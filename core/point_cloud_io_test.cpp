@@ -355,6 +355,18 @@ PointCloud drain(const PointStream& stream) {
   return c;
 }
 
+// The file at `path` streams the points, normals, origin and bounds of `read`, its whole read.
+void check_streams_as_read(const std::string& path, const PointCloud& read) {
+  const auto stream = open_point_stream(path);
+  REQUIRE(stream->size() == read.size());
+  CHECK(stream->origin() == read.origin);
+  const PointCloud streamed = drain(*stream);
+  CHECK(streamed.positions == read.positions);
+  CHECK(streamed.normals == read.normals);
+  CHECK(stream->bounds().lo == read.bounds().lo);
+  CHECK(stream->bounds().hi == read.bounds().hi);
+}
+
 }  // namespace
 
 // `pcrt render --stream` on a file: the reader's points, origin and normals, chunk by chunk.
@@ -367,15 +379,7 @@ TEST_CASE("a PLY file streams the points read_ply reads", "[io][stream]") {
       INFO("georeferenced " << georeferenced << ", format " << int(f));
       const std::string path = (pcrt::test::scratch_dir() / "stream.PLY").string();
       write_ply(path, cloud, f);
-      const PointCloud read = read_ply(path);
-      const auto stream = open_point_stream(path);
-      REQUIRE(stream->size() == read.size());
-      CHECK(stream->origin() == read.origin);
-      const PointCloud streamed = drain(*stream);
-      CHECK(streamed.positions == read.positions);
-      CHECK(streamed.normals == read.normals);
-      CHECK(stream->bounds().lo == read.bounds().lo);
-      CHECK(stream->bounds().hi == read.bounds().hi);
+      check_streams_as_read(path, read_ply(path));
     }
   }
 }
@@ -405,15 +409,7 @@ TEST_CASE("an XYZ or PWN file streams the points read_xyz reads", "[io][stream]"
     for (const char* name : {"stream.xyz", "stream.PWN"}) {
       INFO("georeferenced " << georeferenced << ", " << name);
       const std::string path = write_text(name, xyz_text(cloud));
-      const PointCloud read = read_xyz(path);
-      const auto stream = open_point_stream(path);
-      REQUIRE(stream->size() == read.size());
-      CHECK(stream->origin() == read.origin);
-      const PointCloud streamed = drain(*stream);
-      CHECK(streamed.positions == read.positions);
-      CHECK(streamed.normals == read.normals);
-      CHECK(stream->bounds().lo == read.bounds().lo);
-      CHECK(stream->bounds().hi == read.bounds().hi);
+      check_streams_as_read(path, read_xyz(path));
     }
   }
 }
@@ -423,12 +419,8 @@ TEST_CASE("a real ascii PLY streams the points read_ply reads", "[io][stream]") 
   const std::string path = (pcrt::test::data_dir() / "cgal" / "points_3" / "building.ply").string();
   if (!std::filesystem::exists(path)) PCRT_SKIP("data/ not fetched (scripts/fetch_data.sh)");
   const PointCloud read = read_ply(path);
-  const auto stream = open_point_stream(path);
-  const PointCloud streamed = drain(*stream);
-  REQUIRE(streamed.positions.size() == 100000);
-  CHECK(stream->origin() == read.origin);
-  CHECK(streamed.positions == read.positions);
-  CHECK(streamed.normals == read.normals);
+  REQUIRE(read.size() == 100000);
+  check_streams_as_read(path, read);
 }
 
 TEST_CASE("an XYZ stream names the file and line of what is wrong", "[io][stream][errors]") {
