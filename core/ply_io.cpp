@@ -804,10 +804,8 @@ class PlyStream final : public PointStream {
                   index, kMaxCoordinate);
     position = to_local(w, frame_.origin);
     normal = Vec3(float(field(layout_.nx)), float(field(layout_.ny)), float(field(layout_.nz)));
-    const float len = normal.norm();
-    if (!normal.allFinite() || !(len > 1e-12f))
+    if (!to_unit_normal(normal))
       input_error("{}: vertex {} has a zero or non-finite normal", path_, index);
-    normal /= len;
   }
 
   std::string path_;

@@ -57,4 +57,13 @@ std::string read_file(const std::string& path, size_t max_stream_bytes = kMaxStr
 // files store), or an InputError naming the first zero normal among non-zero ones.
 void normalize_loaded_normals(PointCloud& cloud);
 
+// A file's normal scaled to unit length, the rule every reader and stream applies to one; false
+// where it is not finite or shorter than 1e-12 (and then unchanged).
+inline bool to_unit_normal(Vec3& n) {
+  const float len = n.norm();
+  if (!n.allFinite() || !(len > 1e-12f)) return false;
+  n /= len;
+  return true;
+}
+
 }  // namespace pcrt

@@ -65,10 +65,8 @@ void normalize_loaded_normals(PointCloud& cloud) {
   for (size_t i = 0; i < cloud.normals.size(); ++i) {
     Vec3& n = cloud.normals[i];
     if (!n.allFinite()) input_error("{}: point {} has a non-finite normal", cloud.name, i);
-    const float len = n.norm();
-    if (!(len > 1e-12f))
+    if (!to_unit_normal(n))
       input_error("{}: point {} has a zero normal while others do not", cloud.name, i);
-    n /= len;
   }
 }
 
@@ -231,13 +229,11 @@ class XyzStream final : public PointStream {
   static Vec3 normal(const TextScanner& scan) {
     return {scan.number<float>(3), scan.number<float>(4), scan.number<float>(5)};
   }
-  // normalize_loaded_normals on one point.
   [[nodiscard]] Vec3 unit_normal(const TextScanner& scan) const {
-    const Vec3 n = normal(scan);
-    const float len = n.norm();
-    if (!n.allFinite() || !(len > 1e-12f))
+    Vec3 n = normal(scan);
+    if (!to_unit_normal(n))
       input_error("{}: line {}: a zero or non-finite normal", path_, scan.line());
-    return n / len;
+    return n;
   }
 
   std::string path_;
