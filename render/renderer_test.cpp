@@ -56,11 +56,14 @@ TEST_CASE("every structure renders the same image with the same counters at 1 an
   const Dataset d = load_dataset("bumpy_sphere:n=20000,seed=5");
   const Frame reference = render_with_threads(d.cloud, 1);
   // Every structure with its defaults, and the variants whose build or walk differs.
-  const std::vector<std::pair<std::string, ParamValues>> runs = {
-      {"kd_tree", {}},     {"kd_tree", {{"split", 1}}},
-      {"octree", {}},      {"octree", {{"child_bounds", 0}}},
-      {"sphere_tree", {}}, {"grid", {}},
-      {"bvh", {}}};
+  const std::vector<std::pair<std::string, ParamValues>> runs = {{"kd_tree", {}},
+                                                                 {"kd_tree", {{"split", 1}}},
+                                                                 {"octree", {}},
+                                                                 {"octree", {{"child_bounds", 0}}},
+                                                                 {"octree", {{"loose", 1}}},
+                                                                 {"sphere_tree", {}},
+                                                                 {"grid", {}},
+                                                                 {"bvh", {}}};
   for (const auto& [id, set] : runs) {
     INFO(id << (set.empty() ? "" : " (a variant)"));
     const Frame one = render_with_threads(d.cloud, 1, id, set);

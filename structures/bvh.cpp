@@ -17,6 +17,7 @@
 #include "structures/build_buffer.hpp"
 #include "structures/structure.hpp"
 #include "structures/wide_node.hpp"
+#include "structures/wide_walk.hpp"
 
 namespace pcrt {
 namespace {
@@ -32,7 +33,7 @@ struct BvhNode {
 
 constexpr int kBins = 16;
 constexpr uint32_t kParallelBuildItems = 50000;
-constexpr int kMaxDepth = 64;
+constexpr int kMaxDepth = kWideWalkMaxDepth;
 
 // Nodes of a subtree, child indices relative to its own array; large subtrees are built in
 // parallel and spliced in order (by moving their chunks: build_buffer.hpp), so the layout and
@@ -151,36 +152,7 @@ class Bvh final : public Structure {
   template <bool kAny, auto kTest>
   __attribute__((always_inline)) bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                                            OpCounters& counters) const {
-    if (wide_.empty()) return false;
-    const RaySlabs slabs(ray);
-    std::array<WideTodo, (kWideWidth - 1) * kMaxDepth + kWideWidth> stack;
-    int top = 0;
-    WideTodo cur{0, 0, ray.tmin, ray.tmax};  // the next node, kept out of the stack
-    bool found = false;
-    while (true) {
-      if (may_improve(cur.t0, hit.t)) {
-        counters.add(kNodesVisited);
-        if (cur.count > 0) {
-          counters.add(kLeavesVisited);
-          counters.add(kItemsVisited, cur.count);
-          const LeafVisit visit{{order_.data() + cur.index, cur.count}, cur.t0, cur.t1};
-          if constexpr (kAny) {
-            if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
-          } else {
-            found |= leaf.intersect_leaf(ray, visit, hit, counters);
-          }
-        } else {
-          const WideNode& n = wide_[cur.index];
-          const float limit = std::min(ray.tmax * kWiden, hit.t * (1.0f + 1e-5f) + 1e-30f);
-          alignas(32) float t0s[kWideWidth], t1s[kWideWidth];
-          const uint32_t mask = kTest(n, slabs, limit, t0s, t1s);
-          if (next_children<kAny>(n, mask, t0s, t1s, stack.data(), top, cur)) continue;
-        }
-      }
-      if (top == 0) break;
-      cur = stack[size_t(--top)];
-    }
-    return found;
+    return walk_wide<kAny, kTest>(wide_, order_.data(), ray, leaf, hit, counters);
   }
 
   // Recursion depth is bounded by kMaxDepth (then the node becomes a leaf).

@@ -19,6 +19,7 @@
 
 #include "core/offsets.hpp"
 #include "structures/build_buffer.hpp"
+#include "structures/loose_octree.hpp"
 #include "structures/structure.hpp"
 #include "structures/tree_nodes.hpp"
 #include "structures/wide_node.hpp"
@@ -124,6 +125,7 @@ struct OctreeParams {
   double stop_refs = 3;
   OctRefs compact_refs = OctRefs::kAuto;
   bool child_bounds = true;
+  bool loose = false;
 };
 const ParamList<OctreeParams>& octree_params() {
   using P = OctreeParams;
@@ -148,7 +150,13 @@ const ParamList<OctreeParams>& octree_params() {
                {"child_bounds", 1, 0, 1,
                 "1: for methods hit on their discs, each node keeps its footprints' box within "
                 "its cell (6 bytes, 8 bits a side) and rays skip the children whose box they "
-                "miss; 0: the cells alone"});
+                "miss; 0: the cells alone"})
+          .add(&P::loose,
+               {"loose", 0, 0, 1,
+                "0: an item in every cell its footprint reaches (the papers' rule); 1: a loose "
+                "octree, each item in the one cell holding its centre, each child's box grown to "
+                "its items' whole footprints and walked as the bvh's 8-wide nodes (one reference "
+                "per item; stop_refs, compact_refs and child_bounds do not apply)"});
   return l;
 }
 
@@ -166,14 +174,10 @@ class Octree final : public Structure {
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
-    const Aabb b = items_.bounds();
-    // A cube around the bounds, a little larger and not centred on them, so that the mid-planes
-    // of the first levels do not fall exactly on the symmetry planes of symmetric data (a line or
-    // plane through the centre would straddle them at every level). A single point keeps a
-    // zero-size cube and stays one leaf.
-    const float side = b.empty() ? 0.0f : 1.0137f * b.extent().maxCoeff();
-    root_lo_ = b.empty() ? Vec3::Zero() : Vec3(b.lo - Vec3::Constant(0.0049f * side));
-    root_side_ = side;
+    // A single point keeps a zero-size cube and stays one leaf.
+    const OctreeCube cube = octree_root_cube(items_.bounds());
+    root_lo_ = cube.lo;
+    root_side_ = cube.side;
     compact_ = refs_mode_ == OctRefs::kCompact ||
                (refs_mode_ == OctRefs::kAuto && items_.size() > kCompactAbove);
     // Implicit-surface methods search a leaf's whole cell interval, where their surface may lie off
@@ -750,6 +754,8 @@ namespace {
 StructureFootprint octree_footprint(const ParamValues& params) {
   // Compact references or 32-bit ones, which the leaf-order copy needs. The default (kAuto) is
   // priced as 32-bit: what it builds where a copy may be chosen, high by 14 B/item beyond.
+  const auto loose = params.find("loose");
+  if (loose != params.end() && loose->second != 0) return {55, 60, 1, 0};
   const auto mode = params.find("compact_refs");
   const bool is_compact = mode != params.end() && OctRefs(int(mode->second)) == OctRefs::kCompact;
   // With compact references a leaf-order copy is refused when the method binds (there is no
@@ -771,7 +777,11 @@ void register_octree(StructureRegistry& registry) {
       .build_claim = "O(N log N)",
       .query_claim = "O(log N)",
       .params = octree_params().specs(),
-      .create = structure_from<Octree>(octree_params(), "octree"),
+      .create = [](const ParamValues& given) -> std::unique_ptr<Structure> {
+        const OctreeParams p = octree_params().read(given, "octree");
+        if (p.loose) return make_loose_octree(p.leaf_size, p.max_depth);
+        return std::make_unique<Octree>(p);
+      },
       .footprint = octree_footprint,
   });
 }
