@@ -113,6 +113,10 @@ TEST_CASE("memory estimate: the octree's reference layouts") {
         structure_footprint("octree", {{"compact_refs", 1}}).item_order);
   CHECK(structure_footprint("octree").item_order ==
         structure_footprint("octree", {{"compact_refs", 0}}).item_order);
+  // The loose octree holds each item once: priced as such, below the cells' leaf-order copy.
+  CHECK(structure_footprint("octree", {{"loose", 1}}).references_per_item == 1);
+  CHECK(structure_footprint("octree", {{"loose", 1}}).leaf_order <
+        structure_footprint("octree").leaf_order);
   // Methods without disc blocks keep every box reference there: priced above the discs' figure.
   const auto& projection = MethodRegistry::instance().get("schaufler_jensen_2000", "method");
   const ParamValues none = resolve_params(projection.params, {}, "test");

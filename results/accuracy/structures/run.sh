@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Does the structure change a blend method's frame? The splat family's blend methods blend the
+# splats a ray hits within one leaf, so what a leaf holds is part of the method: the papers'
+# octree (a splat in every cell it reaches), the loose octree (octree loose=1: each splat once,
+# in the cell of its centre) and the bvh (each splat once, SAH leaves). reference_splat (nearest
+# disc, the same hits on any structure) is the control. The 8 shapes of scripts/accuracy_meshes.sh,
+# 20 000 rays and 10 000 secondary rays each. Usage, from the repository root:
+# bash results/accuracy/structures/run.sh [build/bin/pcrt]; then summary.py.
+set -euo pipefail
+pcrt=${1:-build/bin/pcrt}
+out=results/accuracy/structures
+shapes=(
+  "bunny|data/bunny/bunny.off|n=100000"
+  "cow|data/cgal/meshes/cow.off|n=100000"
+  "elk|data/cgal/meshes/elk.off|n=100000"
+  "camel|data/cgal/meshes/camel.off|n=100000"
+  "blade|data/cgal/meshes/blade.off|n=100000"
+  "bear|data/cgal/meshes/bear.off|n=100000"
+  "homer|data/cgal/meshes/homer.off|n=100000"
+  "bunny_scan|data/bunny/bunny.off|n=100000,noise=0.3,density=0.5,normals=estimated"
+)
+# variant|structure|sets
+variants=("octree|octree|" "octree_loose|octree|loose=1" "bvh|bvh|")
+for s in "${shapes[@]}"; do
+  IFS='|' read -r name mesh sampling <<<"$s"
+  for v in "${variants[@]}"; do
+    IFS='|' read -r vname structure sets <<<"$v"
+    mkdir -p "$out/$vname/$name"
+    extra=()
+    [ -n "$sets" ] && extra=(--set "$sets")
+    for m in goradia_2010 kashyap_2010_splat linsen_2007 reference_splat; do
+      "$pcrt" accuracy --method "$m" --structure "$structure" "${extra[@]}" --truth "$mesh" \
+        --sample "$sampling" --rays 20000 --secondary 10000 --threads 2 --json \
+        >"$out/$vname/$name/$m.json.tmp"
+      mv "$out/$vname/$name/$m.json.tmp" "$out/$vname/$name/$m.json"
+    done
+  done
+done
