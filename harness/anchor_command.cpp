@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "core/dataset.hpp"
@@ -21,6 +22,7 @@
 #include "harness/provenance.hpp"
 #include "methods/embree_oriented_disc/disc_packets.hpp"
 #include "methods/kernels/disc_lanes.hpp"
+#include "preprocess/point_attributes.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/triangle_mesh.hpp"
 #include "render/renderer.hpp"
@@ -322,6 +324,67 @@ struct References {
   }
 };
 
+// A blend method's primary-ray hits on its paper's structure (the structure's defaults, the
+// method's own --set values): the frame its candidates on other structures are checked against.
+// The blend methods blend the splats hit within one leaf, so what a leaf holds changes their
+// surface (results/accuracy/structures); the nearest-disc methods' hits are Embree's anywhere.
+struct PaperFrame {
+  std::string structure;
+  std::vector<char> found;
+  std::vector<Hit> hits;
+};
+
+PaperFrame paper_frame(const PointCloud& cloud, const MethodInfo& m, const ParamValues& overrides,
+                       const RaySet& primary) {
+  ParamValues own;  // the method's parameters only: the paper's structure keeps its defaults
+  for (const ParamSpec& p : m.params)
+    if (const auto it = overrides.find(p.name); it != overrides.end()) own[p.name] = it->second;
+  Timings t;
+  OpCounters c;
+  const PointScene scene(cloud, SceneOptions{m.id, m.structure, own}, c, t);
+  PaperFrame f{m.structure, std::vector<char>(primary.rays.size()),
+               std::vector<Hit>(primary.rays.size())};
+  RayByRay(scene).trace(primary, 0, primary.rays.size(), f.found.data(), f.hits.data(), c);
+  return f;
+}
+
+// How far a candidate's primary hits lie from its paper frame's: rays only one hits, rays on
+// another point or at another t, and over the rays both hit the distance along the paper hit's
+// normal (in mean spacings h) and the angle between the normals (degrees), median and 95th
+// percentile. Untimed.
+json frame_difference(const SceneIntersector& candidate, const PaperFrame& paper,
+                      const RaySet& primary, double h) {
+  const size_t n = primary.rays.size();
+  std::vector<char> found(n);
+  std::vector<Hit> hits(n);
+  OpCounters c;
+  RayByRay(candidate).trace(primary, 0, n, found.data(), hits.data(), c);
+  size_t one_only = 0, differ = 0;
+  std::vector<double> apart, angle;
+  for (size_t i = 0; i < n; ++i) {
+    one_only += size_t(found[i] != paper.found[i]);
+    if (!(found[i] && paper.found[i])) continue;
+    const Hit &a = paper.hits[i], &b = hits[i];
+    differ += size_t(a.prim != b.prim || a.t != b.t);
+    apart.push_back(std::abs((b.p - a.p).dot(a.n)) / h);
+    angle.push_back(std::acos(std::clamp(double(a.n.dot(b.n)), -1.0, 1.0)) * 180.0 / M_PI);
+  }
+  auto quantile = [](std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    const auto k = std::ptrdiff_t(q * double(v.size() - 1));
+    std::nth_element(v.begin(), v.begin() + k, v.end());
+    return v[size_t(k)];
+  };
+  return {{"paper_structure", paper.structure},
+          {"same_frame", one_only == 0 && differ == 0},
+          {"one_only", one_only},
+          {"other_hit", differ},
+          {"apart_h_median", quantile(apart, 0.5)},
+          {"apart_h_p95", quantile(apart, 0.95)},
+          {"normal_deg_median", quantile(angle, 0.5)},
+          {"normal_deg_p95", quantile(angle, 0.95)}};
+}
+
 // What every candidate is timed against, on the same rays.
 struct AnchorBench {
   const Dataset& data;
@@ -330,6 +393,8 @@ struct AnchorBench {
   std::vector<const Tracer*> references;
   std::vector<const RaySet*> sets;  // primary, bounce, shadow
   int reps;
+  double h = 0;                             // the cloud's mean spacing
+  std::map<std::string, PaperFrame> paper;  // the blend methods' frames, by method
 };
 
 void print_candidate(const json& e, const std::vector<const RaySet*>& sets) {
@@ -340,6 +405,18 @@ void print_candidate(const json& e, const std::vector<const RaySet*>& sets) {
     std::printf("  %s %6.2f Mrays/s x%.2f (x%.2f packets of 16)", set->name,
                 r["mrays_per_s"].get<double>(), r["references"][0]["ratio"].get<double>(),
                 r["references"][3]["ratio"].get<double>());
+  }
+  if (e.contains("frame_vs_paper")) {
+    const json& f = e["frame_vs_paper"];
+    if (f["same_frame"].get<bool>())
+      std::printf("  frame: its %s's", f["paper_structure"].get<std::string>().c_str());
+    else
+      std::printf(
+          "  frame vs its %s's: %zu one-sided, apart %.3f h (p95 %.3f), normals %.2f deg "
+          "(p95 %.2f)",
+          f["paper_structure"].get<std::string>().c_str(), f["one_only"].get<size_t>(),
+          f["apart_h_median"].get<double>(), f["apart_h_p95"].get<double>(),
+          f["normal_deg_median"].get<double>(), f["normal_deg_p95"].get<double>());
   }
   std::printf("\n");
 }
@@ -359,14 +436,18 @@ json time_candidate(const AnchorBench& b, const MethodInfo& m, const StructureIn
   std::vector<const Tracer*> scenes = {&candidate};
   scenes.insert(scenes.end(), b.references.begin(), b.references.end());
   for (const RaySet* set : b.sets) e[set->name] = alternated(scenes, *set, b.reps);
+  if (const auto it = b.paper.find(m.id); it != b.paper.end())
+    e["frame_vs_paper"] = frame_difference(scene, it->second, *b.sets[0], b.h);
   return e;
 }
 
-json time_candidates(const AnchorOptions& o, const AnchorBench& b) {
+json time_candidates(const AnchorOptions& o, AnchorBench& b) {
   json candidates = json::array();
   for (const MethodInfo& m : MethodRegistry::instance().all()) {
     if (!splat_family(m.family) || !m.own_structure.empty()) continue;
     if (o.method && *o.method != m.id) continue;
+    if (m.family == LeafFamily::kSplatBlend)
+      b.paper.emplace(m.id, paper_frame(b.data.cloud, m, b.overrides, *b.sets[0]));
     for (const StructureInfo& s : StructureRegistry::instance().all()) {
       if (s.id == "brute_force" || (o.structure && *o.structure != s.id)) continue;
       candidates.push_back(time_candidate(b, m, s));
@@ -423,7 +504,13 @@ int command_anchor(const AnchorOptions& o) {
       bounce{"bounce", Query::kClosest, false, {}}, shadow{"shadow", Query::kAny, false, {}};
   const References refs(d.cloud);
   secondary_rays(refs.morton, primary.rays, bounds, bounce, shadow);
-  const AnchorBench bench{d, o.set, refs.tracers(), {&primary, &bounce, &shadow}, o.reps};
+  OpCounters spacing;
+  AnchorBench bench{d,
+                    o.set,
+                    refs.tracers(),
+                    {&primary, &bounce, &shadow},
+                    o.reps,
+                    mean_spacing(d.cloud.positions, spacing)};
   const json candidates = time_candidates(o, bench);
   const json best = best_candidate(candidates, false), best_same = best_candidate(candidates, true);
   const json j = {

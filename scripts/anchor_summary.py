@@ -6,11 +6,15 @@ bounce and shadow rays, and the disc tests per ray.
 Usage: anchor_summary.py BEFORE.json AFTER.json
        anchor_summary.py --ratios [--reference K] BEFORE.json AFTER.json
        anchor_summary.py --table [--reference K] FILE.json [FILE.json ...]
+       anchor_summary.py --frames FILE.json [FILE.json ...]
 --ratios prints one table of "before -> after" ratios per ray kind against reference K (0: Embree
 ray by ray in Morton order, the default; 3: Embree in packets of 16 where the files have it), with
 each file's load average, so that the README and docs quote the files and nothing else. --table
 prints one table of several files (one data set each, one column each: primary / bounce / shadow)
-with each file's commit, CPU and load average."""
+with each file's commit, CPU and load average. --frames prints, for the blend methods, how far
+each structure's primary hits lie from those on the method's paper structure (recorded since the
+anchor's frame_vs_paper): "same" or the distance along the normal in mean spacings h and the
+normals' angle in degrees, median / 95th percentile, and the rays only one of them hits."""
 import argparse
 import json
 import sys
@@ -117,16 +121,39 @@ def files_table(paths, ref):
         print("| %s | %s | %s |" % (key[0], key[1], " | ".join(cells)))
 
 
+def frame_cell(c):
+    f = None if c is None else c.get("frame_vs_paper")
+    if f is None:
+        return "-"
+    if f["same_frame"]:
+        return "same"
+    return "%.3f / %.3f h, %.2f / %.2f deg, %d one-sided" % (
+        f["apart_h_median"], f["apart_h_p95"], f["normal_deg_median"], f["normal_deg_p95"],
+        f["one_only"])
+
+
+def frames_table(paths):
+    """One column per file: each blend candidate's frame against its paper structure's."""
+    files = [rows(path) for path in paths]
+    print("| method | structure | %s |" % " | ".join(j["dataset"] for j, _ in files))
+    print("|---|---|%s" % ("---|" * len(files)))
+    for key in sorted(set().union(*(set(r) for _, r in files))):
+        cells = [frame_cell(r.get(key)) for _, r in files]
+        if any(c != "-" for c in cells):
+            print("| %s | %s | %s |" % (key[0], key[1], " | ".join(cells)))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("files", nargs="+", help="BEFORE.json AFTER.json, or with --table any number")
     p.add_argument("--ratios", action="store_true", help="before -> after ratios per ray kind")
     p.add_argument("--table", action="store_true", help="one table of several files")
+    p.add_argument("--frames", action="store_true", help="the blend methods' frames vs their paper's")
     p.add_argument("--reference", type=int, default=0, help="with --ratios or --table: reference index")
     a = p.parse_args()
-    if a.table:
+    if a.table or a.frames:
         try:
-            files_table(a.files, a.reference)
+            frames_table(a.files) if a.frames else files_table(a.files, a.reference)
         except (OSError, ValueError, KeyError) as e:
             sys.exit("anchor_summary.py: cannot read %s: %s" % (" ".join(a.files), e))
         return

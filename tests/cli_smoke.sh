@@ -274,4 +274,21 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 assert [r["hit"] for r in rows] == ["1", "0"], rows
 assert abs(float(rows[0]["t"]) - 5) < 1e-3 and abs(abs(float(rows[0]["nz"])) - 1) < 1e-3, rows
 PY
+# anchor: each blend candidate's primary hits against its paper structure's. On the octree (its
+# paper's) the frame is its own; on the bvh (each splat in one leaf) the blends differ; the
+# nearest-disc methods carry no such field (their hits are Embree's on every structure).
+"$pcrt" anchor --data bumpy_sphere:n=6000,seed=2 --width 48 --height 48 --reps 1 --threads 2 --json \
+  >"$dir/anchor.json"
+python3 - "$dir/anchor.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+c = {(x["method"], x["structure"]): x for x in j["candidates"]}
+for m in ("goradia_2010", "kashyap_2010_splat", "linsen_2007"):
+    own = c[(m, "octree")]["frame_vs_paper"]
+    assert own["paper_structure"] == "octree" and own["same_frame"], (m, own)
+    assert own["apart_h_p95"] == 0 and own["one_only"] == 0, (m, own)
+    bvh = c[(m, "bvh")]["frame_vs_paper"]
+    assert not bvh["same_frame"] and bvh["other_hit"] > 0 and bvh["normal_deg_p95"] > 0, (m, bvh)
+assert "frame_vs_paper" not in c[("reference_splat", "bvh")]
+PY
 echo "CLI smoke ok"
