@@ -11,18 +11,8 @@ out=${2:-results/accuracy}
 shift $(($# < 2 ? $# : 2))
 threads=${PCRT_THREADS:-2}
 methods=${*:-$("$pcrt" list --json | python3 -c 'import json,sys; print(" ".join(m["id"] for m in json.load(sys.stdin)["methods"]))')}
-# name|mesh|sampling
-shapes=(
-  "bunny|data/bunny/bunny.off|n=100000"
-  "cow|data/cgal/meshes/cow.off|n=100000"
-  "elk|data/cgal/meshes/elk.off|n=100000"
-  "camel|data/cgal/meshes/camel.off|n=100000"
-  "blade|data/cgal/meshes/blade.off|n=100000"
-  "bear|data/cgal/meshes/bear.off|n=100000"
-  "homer|data/cgal/meshes/homer.off|n=100000"
-  "bunny_scan|data/bunny/bunny.off|n=100000,noise=0.3,density=0.5,normals=estimated"
-)
-for s in "${shapes[@]}"; do
+source "$(dirname "$0")/accuracy_shapes.sh"
+for s in "${accuracy_shapes[@]}"; do
   IFS='|' read -r name mesh sampling <<<"$s"
   mkdir -p "$out/$name"
   for m in $methods; do

@@ -415,6 +415,32 @@ TEST_CASE("the octree's compact references trace as its 32-bit ones, in fewer by
   REQUIRE_NOTHROW(leaf_order->bind_leaf_references(plain->leaf_references()));
 }
 
+namespace {
+
+// Two octree variants of one method on the same rays: rays whose hits differ (hit or miss, item
+// or t of the closest, or the occlusion answer), rays the second hits, nodes each visits.
+struct OctreeVariants {
+  size_t differ = 0, hits = 0;
+  uint64_t nodes_first = 0, nodes_second = 0;
+};
+OctreeVariants compare_octree_variants(const PointScene& first, const PointScene& second,
+                                       const std::vector<Ray>& rays) {
+  OctreeVariants v;
+  for (const Ray& r : rays) {
+    Hit a, b;
+    OpCounters ca, cb;
+    const bool fa = first.closest_hit(r, a, ca), fb = second.closest_hit(r, b, cb);
+    v.hits += size_t(fb);
+    v.differ += size_t(fa != fb || (fa && (a.prim != b.prim || a.t != b.t)) ||
+                       first.any_hit(r, ca) != second.any_hit(r, cb));
+    v.nodes_first += ca.get(kNodesVisited);
+    v.nodes_second += cb.get(kNodesVisited);
+  }
+  return v;
+}
+
+}  // namespace
+
 TEST_CASE("the octree's child boxes find its cells' hits for every method, in fewer nodes",
           "[structures]") {
   // A ray skips a child whose footprint box it misses; every method's hits lie within its items'
@@ -429,24 +455,13 @@ TEST_CASE("the octree's child boxes find its cells' hits for every method, in fe
     Timings t;
     const PointScene cells(cloud, SceneOptions{info.id, "octree", {{"child_bounds", 0}}}, c, t);
     const PointScene boxes(cloud, SceneOptions{info.id, "octree", {}}, c, t);
-    size_t differ = 0, hits = 0;
-    uint64_t nodes_cells = 0, nodes_boxes = 0;
-    for (const Ray& r : rays) {
-      Hit a, b;
-      OpCounters ca, cb;
-      const bool fa = cells.closest_hit(r, a, ca), fb = boxes.closest_hit(r, b, cb);
-      hits += size_t(fa);
-      differ += size_t(fa != fb || (fa && (a.prim != b.prim || a.t != b.t)) ||
-                       cells.any_hit(r, ca) != boxes.any_hit(r, cb));
-      nodes_cells += ca.get(kNodesVisited);
-      nodes_boxes += cb.get(kNodesVisited);
-    }
-    CHECK(differ == 0);
-    CHECK(hits > rays.size() / 10);
+    const OctreeVariants v = compare_octree_variants(cells, boxes, rays);
+    CHECK(v.differ == 0);
+    CHECK(v.hits > rays.size() / 10);
     // Methods hit on their discs keep the boxes; the others' walk is the cells' own.
-    INFO("nodes visited " << nodes_cells << " -> " << nodes_boxes);
-    CHECK(nodes_boxes <= nodes_cells);
-    fewer += size_t(nodes_boxes * 10 < nodes_cells * 9);
+    INFO("nodes visited " << v.nodes_first << " -> " << v.nodes_second);
+    CHECK(v.nodes_second <= v.nodes_first);
+    fewer += size_t(v.nodes_second * 10 < v.nodes_first * 9);
   }
   CHECK(fewer >= 4);  // the splat family at least
 }
@@ -469,21 +484,10 @@ TEST_CASE("the loose octree holds each item once and finds the disc methods' oct
     const PointScene loose(cloud, SceneOptions{info.id, "octree", {{"loose", 1}}}, cl, t);
     const PointScene bvh(cloud, SceneOptions{info.id, "bvh", {}}, cb, t);
     CHECK(cl.get(kBuildItemRefs) == cb.get(kBuildItemRefs));  // one reference an item
-    size_t differ = 0, hits = 0;
-    for (const Ray& r : rays) {
-      Hit a, b;
-      OpCounters ca, cc;
-      const bool fa = cells.closest_hit(r, a, ca), fb = loose.closest_hit(r, b, cc);
-      hits += size_t(fb);
-      const bool same = fa == fb && (!fa || (a.prim == b.prim && a.t == b.t)) &&
-                        cells.any_hit(r, ca) == loose.any_hit(r, cc);
-      if (!same && differ++ < 3)
-        UNSCOPED_INFO("ray " << &r - rays.data() << ": " << fa << " t " << a.t << " prim " << a.prim
-                             << " / " << fb << " t " << b.t << " prim " << b.prim);
-    }
-    CHECK(hits > rays.size() / 10);
+    const OctreeVariants v = compare_octree_variants(cells, loose, rays);
+    CHECK(v.hits > rays.size() / 10);
     if (info.family != LeafFamily::kDisc) continue;
-    CHECK(differ == 0);
+    CHECK(v.differ == 0);
     ++exact;
   }
   CHECK(exact >= 1);

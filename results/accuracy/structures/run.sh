@@ -9,19 +9,10 @@
 set -euo pipefail
 pcrt=${1:-build/bin/pcrt}
 out=results/accuracy/structures
-shapes=(
-  "bunny|data/bunny/bunny.off|n=100000"
-  "cow|data/cgal/meshes/cow.off|n=100000"
-  "elk|data/cgal/meshes/elk.off|n=100000"
-  "camel|data/cgal/meshes/camel.off|n=100000"
-  "blade|data/cgal/meshes/blade.off|n=100000"
-  "bear|data/cgal/meshes/bear.off|n=100000"
-  "homer|data/cgal/meshes/homer.off|n=100000"
-  "bunny_scan|data/bunny/bunny.off|n=100000,noise=0.3,density=0.5,normals=estimated"
-)
+source scripts/accuracy_shapes.sh
 # variant|structure|sets
 variants=("octree|octree|" "octree_loose|octree|loose=1" "bvh|bvh|")
-for s in "${shapes[@]}"; do
+for s in "${accuracy_shapes[@]}"; do
   IFS='|' read -r name mesh sampling <<<"$s"
   for v in "${variants[@]}"; do
     IFS='|' read -r vname structure sets <<<"$v"
