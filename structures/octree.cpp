@@ -17,6 +17,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "core/error.hpp"
 #include "core/offsets.hpp"
 #include "structures/build_buffer.hpp"
 #include "structures/loose_octree.hpp"
@@ -156,7 +157,7 @@ const ParamList<OctreeParams>& octree_params() {
                 "0: an item in every cell its footprint reaches (the papers' rule); 1: a loose "
                 "octree, each item in the one cell holding its centre, each child's box grown to "
                 "its items' whole footprints and walked as the bvh's 8-wide nodes (one reference "
-                "per item; stop_refs, compact_refs and child_bounds do not apply)"});
+                "per item; stop_refs, compact_refs and child_bounds set beside it are refused)"});
   return l;
 }
 
@@ -751,6 +752,17 @@ class Octree final : public Structure {
 namespace {
 
 // From results/scale/octree at 6b7fb5f (compact references or not) and its leaf order at 667aa3e.
+// The parameters of the papers' octree mean nothing to the loose one: set away from their
+// defaults beside loose=1, they are a contradiction, not a choice to ignore.
+void check_loose_alone(const OctreeParams& p) {
+  const OctreeParams defaults;
+  if (p.stop_refs != defaults.stop_refs || p.compact_refs != defaults.compact_refs ||
+      p.child_bounds != defaults.child_bounds)
+    input_error(
+        "structure octree: loose=1 places each item once; stop_refs, compact_refs and "
+        "child_bounds apply to loose=0 only");
+}
+
 StructureFootprint octree_footprint(const ParamValues& params) {
   // Compact references or 32-bit ones, which the leaf-order copy needs. The default (kAuto) is
   // priced as 32-bit: what it builds where a copy may be chosen, high by 14 B/item beyond.
@@ -781,8 +793,9 @@ void register_octree(StructureRegistry& registry) {
       .params = octree_params().specs(),
       .create = [](const ParamValues& given) -> std::unique_ptr<Structure> {
         const OctreeParams p = octree_params().read(given, "octree");
-        if (p.loose) return make_loose_octree(p.leaf_size, p.max_depth);
-        return std::make_unique<Octree>(p);
+        if (!p.loose) return std::make_unique<Octree>(p);
+        check_loose_alone(p);
+        return make_loose_octree(p.leaf_size, p.max_depth);
       },
       .footprint = octree_footprint,
   });
