@@ -290,5 +290,10 @@ for m in ("goradia_2010", "kashyap_2010_splat", "linsen_2007"):
     bvh = c[(m, "bvh")]["frame_vs_paper"]
     assert not bvh["same_frame"] and bvh["other_hit"] > 0 and bvh["normal_deg_p95"] > 0, (m, bvh)
 assert "frame_vs_paper" not in c[("reference_splat", "bvh")]
+# The best of the papers' frames: a nearest-disc method, or a blend on a structure within rounding
+# of its octree's frame (never the bvh's blends).
+b = j["best_papers_frame"]
+f = c[(b["method"], b["structure"])].get("frame_vs_paper")
+assert f is None or (f["one_only"] == 0 and f["apart_h_p95"] <= 1e-3), b
 PY
 echo "CLI smoke ok"
