@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -25,6 +26,7 @@
 #include "preprocess/point_attributes.hpp"
 #include "reconstruction/mesh_engine.hpp"
 #include "reconstruction/triangle_mesh.hpp"
+#include "render/accuracy.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
 #include "structures/wide_node.hpp"
@@ -350,8 +352,9 @@ PaperFrame paper_frame(const PointCloud& cloud, const MethodInfo& m, const Param
 
 // How far a candidate's primary hits lie from its paper frame's: rays only one hits, rays on
 // another point or at another t, and over the rays both hit the distance along the paper hit's
-// normal (in mean spacings h) and the angle between the normals (degrees), median and 95th
-// percentile. Untimed.
+// normal (in the cloud's mean spacing h; in scene units where h is 0, a cloud of one point or of
+// coincident ones) and the angle between the normals (degrees), median and 95th percentile, left
+// out where no ray hits on both sides. Untimed.
 json frame_difference(const SceneIntersector& candidate, const PaperFrame& paper,
                       const RaySet& primary, double h) {
   const size_t n = primary.rays.size();
@@ -359,30 +362,29 @@ json frame_difference(const SceneIntersector& candidate, const PaperFrame& paper
   std::vector<Hit> hits(n);
   OpCounters c;
   RayByRay(candidate).trace(primary, 0, n, found.data(), hits.data(), c);
+  const double unit = h > 0 ? h : 1.0;
   size_t one_only = 0, differ = 0;
-  std::vector<double> apart, angle;
+  std::vector<float> apart, angle;
   for (size_t i = 0; i < n; ++i) {
     one_only += size_t(found[i] != paper.found[i]);
     if (!(found[i] && paper.found[i])) continue;
     const Hit &a = paper.hits[i], &b = hits[i];
     differ += size_t(a.prim != b.prim || a.t != b.t);
-    apart.push_back(std::abs((b.p - a.p).dot(a.n)) / h);
-    angle.push_back(std::acos(std::clamp(double(a.n.dot(b.n)), -1.0, 1.0)) * 180.0 / M_PI);
+    apart.push_back(float(std::abs((b.p - a.p).dot(a.n)) / unit));
+    angle.push_back(float(std::acos(std::clamp(double(a.n.dot(b.n)), -1.0, 1.0)) * 180.0 / M_PI));
   }
-  auto quantile = [](std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    const auto k = std::ptrdiff_t(q * double(v.size() - 1));
-    std::nth_element(v.begin(), v.begin() + k, v.end());
-    return v[size_t(k)];
-  };
-  return {{"paper_structure", paper.structure},
-          {"same_frame", one_only == 0 && differ == 0},
-          {"one_only", one_only},
-          {"other_hit", differ},
-          {"apart_h_median", quantile(apart, 0.5)},
-          {"apart_h_p95", quantile(apart, 0.95)},
-          {"normal_deg_median", quantile(angle, 0.5)},
-          {"normal_deg_p95", quantile(angle, 0.95)}};
+  json out = {{"paper_structure", paper.structure},
+              {"same_frame", one_only == 0 && differ == 0},
+              {"one_only", one_only},
+              {"both_hit", apart.size()},
+              {"other_hit", differ},
+              {"mean_spacing", h}};
+  if (apart.empty()) return out;
+  out["apart_h_median"] = quantile(apart, 0.5);
+  out["apart_h_p95"] = quantile(apart, 0.95);
+  out["normal_deg_median"] = quantile(angle, 0.5);
+  out["normal_deg_p95"] = quantile(angle, 0.95);
+  return out;
 }
 
 // What every candidate is timed against, on the same rays.
@@ -393,7 +395,7 @@ struct AnchorBench {
   std::vector<const Tracer*> references;
   std::vector<const RaySet*> sets;  // primary, bounce, shadow
   int reps;
-  double h = 0;                             // the cloud's mean spacing
+  std::optional<double> h;                  // the cloud's mean spacing, once a blend needs it
   std::map<std::string, PaperFrame> paper;  // the blend methods' frames, by method
 };
 
@@ -410,6 +412,9 @@ void print_candidate(const json& e, const std::vector<const RaySet*>& sets) {
     const json& f = e["frame_vs_paper"];
     if (f["same_frame"].get<bool>())
       std::printf("  frame: its %s's", f["paper_structure"].get<std::string>().c_str());
+    else if (!f.contains("apart_h_p95"))
+      std::printf("  frame vs its %s's: %zu one-sided, no ray hit on both",
+                  f["paper_structure"].get<std::string>().c_str(), f["one_only"].get<size_t>());
     else
       std::printf(
           "  frame vs its %s's: %zu one-sided, apart %.3f h (p95 %.3f), normals %.2f deg "
@@ -437,7 +442,7 @@ json time_candidate(const AnchorBench& b, const MethodInfo& m, const StructureIn
   scenes.insert(scenes.end(), b.references.begin(), b.references.end());
   for (const RaySet* set : b.sets) e[set->name] = alternated(scenes, *set, b.reps);
   if (const auto it = b.paper.find(m.id); it != b.paper.end())
-    e["frame_vs_paper"] = frame_difference(scene, it->second, *b.sets[0], b.h);
+    e["frame_vs_paper"] = frame_difference(scene, it->second, *b.sets[0], b.h.value());
   return e;
 }
 
@@ -446,8 +451,11 @@ json time_candidates(const AnchorOptions& o, AnchorBench& b) {
   for (const MethodInfo& m : MethodRegistry::instance().all()) {
     if (!splat_family(m.family) || !m.own_structure.empty()) continue;
     if (o.method && *o.method != m.id) continue;
-    if (m.family == LeafFamily::kSplatBlend)
+    if (m.family == LeafFamily::kSplatBlend) {
+      OpCounters spacing;
+      if (!b.h) b.h = mean_spacing(b.data.cloud.positions, spacing);
       b.paper.emplace(m.id, paper_frame(b.data.cloud, m, b.overrides, *b.sets[0]));
+    }
     for (const StructureInfo& s : StructureRegistry::instance().all()) {
       if (s.id == "brute_force" || (o.structure && *o.structure != s.id)) continue;
       candidates.push_back(time_candidate(b, m, s));
@@ -465,8 +473,9 @@ bool papers_frame(const json& c) {
   if (c["same_discs"].get<bool>()) return true;
   if (!c.contains("frame_vs_paper")) return false;
   const json& f = c["frame_vs_paper"];
-  return f["one_only"].get<size_t>() == 0 && f["apart_h_p95"].get<double>() <= 1e-3 &&
-         f["normal_deg_p95"].get<double>() <= 0.1;
+  if (f["same_frame"].get<bool>()) return true;
+  return f["one_only"].get<size_t>() == 0 && f.contains("apart_h_p95") &&
+         f["apart_h_p95"].get<double>() <= 1e-3 && f["normal_deg_p95"].get<double>() <= 0.1;
 }
 
 // Which candidates compete for a best.
@@ -523,13 +532,7 @@ int command_anchor(const AnchorOptions& o) {
       bounce{"bounce", Query::kClosest, false, {}}, shadow{"shadow", Query::kAny, false, {}};
   const References refs(d.cloud);
   secondary_rays(refs.morton, primary.rays, bounds, bounce, shadow);
-  OpCounters spacing;
-  AnchorBench bench{d,
-                    o.set,
-                    refs.tracers(),
-                    {&primary, &bounce, &shadow},
-                    o.reps,
-                    mean_spacing(d.cloud.positions, spacing)};
+  AnchorBench bench{d, o.set, refs.tracers(), {&primary, &bounce, &shadow}, o.reps};
   const json candidates = time_candidates(o, bench);
   const json best = best_candidate(candidates, BestOf::kAll);
   const json best_same = best_candidate(candidates, BestOf::kSameDiscs);

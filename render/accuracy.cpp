@@ -244,13 +244,6 @@ void count_outcome(const RayOutcome& o, AccuracyReport& r, HitSamples& samples) 
   }
 }
 
-double quantile(std::vector<float> v, double q) {
-  if (v.empty()) return std::nan("");
-  const auto k = size_t(std::min<double>(double(v.size() - 1), q * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + long(k), v.end());
-  return double(v[k]);
-}
-
 void summarise(const HitSamples& samples, AccuracyReport& r) {
   r.hole_rate = r.judged_hits ? double(r.holes) / double(r.judged_hits) : 0;
   const size_t judged = r.judged_hits + r.judged_misses;
@@ -362,6 +355,13 @@ SecondaryReport evaluate_secondary(const SceneIntersector& scene, const Surface&
   SecondaryReport r;
   for (size_t i = 0; i < count; ++i) count_secondary(out[i], i % 2 == 0 ? r.outward : r.inward);
   return r;
+}
+
+double quantile(std::vector<float> v, double q) {
+  if (v.empty()) return std::nan("");
+  const auto k = size_t(std::min<double>(double(v.size() - 1), q * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return double(v[k]);
 }
 
 }  // namespace pcrt

@@ -105,6 +105,10 @@ struct AccuracyBounds {
   }
 };
 
+// The q-quantile of v (the element of rank floor(q n), clamped to the last); NaN for none. What
+// the accuracy report's medians and 95th percentiles are, and the anchor's frame differences.
+double quantile(std::vector<float> v, double q);
+
 // The rays: origins on a sphere three bounding radii around the surface; half aimed at points
 // drawn on the surface, half at such points moved along their normal by up to +-10h.
 std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uint64_t seed);

@@ -127,6 +127,8 @@ def frame_cell(c):
         return "-"
     if f["same_frame"]:
         return "same"
+    if "apart_h_p95" not in f:
+        return "%d one-sided, no ray hit on both" % f["one_only"]
     return "%.3f / %.3f h, %.2f / %.2f deg, %d one-sided" % (
         f["apart_h_median"], f["apart_h_p95"], f["normal_deg_median"], f["normal_deg_p95"],
         f["one_only"])
