@@ -183,7 +183,14 @@ json hit_agreement(const Tracer& a, const Tracer& b, const RaySet& set) {
 // Scenes timed together: [0] the candidate, then the references. Pass 0 warms up; every later
 // pass times all scenes, in reverse order on odd passes, so drift (turbo, other load) falls on
 // both sides of each ratio alike.
+// A set with no rays (a cloud every bounce or shadow ray misses) is reported as such, with no rate
+// or ratio: 0 / 0 is no measurement.
 json alternated(const std::vector<const Tracer*>& scenes, const RaySet& set, int reps) {
+  if (set.rays.empty())
+    return {{"rays", 0},
+            {"query", set.query == Query::kAny ? "any_hit" : "closest_hit"},
+            {"hits", 0},
+            {"references", json::array()}};
   const size_t n = scenes.size();
   std::vector<std::vector<double>> rate(n);
   std::vector<size_t> hits(n);
@@ -283,10 +290,13 @@ int anchor_mesh(const AnchorOptions& o) {
     return 0;
   }
   for (const char* k : {"primary", "bounce", "shadow"})
-    std::printf("  %-8s bvh %6.2f Mrays/s, embree %6.2f Mrays/s: x%.3f\n", k,
-                j[k]["mrays_per_s"].get<double>(),
-                j[k]["references"][0]["mrays_per_s"].get<double>(),
-                j[k]["references"][0]["ratio"].get<double>());
+    if (j[k]["references"].empty())
+      std::printf("  %-8s no rays\n", k);
+    else
+      std::printf("  %-8s bvh %6.2f Mrays/s, embree %6.2f Mrays/s: x%.3f\n", k,
+                  j[k]["mrays_per_s"].get<double>(),
+                  j[k]["references"][0]["mrays_per_s"].get<double>(),
+                  j[k]["references"][0]["ratio"].get<double>());
   return 0;
 }
 
@@ -404,9 +414,12 @@ void print_candidate(const json& e, const std::vector<const RaySet*>& sets) {
               e["structure"].get<std::string>().c_str());
   for (const RaySet* set : sets) {
     const json& r = e[set->name];
-    std::printf("  %s %6.2f Mrays/s x%.2f (x%.2f packets of 16)", set->name,
-                r["mrays_per_s"].get<double>(), r["references"][0]["ratio"].get<double>(),
-                r["references"][3]["ratio"].get<double>());
+    if (r["references"].empty())
+      std::printf("  %s: no rays", set->name);
+    else
+      std::printf("  %s %6.2f Mrays/s x%.2f (x%.2f packets of 16)", set->name,
+                  r["mrays_per_s"].get<double>(), r["references"][0]["ratio"].get<double>(),
+                  r["references"][3]["ratio"].get<double>());
   }
   if (e.contains("frame_vs_paper")) {
     const json& f = e["frame_vs_paper"];

@@ -34,6 +34,8 @@ def cell(c, k):
     if c is None:
         return "-"
     r = c[k]
+    if not r["references"]:
+        return "no rays"
     tests = r["work_per_ray"].get("splat_tests", 0)
     return "%.2f / %.2f (%.1f)" % (r["references"][0]["ratio"], r["references"][1]["ratio"], tests)
 

@@ -296,4 +296,16 @@ b = j["best_papers_frame"]
 f = c[(b["method"], b["structure"])].get("frame_vs_paper")
 assert f is None or (f["one_only"] == 0 and f["apart_h_p95"] <= 1e-3), b
 PY
+# A cloud whose secondary rays are empty sets (one point: primary rays only): reported as no rays,
+# no rate or ratio, and the text names them.
+"$pcrt" anchor --data sphere:n=1 --method reference_splat --structure bvh --width 16 --height 16 \
+  --reps 1 --json >"$dir/anchor_one.json"
+python3 - "$dir/anchor_one.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))["candidates"][0]
+assert c["bounce"]["rays"] == 0 and c["bounce"]["references"] == [], c["bounce"]
+assert "mrays_per_s" not in c["shadow"] and c["primary"]["references"][0]["ratio"] > 0, c
+PY
+"$pcrt" anchor --data sphere:n=1 --method reference_splat --structure bvh --width 16 --height 16 \
+  --reps 1 | grep -q "bounce: no rays"
 echo "CLI smoke ok"
