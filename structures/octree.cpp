@@ -751,7 +751,6 @@ class Octree final : public Structure {
 
 namespace {
 
-// From results/scale/octree at 6b7fb5f (compact references or not) and its leaf order at 667aa3e.
 // The parameters of the papers' octree mean nothing to the loose one: set away from their
 // defaults beside loose=1, they are a contradiction, not a choice to ignore.
 void check_loose_alone(const OctreeParams& p) {
@@ -763,6 +762,7 @@ void check_loose_alone(const OctreeParams& p) {
         "child_bounds apply to loose=0 only");
 }
 
+// From results/scale/octree at 6b7fb5f (compact references or not) and its leaf order at 667aa3e.
 StructureFootprint octree_footprint(const ParamValues& params) {
   // Compact references or 32-bit ones, which the leaf-order copy needs. The default (kAuto) is
   // priced as 32-bit: what it builds where a copy may be chosen, high by 14 B/item beyond.

@@ -71,9 +71,10 @@ head -n 20 "$dir/ascii.ply" >"$dir/ascii_cut.ply"  # the 11 header lines and 9 o
 expect_error "ascii_cut.ply: truncated: file ends at 'vertex' element 9 of 100" render --stream --method hubo_2006 --set quantized=1 --data "$dir/ascii_cut.ply" --out "$dir/a.png"
 expect_error "nan.xyz: has no normals (x y z only): only clouds with normals stream" render --stream --method hubo_2006 --set quantized=1 --data "$dir/nan.xyz" --out "$dir/a.png"
 expect_error "--stream does not apply to --mesh" render --stream --mesh "$dir/nan.xyz" --out "$dir/a.png"
-# Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
+# The papers' octree's parameters beside loose=1 contradict it.
 expect_error "loose=1 places each item once; stop_refs, compact_refs and child_bounds apply to loose=0 only" render --method goradia_2010 --set loose=1 --set compact_refs=1 --data sphere:n=2000 --out "$dir/c.png"
 expect_error "loose=1 places each item once" render --method goradia_2010 --set loose=1 --set stop_refs=2 --data sphere:n=2000 --out "$dir/c.png"
+# Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
 expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set compact_refs=1 --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"
 expect_error "zero_dir.csv: line 2: zero direction" trace --method reference_splat --data sphere:n=100 --rays "$dir/zero_dir.csv" --out "$dir/h.csv"
 expect_error "bad_header.csv: line 1" trace --method reference_splat --data sphere:n=100 --rays "$dir/bad_header.csv" --out "$dir/h.csv"
