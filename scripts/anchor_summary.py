@@ -7,6 +7,7 @@ Usage: anchor_summary.py BEFORE.json AFTER.json
        anchor_summary.py --ratios [--reference K] BEFORE.json AFTER.json
        anchor_summary.py --table [--reference K] FILE.json [FILE.json ...]
        anchor_summary.py --frames FILE.json [FILE.json ...]
+       anchor_summary.py --mesh FILE.json [FILE.json ...]
 --ratios prints one table of "before -> after" ratios per ray kind against reference K (0: Embree
 ray by ray in Morton order, the default; 3: Embree in packets of 16 where the files have it), with
 each file's load average, so that the README and docs quote the files and nothing else. --table
@@ -14,9 +15,13 @@ prints one table of several files (one data set each, one column each: primary /
 with each file's commit, CPU and load average. --frames prints, for the blend methods, how far
 each structure's primary hits lie from those on the method's paper structure (recorded since the
 anchor's frame_vs_paper): "same" or the distance along the normal in mean spacings h and the
-normals' angle in degrees, median / 95th percentile, and the rays only one of them hits."""
+normals' angle in degrees, median / 95th percentile, and the rays only one of them hits. --mesh
+reads `pcrt anchor --mesh` files, groups them by the binary that made them (build commit), and
+prints per binary and ray kind the median of the files' ratios against Embree's triangles, their
+range, and the work per ray (identical across one binary's files: the counts are exact)."""
 import argparse
 import json
+import statistics
 import sys
 
 KINDS = ("primary", "bounce", "shadow")
@@ -147,14 +152,43 @@ def frames_table(paths):
             print("| %s | %s | %s |" % (key[0], key[1], " | ".join(cells)))
 
 
+def mesh_table(paths):
+    """Runs of `pcrt anchor --mesh` grouped by build commit: median ratio, range, work per ray."""
+    groups = {}
+    for path in paths:
+        with open(path) as f:
+            j = json.load(f)
+        c = j["context"]
+        build = "%s%s" % (c["build_commit"][:7], " (uncommitted changes)" if c["build_dirty"] else "")
+        groups.setdefault(build, []).append(j)
+    print("| binary | runs | ray kind | median ratio | range | nodes / leaves / triangle tests per ray |")
+    print("|---|---|---|---|---|---|")
+    for build, runs in groups.items():
+        for k in KINDS:
+            r = [j[k]["references"][0]["ratio"] for j in runs if j[k]["rays"] > 0]
+            if not r:
+                continue
+            w = runs[0][k]["work_per_ray"]
+            print("| %s | %d | %s | %.3f | %.3f-%.3f | %.2f / %.2f / %.2f |" % (
+                build, len(runs), k, statistics.median(r), min(r), max(r), w["nodes_visited"],
+                w["leaves_visited"], w["triangle_tests"]))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("files", nargs="+", help="BEFORE.json AFTER.json, or with --table any number")
     p.add_argument("--ratios", action="store_true", help="before -> after ratios per ray kind")
     p.add_argument("--table", action="store_true", help="one table of several files")
     p.add_argument("--frames", action="store_true", help="the blend methods' frames vs their paper's")
+    p.add_argument("--mesh", action="store_true", help="pcrt anchor --mesh files, by binary")
     p.add_argument("--reference", type=int, default=0, help="with --ratios or --table: reference index")
     a = p.parse_args()
+    if a.mesh:
+        try:
+            mesh_table(a.files)
+        except (OSError, ValueError, KeyError) as e:
+            sys.exit("anchor_summary.py: cannot read %s: %s" % (" ".join(a.files), e))
+        return
     if a.table or a.frames:
         try:
             frames_table(a.files) if a.frames else files_table(a.files, a.reference)
