@@ -545,7 +545,7 @@ int command_anchor(const AnchorOptions& o) {
       bounce{"bounce", Query::kClosest, false, {}}, shadow{"shadow", Query::kAny, false, {}};
   const References refs(d.cloud);
   secondary_rays(refs.morton, primary.rays, bounds, bounce, shadow);
-  AnchorBench bench{d, o.set, refs.tracers(), {&primary, &bounce, &shadow}, o.reps};
+  AnchorBench bench{d, o.set, refs.tracers(), {&primary, &bounce, &shadow}, o.reps, {}, {}};
   const json candidates = time_candidates(o, bench);
   const json best = best_candidate(candidates, BestOf::kAll);
   const json best_same = best_candidate(candidates, BestOf::kSameDiscs);

@@ -1,5 +1,7 @@
 #include "harness/sweep_datasets.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <vector>
@@ -45,7 +47,7 @@ PointCloud run_cloud(const std::string& dataset, std::optional<double> n, uint64
     // A replicate draws its own points; a seed the dataset names wins.
     std::string spec = n ? generator_spec(dataset, *n) : dataset;
     if (seed != 1 && dataset.find("seed=") == std::string::npos)
-      spec += (spec.find(':') == std::string::npos ? ":" : ",") + ("seed=" + std::to_string(seed));
+      spec += fmt::format("{}seed={}", spec.find(':') == std::string::npos ? ':' : ',', seed);
     return load_dataset(spec).cloud;
   }
   PointCloud full = load_dataset(dataset).cloud;

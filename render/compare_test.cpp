@@ -8,7 +8,7 @@ using namespace pcrt;
 namespace {
 
 RenderResult frame(int w, int h) {
-  RenderResult r{Image(w, h), Image(w, h), Image(w, h), {}, 0, {}, {}};
+  RenderResult r{Image(w, h), Image(w, h), Image(w, h), {}, 0, 0, {}, {}};
   r.primary_t.assign(size_t(w) * size_t(h), kInfinity);
   r.primary_n.assign(r.primary_t.size(), Vec3::Zero());
   return r;
