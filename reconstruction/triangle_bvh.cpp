@@ -1,11 +1,11 @@
-// Our triangle BVH: binned surface-area-heuristic splits (16 bins over centroids, Wald 2007; a
-// side costs its blocks of four triangles, as Embree's SAH for its four-wide leaves), at most 4
-// triangles per leaf where a split pays (up to 16 where none does), the binary tree collapsed
-// into 8-wide nodes (Embree's BVH8, shared with the point bvh: structures/wide_node.hpp) whose
-// eight boxes are tested at once when the node is visited, the children hit walked nearest
-// first; triangles stored in leaf order with their vertices. It reports into the same counters
-// as the point structures (nodes, leaves, triangle tests), so triangle tracing and direct point
-// tracing are compared operation by operation.
+// Our triangle BVH: binned surface-area-heuristic splits (16 bins over centroids, Wald 2007; a side
+// costs its blocks of four triangles, as Embree's SAH for its four-wide leaves), at most 4
+// triangles per leaf where a split pays (up to 16 where none does; any number at the depth cap),
+// the binary tree collapsed into 8-wide nodes (Embree's BVH8, shared with the point bvh:
+// structures/wide_node.hpp) whose eight boxes are tested at once when the node is visited, the
+// children hit walked nearest first; triangles stored in leaf order with their vertices. It reports
+// into the same counters as the point structures (nodes, leaves, triangle tests), so triangle
+// tracing and direct point tracing are compared operation by operation.
 #include <immintrin.h>
 
 #include <algorithm>
@@ -357,8 +357,8 @@ class TriangleBvh final : public MeshEngine {
 void register_triangle_bvh(MeshEngineRegistry& registry) {
   registry.add(MeshEngineInfo{
       "bvh",
-      "pcrt's triangle BVH: binned SAH (16 bins, costed in blocks of 4 triangles), 4 triangles "
-      "per leaf, 8-wide nodes, counted like the point structures",
+      "pcrt's triangle BVH: binned SAH (16 bins, costed in blocks of 4 triangles), at most 4 "
+      "triangles per leaf where a split pays, 8-wide nodes, counted like the point structures",
       [](const TriangleMesh& mesh, OpCounters& counters, Timings& timings) {
         ScopedTimer t(timings, "build");
         return std::unique_ptr<MeshEngine>(std::make_unique<TriangleBvh>(mesh, counters));

@@ -16,9 +16,10 @@ with each file's commit, CPU and load average. --frames prints, for the blend me
 each structure's primary hits lie from those on the method's paper structure (recorded since the
 anchor's frame_vs_paper): "same" or the distance along the normal in mean spacings h and the
 normals' angle in degrees, median / 95th percentile, and the rays only one of them hits. --mesh
-reads `pcrt anchor --mesh` files, groups them by the binary that made them (build commit), and
-prints per binary and ray kind the median of the files' ratios against Embree's triangles, their
-range, and the work per ray (identical across one binary's files: the counts are exact)."""
+reads `pcrt anchor --mesh` files, groups them by the binary that made them (build commit) and the
+mesh, and prints per group and ray kind the runs with rays, the median of their ratios against
+Embree's triangles, their range, and the work per ray (identical across one binary's runs on one
+mesh: the counts are exact)."""
 import argparse
 import json
 import statistics
@@ -152,26 +153,44 @@ def frames_table(paths):
             print("| %s | %s | %s |" % (key[0], key[1], " | ".join(cells)))
 
 
-def mesh_table(paths):
-    """Runs of `pcrt anchor --mesh` grouped by build commit: median ratio, range, work per ray."""
+def mesh_runs(paths):
+    """The files grouped by (binary, mesh): the build commit and the mesh each ran."""
     groups = {}
     for path in paths:
-        with open(path) as f:
-            j = json.load(f)
-        c = j["context"]
-        build = "%s%s" % (c["build_commit"][:7], " (uncommitted changes)" if c["build_dirty"] else "")
-        groups.setdefault(build, []).append(j)
-    print("| binary | runs | ray kind | median ratio | range | nodes / leaves / triangle tests per ray |")
-    print("|---|---|---|---|---|---|")
-    for build, runs in groups.items():
+        try:
+            with open(path) as f:
+                j = json.load(f)
+            c = j["context"]
+            build = c["build_commit"][:7] + (" (uncommitted changes)" if c["build_dirty"] else "")
+            key = (build, j["mesh"])
+            for k in KINDS:
+                int(j[k]["rays"])  # each ray kind is there, with its count
+        except (OSError, ValueError, KeyError, TypeError, IndexError) as e:
+            sys.exit("anchor_summary.py: %s is no `pcrt anchor --mesh` file: %r" % (path, e))
+        groups.setdefault(key, []).append((path, j))
+    return groups
+
+
+def mesh_table(paths):
+    """Runs of `pcrt anchor --mesh` grouped by binary and mesh: median ratio, range, work per ray
+    (from a run with rays of that kind; the counts are exact, so every such run has the same)."""
+    groups = mesh_runs(paths)
+    print("| binary | mesh | ray kind | runs | median ratio | range | nodes / leaves / triangle tests per ray |")
+    print("|---|---|---|---|---|---|---|")
+    for (build, mesh), runs in groups.items():
         for k in KINDS:
-            r = [j[k]["references"][0]["ratio"] for j in runs if j[k]["rays"] > 0]
-            if not r:
+            used = [(path, j) for path, j in runs if j[k]["rays"] > 0]
+            if not used:
+                print("| %s | %s | %s | %d | no rays | | |" % (build, mesh, k, len(runs)))
                 continue
-            w = runs[0][k]["work_per_ray"]
-            print("| %s | %d | %s | %.3f | %.3f-%.3f | %.2f / %.2f / %.2f |" % (
-                build, len(runs), k, statistics.median(r), min(r), max(r), w["nodes_visited"],
-                w["leaves_visited"], w["triangle_tests"]))
+            try:
+                r = [float(j[k]["references"][0]["ratio"]) for _, j in used]
+                w = used[0][1][k]["work_per_ray"]
+                work = "%.2f / %.2f / %.2f" % (w["nodes_visited"], w["leaves_visited"], w["triangle_tests"])
+            except (KeyError, TypeError, IndexError, ValueError) as e:
+                sys.exit("anchor_summary.py: %s: %s rays without a ratio or work: %r" % (used[0][0], k, e))
+            print("| %s | %s | %s | %d | %.3f | %.3f-%.3f | %s |" % (
+                build, mesh, k, len(used), statistics.median(r), min(r), max(r), work))
 
 
 def main():
@@ -184,10 +203,7 @@ def main():
     p.add_argument("--reference", type=int, default=0, help="with --ratios or --table: reference index")
     a = p.parse_args()
     if a.mesh:
-        try:
-            mesh_table(a.files)
-        except (OSError, ValueError, KeyError) as e:
-            sys.exit("anchor_summary.py: cannot read %s: %s" % (" ".join(a.files), e))
+        mesh_table(a.files)
         return
     if a.table or a.frames:
         try:
