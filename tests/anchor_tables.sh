@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 summary=scripts/anchor_summary.py
 for dir in results/anchor/tri_sah results/anchor/tri_prefetch; do
-  table=$(python3 "$summary" --mesh "$dir"/before/*.json "$dir"/after/*.json)
+  table=$(/usr/bin/python3 "$summary" --mesh "$dir"/before/*.json "$dir"/after/*.json)
   while IFS= read -r line; do
     grep -qxF -- "$line" "$dir/summary.md" || {
       echo "anchor_tables: $dir/summary.md lacks the line: $line"
@@ -19,7 +19,7 @@ trap 'rm -rf "$tmp"' EXIT
 echo '[1]' >"$tmp/list.json"
 printf '{"context": {"build_commit": null' >"$tmp/truncated.json"
 for bad in list truncated; do
-  if python3 "$summary" --mesh "$tmp/$bad.json" >"$tmp/out" 2>"$tmp/err"; then
+  if /usr/bin/python3 "$summary" --mesh "$tmp/$bad.json" >"$tmp/out" 2>"$tmp/err"; then
     echo "anchor_tables: $bad.json was accepted"
     exit 1
   fi
