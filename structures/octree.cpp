@@ -14,6 +14,7 @@
 // leaves come front to back (cells, and so their boxes, are disjoint).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -38,6 +39,23 @@ struct CellBox {
   [[nodiscard]] bool empty() const { return lo[0] > hi[0]; }
 };
 static_assert(sizeof(CellBox) == 6);
+
+// The slab of a leaf's discs along one direction (leaf_slabs): every point of every disc x has
+// lo <= v . x <= hi, with v the normal stored as 16-bit fixed point (v = n / 32767, |v| ~ 1; the
+// build bounds the discs along the v the walk reads back, so the rounding of v costs nothing). On a
+// surface a leaf's discs are nearly parallel and the slab is thin, while their box fills the cell
+// once the discs are wider than it: a ray crossing the cell above the surface misses the slab.
+// lo > hi: no bound (a leaf whose discs face every way, or no disc).
+struct LeafSlab {
+  std::array<int16_t, 3> n{};
+  float lo = 1, hi = 0;
+  [[nodiscard]] Vec3 normal() const {
+    constexpr float kInv = 1.0f / 32767.0f;
+    return {float(n[0]) * kInv, float(n[1]) * kInv, float(n[2]) * kInv};
+  }
+  [[nodiscard]] bool bounded() const { return lo <= hi; }
+};
+static_assert(sizeof(LeafSlab) == 16);
 
 // The CellBoxes of one node's k stored children (nodes first .. first + k - 1) at byte 6 * first,
 // axis by axis: the lo bytes of axis a at a * k + rank, the hi bytes at (3 + a) * k + rank. The
@@ -89,7 +107,8 @@ inline float cell_quantum(float side) { return side * kInv254; }
 template <class N>
 struct OctBuild {
   ChunkedArray<N> nodes;
-  ChunkedArray<CellBox> boxes;  // one per node, pushed with it (same handles), if child_bounds
+  ChunkedArray<CellBox> boxes;   // one per node, pushed with it (same handles), if child_bounds
+  ChunkedArray<LeafSlab> slabs;  // likewise, if leaf_slabs (inner nodes' unused)
   ChunkedArray<uint32_t> refs;
   ChunkedArray<uint16_t> refs16;
   uint64_t references = 0;  // over all leaves, compact or not
@@ -126,6 +145,7 @@ struct OctreeParams {
   double stop_refs = 3;
   OctRefs compact_refs = OctRefs::kAuto;
   bool child_bounds = true;
+  bool leaf_slabs = true;
   bool loose = false;
 };
 const ParamList<OctreeParams>& octree_params() {
@@ -152,6 +172,11 @@ const ParamList<OctreeParams>& octree_params() {
                 "1: for methods hit on their discs, each node keeps its footprints' box within "
                 "its cell (6 bytes, 8 bits a side) and rays skip the children whose box they "
                 "miss; 0: the cells alone"})
+          .add(&P::leaf_slabs,
+               {"leaf_slabs", 1, 0, 1,
+                "1: for methods hit on their discs, each leaf keeps the slab of its discs along "
+                "their mean normal (16 bytes a node) and a ray whose interval in the cell misses "
+                "it does not visit the leaf; 0: without"})
           .add(&P::loose,
                {"loose", 0, 0, 1,
                 "0: an item in every cell its footprint reaches (the papers' rule); 1: a loose "
@@ -171,7 +196,8 @@ class Octree final : public Structure {
         max_depth_(p.max_depth),
         stop_refs_(p.stop_refs),
         refs_mode_(p.compact_refs),
-        child_bounds_(p.child_bounds) {}
+        child_bounds_(p.child_bounds),
+        leaf_slabs_(p.leaf_slabs) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     items_ = set;
@@ -184,6 +210,7 @@ class Octree final : public Structure {
     // Implicit-surface methods search a leaf's whole cell interval, where their surface may lie off
     // every footprint: only hits on the discs are sure to lie within the boxes.
     keeps_boxes_ = child_bounds_ && culls_by_plane();
+    keeps_slabs_ = leaf_slabs_ && culls_by_plane();
     try {
       build_all(nodes32_);
       release(nodes64_);
@@ -222,8 +249,8 @@ class Octree final : public Structure {
   }
   [[nodiscard]] size_t memory_bytes() const override {
     return nodes32_.capacity() * sizeof(OctNode32) + nodes64_.capacity() * sizeof(OctNode64) +
-           boxes_.capacity() + refs_.capacity() * sizeof(uint32_t) +
-           refs16_.capacity() * sizeof(uint16_t);
+           boxes_.capacity() + slabs_.capacity() * sizeof(LeafSlab) +
+           refs_.capacity() * sizeof(uint32_t) + refs16_.capacity() * sizeof(uint16_t);
   }
 
  private:
@@ -289,7 +316,9 @@ class Octree final : public Structure {
           counters.add(kNodesVisited);
           if (!n.leaf()) {
             if (next_children<kAny, kAvx2>(n, slabs, ray.tmax, stack.data(), top, cur)) continue;
-          } else {
+          } else if (slabs_.empty() ||
+                     crosses_slab(slabs_[cur.node], ray,
+                                  std::max(cur.t0 - items_.hits_before_leaf, ray.tmin), cur.t1)) {
             counters.add(kLeavesVisited);
             counters.add(kItemsVisited, n.leaf_count());
             const LeafVisit visit{leaf_items(n, decoded), cur.t0, cur.t1};
@@ -507,10 +536,12 @@ class Octree final : public Structure {
     for (uint32_t i = 0; i < b.stack.size(); ++i) b.stack[i] = i;
     const auto root = b.nodes.push_back(N{});
     if (keeps_boxes_) b.boxes.push_back(CellBox{});
+    if (keeps_slabs_) b.slabs.push_back(LeafSlab{});
     build_node(b, root, 0, root_lo_, root_side_, 0);
     release(b.stack);
     nodes = b.nodes.flatten();
     boxes_ = keeps_boxes_ ? group_boxes(nodes, b.boxes.flatten()) : std::vector<uint8_t>{};
+    slabs_ = keeps_slabs_ ? b.slabs.flatten() : std::vector<LeafSlab>{};
     refs_ = b.refs.flatten();
     refs16_ = b.refs16.flatten();
     references_ = b.references;
@@ -584,6 +615,7 @@ class Octree final : public Structure {
     const size_t stored = size_t(__builtin_popcount(counts.reached));
     const auto kids = b.nodes.push_n(stored, N{});
     if (keeps_boxes_) b.boxes.push_n(stored, CellBox{});  // the same chunks, so the same handles
+    if (keeps_slabs_) b.slabs.push_n(stored, LeafSlab{});
     size_t rank = 0;
     Aabb box;
     for (uint32_t c = 0; c < 8; ++c) {  // child 0's references are on top
@@ -628,6 +660,7 @@ class Octree final : public Structure {
     if (culls_by_plane()) keep_discs_cutting(b.stack, begin, lo, side);
     const std::span<const uint32_t> items{b.stack.data() + begin, b.stack.size() - begin};
     const Aabb box = keeps_boxes_ ? footprint_within(items, lo, side) : Aabb{};
+    if (keeps_slabs_) b.slabs[{node.chunk, node.pos}] = slab_of(items);
     if (items.size() >= kOctCompact) throw std::length_error("octree: a leaf of 2^30 references");
     const auto n = uint32_t(items.size());
     b.references += n;
@@ -646,6 +679,55 @@ class Octree final : public Structure {
     b.stack.resize(begin);
     b.trim_stack();
     return box;
+  }
+
+  // The slab of discs `items` along their mean normal (each flipped to face the first's way):
+  // a disc (c, m, r) spans v . c +- r |v x m| / |m| along v (the cross product, not the
+  // cancelling |v|^2 - (v . m)^2 / |m|^2, since v and m are nearly parallel), padded as its box is
+  // (1e-4 r) and for the rounding of the dot products (1e-6 of |c|_1, their terms' sizes).
+  [[nodiscard]] LeafSlab slab_of(std::span<const uint32_t> items) const {
+    LeafSlab slab;
+    if (items.empty()) return slab;
+    const Vec3 n0 = items_.disc_normals[items[0]];
+    Vec3 sum = Vec3::Zero();
+    for (const uint32_t i : items) {
+      const Vec3& m = items_.disc_normals[i];
+      sum += m.dot(n0) < 0 ? Vec3(-m) : m;
+    }
+    const float length = sum.norm();
+    if (!(length > 0) || !std::isfinite(length)) return slab;
+    for (int a = 0; a < 3; ++a) slab.n[size_t(a)] = int16_t(std::lround(sum[a] / length * 32767));
+    const Vec3 v = slab.normal();
+    float lo = kInfinity, hi = -kInfinity;
+    for (const uint32_t i : items) {
+      const Vec3& c = items_.positions[i];
+      const Vec3& m = items_.disc_normals[i];  // not always of unit length (a file's normals)
+      const float m_length = m.norm();
+      if (!(m_length > 0) || !std::isfinite(m_length)) return LeafSlab{};
+      const float r = items_.radius(i), along = v.dot(c);
+      const float reach = r * (v.cross(m).norm() / m_length + 1e-4f) + 1e-6f * c.cwiseAbs().sum();
+      lo = std::min(lo, along - reach);
+      hi = std::max(hi, along + reach);
+    }
+    slab.lo = lo, slab.hi = hi;
+    return slab;
+  }
+
+  // Whether the ray over [t0, t1] (its interval in the leaf's cell, from hits_before_leaf before
+  // it, crossings before tmin being no hits) may meet the slab: false when
+  // v . (o + t d) lies below lo or above hi at both ends (it is linear in t), beyond a margin for
+  // the rounding of both dot products (1e-6 of their terms' sizes, as slab_of's). NaN (a ray
+  // parallel to a cell plane) keeps the leaf.
+  static bool crosses_slab(const LeafSlab& slab, const Ray& ray, float t0, float t1) {
+    if (!slab.bounded()) return true;
+    const Vec3 v = slab.normal();
+    const float at_o = v.dot(ray.o), rate = v.dot(ray.d);
+    const float s0 = at_o + t0 * rate, s1 = at_o + t1 * rate;
+    const float pad = 1e-6f * (ray.o.cwiseAbs().sum() +
+                               std::max(std::abs(t0), std::abs(t1)) * ray.d.cwiseAbs().sum());
+    const bool below = s0 < slab.lo - pad && s1 < slab.lo - pad;
+    const bool above = s0 > slab.hi + pad && s1 > slab.hi + pad;
+    return !(below || above);
   }
 
   // The box of the items' footprints clipped to the cube [lo, lo + side] (its far planes computed
@@ -733,7 +815,9 @@ class Octree final : public Structure {
   bool compact_ = false;  // as refs_mode_ decides for this build
   bool child_bounds_;
   bool avx2_ = wide_nodes_use_avx2();
+  bool leaf_slabs_;
   bool keeps_boxes_ = false;  // child_bounds_, for items hit only on their discs
+  bool keeps_slabs_ = false;  // leaf_slabs_, likewise
   uint64_t references_ = 0;
   ItemSet items_;
   Vec3 root_lo_ = Vec3::Zero();
@@ -745,6 +829,8 @@ class Octree final : public Structure {
   // If child_bounds: each node's footprint box within its cell (CellBox), grouped by siblings
   // (GroupBoxes): 6 bytes a node, as CellBoxes, plus the padding of one 8-byte load.
   std::vector<uint8_t> boxes_;
+  // If leaf_slabs: each node's LeafSlab, by node index (inner nodes' unused).
+  std::vector<LeafSlab> slabs_;
 };
 
 }  // namespace
@@ -756,10 +842,10 @@ namespace {
 void check_loose_alone(const OctreeParams& p) {
   const OctreeParams defaults;
   if (p.stop_refs != defaults.stop_refs || p.compact_refs != defaults.compact_refs ||
-      p.child_bounds != defaults.child_bounds)
+      p.child_bounds != defaults.child_bounds || p.leaf_slabs != defaults.leaf_slabs)
     input_error(
-        "structure octree: loose=1 places each item once; stop_refs, compact_refs and "
-        "child_bounds apply to loose=0 only");
+        "structure octree: loose=1 places each item once; stop_refs, compact_refs, "
+        "child_bounds and leaf_slabs apply to loose=0 only");
 }
 
 // From results/scale/octree at 6b7fb5f (compact references or not) and its leaf order at 667aa3e.
@@ -777,8 +863,10 @@ StructureFootprint octree_footprint(const ParamValues& params) {
   // Methods without disc blocks keep every box reference: schaufler_jensen_2000's peak at 10^7
   // over its cloud, radii and records (results/scale/octree at 4f1fe68), plus 10%. The footprint
   // boxes of methods hit on their discs (child_bounds) add 2.4 B/item to the peak at 10^7
-  // (reference_splat on the sphere: 48.8 -> 51.2 B/item, results/scale/octree_boxes).
-  return is_compact ? StructureFootprint{26, 26, 7.2, 41} : StructureFootprint{40, 252, 7.2, 60};
+  // (reference_splat on the sphere: 48.8 -> 51.2 B/item, results/scale/octree_boxes). Their
+  // leaf slabs (leaf_slabs) add 16 B a node: 7.1 B/item for goradia_2010's and reference_splat's
+  // splats on the 10^6 sphere (442 567 nodes; structure 35.6 -> 42.7 MB), priced as 8.
+  return is_compact ? StructureFootprint{34, 34, 7.2, 41} : StructureFootprint{48, 260, 7.2, 60};
 }
 
 }  // namespace

@@ -34,6 +34,11 @@ struct ItemSet {
   // structure may leave a disc out of a cell its plane does not cut (the octree does). Methods
   // whose hits may lie off the discs (implicit surfaces, projections) leave it false.
   bool hits_on_discs = false;
+  // How far before a leaf's interval the crossings a leaf's hit is made of may lie (the splat
+  // blends: a blend of the crossings within a window may land that far before the leaf, and is
+  // recorded there). A structure that skips a leaf whose discs the ray does not cross (the octree's
+  // leaf_slabs) looks this far back, so that skipping never changes a hit.
+  float hits_before_leaf = 0;
 
   // One axis of a disc's box: r * sqrt(1 - n_a^2), padded by 1e-4 r so rounding of a hit point on
   // the disc never leaves the box. The one formula for both forms below.

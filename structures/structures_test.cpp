@@ -11,6 +11,7 @@
 #include "core/dataset.hpp"
 #include "core/rng.hpp"
 #include "methods/method.hpp"
+#include "render/renderer.hpp"
 #include "render/scene.hpp"
 #include "structures/structure.hpp"
 #include "structures/wide_node.hpp"
@@ -28,6 +29,7 @@ std::vector<std::string> structures_to_check() {
     if (info.id != "brute_force") ids.push_back(info.id);
   ids.push_back("kd_tree:split=1");
   ids.push_back("octree:loose=1");
+  ids.push_back("octree:leaf_slabs=0");
   return ids;
 }
 
@@ -417,11 +419,12 @@ TEST_CASE("the octree's compact references trace as its 32-bit ones, in fewer by
 
 namespace {
 
-// Two octree variants of one method on the same rays: rays whose hits differ (hit or miss, item
-// or t of the closest, or the occlusion answer), rays the second hits, nodes each visits.
+// Two octree variants of one method on the same rays: rays whose hits differ (hit or miss, item,
+// t or normal of the closest, or the occlusion answer), rays the second hits, nodes and leaves
+// each visits.
 struct OctreeVariants {
   size_t differ = 0, hits = 0;
-  uint64_t nodes_first = 0, nodes_second = 0;
+  uint64_t nodes_first = 0, nodes_second = 0, leaves_first = 0, leaves_second = 0;
 };
 OctreeVariants compare_octree_variants(const PointScene& first, const PointScene& second,
                                        const std::vector<Ray>& rays) {
@@ -431,10 +434,12 @@ OctreeVariants compare_octree_variants(const PointScene& first, const PointScene
     OpCounters ca, cb;
     const bool fa = first.closest_hit(r, a, ca), fb = second.closest_hit(r, b, cb);
     v.hits += size_t(fb);
-    v.differ += size_t(fa != fb || (fa && (a.prim != b.prim || a.t != b.t)) ||
+    v.differ += size_t(fa != fb || (fa && (a.prim != b.prim || a.t != b.t || a.n != b.n)) ||
                        first.any_hit(r, ca) != second.any_hit(r, cb));
     v.nodes_first += ca.get(kNodesVisited);
     v.nodes_second += cb.get(kNodesVisited);
+    v.leaves_first += ca.get(kLeavesVisited);
+    v.leaves_second += cb.get(kLeavesVisited);
   }
   return v;
 }
@@ -464,6 +469,59 @@ TEST_CASE("the octree's child boxes find its cells' hits for every method, in fe
     fewer += size_t(v.nodes_second * 10 < v.nodes_first * 9);
   }
   CHECK(fewer >= 4);  // the splat family at least
+}
+
+TEST_CASE("the octree's leaf slabs skip leaves for every method, never a hit", "[structures]") {
+  // A leaf is skipped when the ray misses the slab of its discs from hits_before_leaf before its
+  // cell on: no crossing a hit of that leaf could be made of lies there, so the hits (item, t
+  // and normal, closest and any) are those of the walk without slabs, bit for bit. Rays from
+  // inside the bounds start near the surface, as bounce and shadow rays do.
+  const PointCloud cloud = load_dataset("bumpy_sphere:n=4000,seed=5").cloud;
+  const auto rays = random_rays(cloud, 6000, 23);
+  size_t fewer = 0;
+  for (const MethodInfo& info : MethodRegistry::instance().all()) {
+    if (!info.own_structure.empty()) continue;
+    INFO(info.id);
+    OpCounters c;
+    Timings t;
+    const PointScene plain(cloud, SceneOptions{info.id, "octree", {{"leaf_slabs", 0}}}, c, t);
+    const PointScene slabs(cloud, SceneOptions{info.id, "octree", {}}, c, t);
+    const OctreeVariants v = compare_octree_variants(plain, slabs, rays);
+    CHECK(v.differ == 0);
+    CHECK(v.hits > rays.size() / 10);
+    INFO("leaves visited " << v.leaves_first << " -> " << v.leaves_second);
+    CHECK(v.leaves_second <= v.leaves_first);
+    fewer += size_t(v.leaves_second * 10 < v.leaves_first * 9);
+  }
+  CHECK(fewer >= 4);  // the splat family at least
+}
+
+TEST_CASE("the octree's leaf slabs leave the blends' frames as they were, in fewer leaves",
+          "[structures]") {
+  // A blend records a hit up to hits_before_leaf before its leaf: the slab test looks that far
+  // back. The frames of all three blends, bounce and shadow rays from their hits included, are
+  // the same bit for bit with and without slabs (looking back from the cell alone changes some
+  // pixels of the noisy torus at this size).
+  RenderSettings settings;
+  settings.width = settings.height = 256;
+  settings.bounces = 2;
+  settings.threads = 1;
+  for (const char* data : {"torus:n=4000,seed=4,noise=0.002", "bumpy_sphere:n=4000,seed=5"}) {
+    const PointCloud cloud = load_dataset(data).cloud;
+    for (const char* id : {"goradia_2010", "kashyap_2010_splat", "linsen_2007"}) {
+      INFO(data << ", " << id);
+      OpCounters c;
+      Timings t;
+      const PointScene plain(cloud, SceneOptions{id, "octree", {{"leaf_slabs", 0}}}, c, t);
+      const PointScene slabs(cloud, SceneOptions{id, "octree", {}}, c, t);
+      const RenderResult a = render(plain, cloud, settings), b = render(slabs, cloud, settings);
+      CHECK(a.image.pixels() == b.image.pixels());
+      CHECK(a.primary_t == b.primary_t);
+      CHECK(a.primary_n == b.primary_n);
+      INFO("leaves " << a.counters.get(kLeavesVisited) << " -> " << b.counters.get(kLeavesVisited));
+      CHECK(b.counters.get(kLeavesVisited) * 10 < a.counters.get(kLeavesVisited) * 9);
+    }
+  }
 }
 
 TEST_CASE("the loose octree holds each item once and finds the disc methods' octree hits",

@@ -72,7 +72,7 @@ expect_error "ascii_cut.ply: truncated: file ends at 'vertex' element 9 of 100" 
 expect_error "nan.xyz: has no normals (x y z only): only clouds with normals stream" render --stream --method hubo_2006 --set quantized=1 --data "$dir/nan.xyz" --out "$dir/a.png"
 expect_error "--stream does not apply to --mesh" render --stream --mesh "$dir/nan.xyz" --out "$dir/a.png"
 # The papers' octree's parameters beside loose=1 contradict it.
-expect_error "loose=1 places each item once; stop_refs, compact_refs and child_bounds apply to loose=0 only" render --method goradia_2010 --set loose=1 --set compact_refs=1 --data sphere:n=2000 --out "$dir/c.png"
+expect_error "loose=1 places each item once; stop_refs, compact_refs, child_bounds and leaf_slabs apply to loose=0 only" render --method goradia_2010 --set loose=1 --set compact_refs=1 --data sphere:n=2000 --out "$dir/c.png"
 expect_error "loose=1 places each item once" render --method goradia_2010 --set loose=1 --set stop_refs=2 --data sphere:n=2000 --out "$dir/c.png"
 # Leaf-order disc blocks on the octree's compact references, which are decoded per leaf.
 expect_error "disc_blocks=1 (leaf order) needs the structure's leaves as pieces of one reference array" render --method reference_splat --structure octree --set compact_refs=1 --set disc_blocks=1 --data sphere:n=2000 --out "$dir/c.png"

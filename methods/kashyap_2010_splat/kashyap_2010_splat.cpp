@@ -132,7 +132,7 @@ class Kashyap2010Splat final : public Method {
     splats_ = make_splat_set(leaves.centres, leaves.normals, leaves.radii, leaves.prim);
     settings_ = splat_blend_settings(splats_.radii, params_.front_depth);
   }
-  [[nodiscard]] ItemSet items() const override { return splats_.disc_items(); }
+  [[nodiscard]] ItemSet items() const override { return blend_items(splats_, settings_); }
   void bind_leaf_references(std::span<const uint32_t> refs) override {
     bind_splat_blocks(blocks_, splats_, refs, params_.blocks);
   }

@@ -34,6 +34,15 @@ inline SplatBlendSettings splat_blend_settings(std::span<const float> radii, flo
   return {front_depth * median_r, max_r, median_r};
 }
 
+// The blend methods' items: their discs, with how far before a leaf a blend may land
+// (ItemSet::hits_before_leaf): the window's depth behind its front-most crossing, and the margin
+// a hit may lie before the leaf (record_blend).
+inline ItemSet blend_items(const SplatSet& splats, const SplatBlendSettings& s) {
+  ItemSet items = splats.disc_items();
+  items.hits_before_leaf = s.early_margin + s.depth;
+  return items;
+}
+
 // The blend window parameter of the splat methods.
 inline ParamSpec front_depth_spec() {
   return {"front_depth", 0.5, 0, 20,
