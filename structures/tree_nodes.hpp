@@ -50,10 +50,12 @@ static_assert(sizeof(KdNode) == 16);
 // eight bits (oct_inner(mask)); only those children are stored, consecutive from first() in child
 // order (an octree over a surface leaves most of a cell's children empty).
 // Leaf: its references from first(), and kOctCompact set in `count` when they are 16-bit offsets
-// from a base item (octree.cpp) rather than 32-bit items. OctNode32 (8 bytes) while the references
+// from a base item (octree.cpp) rather than 32-bit items, and kOctSlab when the walk tests its
+// slab (octree.cpp, leaf_slabs). OctNode32 (8 bytes) while the references
 // fit 32-bit offsets, OctNode64 (12 bytes) beyond.
 inline constexpr uint32_t kOctInner = uint32_t{1} << 31;
 inline constexpr uint32_t kOctCompact = uint32_t{1} << 30;
+inline constexpr uint32_t kOctSlab = uint32_t{1} << 29;
 inline constexpr uint32_t oct_inner(uint32_t child_mask) { return kOctInner | child_mask; }
 
 struct OctNode32 {
@@ -66,7 +68,8 @@ struct OctNode32 {
   [[nodiscard]] bool leaf() const { return (count & kOctInner) == 0; }
   [[nodiscard]] uint32_t child_mask() const { return leaf() ? 0 : count & 0xFFu; }
   [[nodiscard]] bool compact() const { return (count & (kOctInner | kOctCompact)) == kOctCompact; }
-  [[nodiscard]] uint32_t leaf_count() const { return count & (kOctCompact - 1); }
+  [[nodiscard]] bool has_slab() const { return (count & (kOctInner | kOctSlab)) == kOctSlab; }
+  [[nodiscard]] uint32_t leaf_count() const { return count & (kOctSlab - 1); }
 };
 static_assert(sizeof(OctNode32) == 8);
 
@@ -83,7 +86,8 @@ struct OctNode64 {
   [[nodiscard]] bool leaf() const { return (count & kOctInner) == 0; }
   [[nodiscard]] uint32_t child_mask() const { return leaf() ? 0 : count & 0xFFu; }
   [[nodiscard]] bool compact() const { return (count & (kOctInner | kOctCompact)) == kOctCompact; }
-  [[nodiscard]] uint32_t leaf_count() const { return count & (kOctCompact - 1); }
+  [[nodiscard]] bool has_slab() const { return (count & (kOctInner | kOctSlab)) == kOctSlab; }
+  [[nodiscard]] uint32_t leaf_count() const { return count & (kOctSlab - 1); }
 };
 static_assert(sizeof(OctNode64) == 12);
 
