@@ -171,7 +171,7 @@ class TriangleBvh final : public MeshEngine {
   template <bool kAny>
   __attribute__((target("avx2"))) bool walk_avx2(const Ray& ray, Hit& hit,
                                                  OpCounters& counters) const {
-    return walk<node_test_avx2, kAny>(ray, hit, counters);
+    return walk<node_test_avx2_offsets, kAny>(ray, hit, counters);
   }
 
   // kAny: an occlusion query, ended by the first leaf with a triangle in [ray.tmin, ray.tmax).

@@ -288,7 +288,8 @@ TEST_CASE("bvh and loose octree leaves hold at most leaf_size items", "[structur
   }
 }
 
-TEST_CASE("the 8-wide node test hits the same children with AVX2 and with SSE", "[structures]") {
+TEST_CASE("the 8-wide node tests hit the same children with AVX2, its offsets and SSE",
+          "[structures]") {
   if (!wide_nodes_use_avx2()) PCRT_SKIP("no AVX2 on this CPU: nothing to compare");
   Rng rng(23);
   size_t hits = 0;
@@ -308,13 +309,18 @@ TEST_CASE("the 8-wide node test hits the same children with AVX2 and with SSE", 
     const RaySlabs slabs(Ray{o, d});
     const float limit = r % 3 == 0 ? kInfinity : 2.0f;
     alignas(32) float a0[kWideWidth], a1[kWideWidth], b0[kWideWidth], b1[kWideWidth];
+    alignas(32) float c0[kWideWidth], c1[kWideWidth];
     const uint32_t ma = node_test_sse(n, slabs, limit, a0, a1);
     const uint32_t mb = node_test_avx2(n, slabs, limit, b0, b1);
+    const uint32_t mc = node_test_avx2_offsets(n, slabs, limit, c0, c1);
     REQUIRE(ma == mb);
+    REQUIRE(ma == mc);
     for (int k = 0; k < kWideWidth; ++k) {
       if (!((ma >> k) & 1)) continue;
       REQUIRE(std::memcmp(&a0[k], &b0[k], sizeof(float)) == 0);
       REQUIRE(std::memcmp(&a1[k], &b1[k], sizeof(float)) == 0);
+      REQUIRE(std::memcmp(&a0[k], &c0[k], sizeof(float)) == 0);
+      REQUIRE(std::memcmp(&a1[k], &c1[k], sizeof(float)) == 0);
       ++hits;
     }
   }

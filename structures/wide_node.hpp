@@ -7,6 +7,7 @@
 #include <immintrin.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -26,19 +27,29 @@ struct alignas(64) WideNode {
   uint32_t count[kWideWidth] = {};  // leaf child: items (> 0); inner child or empty slot: 0
 };
 
-// What a ray needs for the slab test (once per ray).
+// What a ray needs for the slab test (once per ray). near_at[a] and far_at[a]: where a WideNode's
+// entry and exit planes of axis a start among its floats (lo[a] or hi[a] by the sign of d[a]), so
+// that the node test loads them without a branch per axis (Embree's nearX/farX offsets).
 struct RaySlabs {
   float o[3], inv[3];
   bool neg[3];
   float tmin;
+  uint32_t near_at[3], far_at[3];
   explicit RaySlabs(const Ray& ray) : tmin(ray.tmin) {
     for (int a = 0; a < 3; ++a) {
       o[a] = ray.o[a];
       inv[a] = 1.0f / ray.d[a];
       neg[a] = inv[a] < 0;
+      const auto lo = uint32_t(a * kWideWidth), hi = uint32_t((3 + a) * kWideWidth);
+      near_at[a] = neg[a] ? hi : lo;
+      far_at[a] = neg[a] ? lo : hi;
     }
   }
 };
+
+// The floats of a node's boxes, lo[3][8] then hi[3][8], as RaySlabs::near_at indexes them.
+inline const float* node_planes(const WideNode& n) { return &n.lo[0][0]; }
+static_assert(offsetof(WideNode, hi) == 3 * kWideWidth * sizeof(float));
 
 // 1 + 2 gamma(3) (pbrt-v4, section 6.8.2): (plane - o) * inv is within gamma(3) of the exact
 // (plane - o) / d, so an exit t scaled by this is never below the exact one, and an entry t
@@ -50,12 +61,16 @@ constexpr float kWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-2
 // sign of each direction component; the exit widened by kWiden; NaN, 0 * inf, keeps the interval).
 // Axis a of the slab test on four boxes [lo, hi]: narrows their entry tn and exit tf (the exit
 // widened by kWiden). Shared by the bvh's SSE node test and the octree's child test.
-inline void slab_axis_sse(__m128 lo, __m128 hi, const RaySlabs& r, int a, __m128& tn, __m128& tf) {
+inline void slab_planes_sse(__m128 near_plane, __m128 far_plane, const RaySlabs& r, int a,
+                            __m128& tn, __m128& tf) {
   const __m128 o = _mm_set1_ps(r.o[a]), inv = _mm_set1_ps(r.inv[a]);
-  const __m128 near = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? hi : lo, o), inv);
-  const __m128 far = _mm_mul_ps(_mm_sub_ps(r.neg[a] ? lo : hi, o), inv);
+  const __m128 near = _mm_mul_ps(_mm_sub_ps(near_plane, o), inv);
+  const __m128 far = _mm_mul_ps(_mm_sub_ps(far_plane, o), inv);
   tn = _mm_max_ps(near, tn);
   tf = _mm_min_ps(_mm_mul_ps(far, _mm_set1_ps(kWiden)), tf);
+}
+inline void slab_axis_sse(__m128 lo, __m128 hi, const RaySlabs& r, int a, __m128& tn, __m128& tf) {
+  slab_planes_sse(r.neg[a] ? hi : lo, r.neg[a] ? lo : hi, r, a, tn, tf);
 }
 
 inline uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit, float* t0s,
@@ -74,21 +89,44 @@ inline uint32_t node_test_sse(const WideNode& n, const RaySlabs& r, float limit,
 
 // slab_axis_sse on eight boxes (the same operations per lane). Shared by the bvh's AVX2 node test
 // and the octree's AVX2 child test.
-__attribute__((target("avx2"))) inline void slab_axis_avx2(__m256 lo, __m256 hi, const RaySlabs& r,
-                                                           int a, __m256& tn, __m256& tf) {
+__attribute__((target("avx2"))) inline void slab_planes_avx2(__m256 near_plane, __m256 far_plane,
+                                                             const RaySlabs& r, int a, __m256& tn,
+                                                             __m256& tf) {
   const __m256 o = _mm256_set1_ps(r.o[a]), inv = _mm256_set1_ps(r.inv[a]);
-  const __m256 near = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? hi : lo, o), inv);
-  const __m256 far = _mm256_mul_ps(_mm256_sub_ps(r.neg[a] ? lo : hi, o), inv);
+  const __m256 near = _mm256_mul_ps(_mm256_sub_ps(near_plane, o), inv);
+  const __m256 far = _mm256_mul_ps(_mm256_sub_ps(far_plane, o), inv);
   tn = _mm256_max_ps(near, tn);
   tf = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(kWiden)), tf);
 }
-
+__attribute__((target("avx2"))) inline void slab_axis_avx2(__m256 lo, __m256 hi, const RaySlabs& r,
+                                                           int a, __m256& tn, __m256& tf) {
+  slab_planes_avx2(r.neg[a] ? hi : lo, r.neg[a] ? lo : hi, r, a, tn, tf);
+}
 __attribute__((target("avx2"))) inline uint32_t node_test_avx2(const WideNode& n, const RaySlabs& r,
                                                                float limit, float* t0s,
                                                                float* t1s) {
   __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
   for (int a = 0; a < 3; ++a)
     slab_axis_avx2(_mm256_load_ps(n.lo[a]), _mm256_load_ps(n.hi[a]), r, a, tn, tf);
+  _mm256_storeu_ps(t0s, tn);
+  _mm256_storeu_ps(t1s, tf);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+}
+
+// node_test_avx2 with each axis's planes loaded at the ray's offsets (RaySlabs::near_at), not
+// chosen by a branch per axis and node: the same planes, so the same children and t bit for bit.
+// Which is faster depends on the walk (one AVX2 EPYC, alternated runs, results/anchor/tri_planes):
+// the triangle BVH's bounce rays gain (their directions change from ray to ray, so the branches
+// mispredict), while the point bvh's coherent shadow rays lost about 5% (a load address to compute
+// where a predicted branch cost nothing), so only the triangle BVH uses this one.
+__attribute__((target("avx2"))) inline uint32_t node_test_avx2_offsets(const WideNode& n,
+                                                                       const RaySlabs& r,
+                                                                       float limit, float* t0s,
+                                                                       float* t1s) {
+  __m256 tn = _mm256_set1_ps(r.tmin), tf = _mm256_set1_ps(limit);
+  for (int a = 0; a < 3; ++a)
+    slab_planes_avx2(_mm256_load_ps(node_planes(n) + r.near_at[a]),
+                     _mm256_load_ps(node_planes(n) + r.far_at[a]), r, a, tn, tf);
   _mm256_storeu_ps(t0s, tn);
   _mm256_storeu_ps(t1s, tf);
   return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
