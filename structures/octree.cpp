@@ -374,15 +374,7 @@ class Octree final : public Structure {
     if (hit == 0) return false;
     // Bottom of the stack to top: far to near (a ray crosses at most 4), else child order.
     std::array<uint32_t, 8> order;
-    int m = 0;
-    for (uint32_t mask = hit; mask; mask &= mask - 1) {
-      const auto c = uint32_t(__builtin_ctz(mask));
-      int j = m++;
-      if constexpr (!kAny)
-        for (; j > 0 && nears[order[size_t(j - 1)]] <= nears[c]; --j)
-          order[size_t(j)] = order[size_t(j - 1)];
-      order[size_t(j)] = c;
-    }
+    const int m = sort_children<kAny>(hit, nears, order);
     for (int k = 0; k < m; ++k) {
       const uint32_t c = order[size_t(k)];
       const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
@@ -394,6 +386,38 @@ class Octree final : public Structure {
       }
     }
     return true;
+  }
+
+  // The children of `hit` (not 0) into order, bottom of the stack to top: far to near (ties: the
+  // lower child on top), or for kAny in child order; returns how many. Two children, the most
+  // common case past the root levels, are ordered by a select, not a branch: which of two entries
+  // is nearer is a coin toss the branch predictor loses half the time.
+  template <bool kAny>
+  __attribute__((always_inline)) static int sort_children(uint32_t hit, const float* nears,
+                                                          std::array<uint32_t, 8>& order) {
+    const auto c0 = uint32_t(__builtin_ctz(hit));
+    const uint32_t rest = hit & (hit - 1);
+    if (rest == 0) {
+      order[0] = c0;
+      return 1;
+    }
+    const auto c1 = uint32_t(__builtin_ctz(rest));
+    if ((rest & (rest - 1)) == 0) {
+      const bool c0_on_top = !kAny && nears[c0] <= nears[c1];
+      order[0] = c0_on_top ? c1 : c0;
+      order[1] = c0_on_top ? c0 : c1;
+      return 2;
+    }
+    int m = 0;
+    for (uint32_t mask = hit; mask; mask &= mask - 1) {
+      const auto c = uint32_t(__builtin_ctz(mask));
+      int j = m++;
+      if constexpr (!kAny)
+        for (; j > 0 && nears[order[size_t(j - 1)]] <= nears[c]; --j)
+          order[size_t(j)] = order[size_t(j - 1)];
+      order[size_t(j)] = c;
+    }
+    return m;
   }
 
   // The stored children of a cell at lo (children of side `half`) that the ray crosses: a bit per

@@ -258,11 +258,25 @@ struct WideTodo {
 template <bool kAny>
 inline bool next_children(const WideNode& n, uint32_t mask, const float* t0s, const float* t1s,
                           WideTodo* stack, int& top, WideTodo& next) {
+  const auto todo = [&](int k) { return WideTodo{n.child[k], n.count[k], t0s[k], t1s[k]}; };
+  const auto empty = [&](int k) { return n.child[k] == 0 && n.count[k] == 0; };
+  const uint32_t rest = mask & (mask - 1);
+  if (!kAny && rest != 0 && (rest & (rest - 1)) == 0) {
+    // Two children, ordered by a select rather than a branch: which one the ray enters first is
+    // a coin toss the branch predictor loses half the time.
+    const int k0 = __builtin_ctz(mask), k1 = __builtin_ctz(rest);
+    if (!empty(k0) && !empty(k1)) {
+      const bool k0_first = t0s[k0] < t0s[k1];  // ties: the higher slot first
+      stack[top++] = todo(k0_first ? k1 : k0);
+      next = todo(k0_first ? k0 : k1);
+      return true;
+    }
+  }
   std::array<int, kWideWidth> order;  // bottom of the stack to top
   int m = 0;
   for (; mask; mask &= mask - 1) {
     const int k = __builtin_ctz(mask);
-    if (n.child[k] == 0 && n.count[k] == 0) continue;
+    if (empty(k)) continue;
     int j = m++;
     if constexpr (!kAny)
       for (; j > 0 && t0s[order[size_t(j - 1)]] < t0s[k]; --j)
@@ -270,12 +284,8 @@ inline bool next_children(const WideNode& n, uint32_t mask, const float* t0s, co
     order[size_t(j)] = k;
   }
   if (m == 0) return false;
-  for (int i = 0; i + 1 < m; ++i) {
-    const int k = order[size_t(i)];
-    stack[top++] = WideTodo{n.child[k], n.count[k], t0s[k], t1s[k]};
-  }
-  const int k = order[size_t(m - 1)];
-  next = WideTodo{n.child[k], n.count[k], t0s[k], t1s[k]};
+  for (int i = 0; i + 1 < m; ++i) stack[top++] = todo(order[size_t(i)]);
+  next = todo(order[size_t(m - 1)]);
   return true;
 }
 
