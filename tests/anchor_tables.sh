@@ -1,18 +1,30 @@
 #!/usr/bin/env bash
-# The mesh-anchor tables quoted in results/anchor/*/summary.md are what scripts/anchor_summary.py
-# --mesh makes from the JSON files committed beside them, and a file it cannot read is refused in
-# one line with status 1. Usage: tests/anchor_tables.sh (from anywhere).
+# The anchor tables quoted in results/anchor/*/summary.md are what scripts/anchor_summary.py makes
+# from the JSON files committed beside them (--mesh for the triangle runs, --table against each of
+# the three references for the whole anchor), and a file it cannot read is refused in one line
+# with status 1. Usage: tests/anchor_tables.sh (from anywhere).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 summary=scripts/anchor_summary.py
-for dir in results/anchor/tri_sah results/anchor/tri_prefetch; do
-  table=$(/usr/bin/python3 "$summary" --mesh "$dir"/before/*.json "$dir"/after/*.json)
+# Every line of `table` is a line of summary.md in `dir`.
+quoted() {
+  local dir=$1 table=$2
   while IFS= read -r line; do
     grep -qxF -- "$line" "$dir/summary.md" || {
       echo "anchor_tables: $dir/summary.md lacks the line: $line"
       exit 1
     }
   done <<<"$table"
+}
+for dir in results/anchor/tri_sah results/anchor/tri_prefetch results/anchor/tri_planes; do
+  quoted "$dir" "$(/usr/bin/python3 "$summary" --mesh "$dir"/before/*.json "$dir"/after/*.json)"
+done
+for dir in results/anchor/epyc_slab results/anchor/epyc_sort; do
+  files=("$dir"/sphere_1e6.json "$dir"/building.json "$dir"/b9_training.json)
+  quoted "$dir" "$(/usr/bin/python3 "$summary" --table "${files[@]}")"
+  for ref in 2 3; do
+    quoted "$dir" "$(/usr/bin/python3 "$summary" --table --reference "$ref" "${files[@]}" | grep '^|')"
+  done
 done
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
