@@ -26,6 +26,7 @@
 #include "core/error.hpp"
 #include "core/offsets.hpp"
 #include "structures/build_buffer.hpp"
+#include "structures/leaf_slab.hpp"
 #include "structures/loose_octree.hpp"
 #include "structures/structure.hpp"
 #include "structures/tree_nodes.hpp"
@@ -44,23 +45,6 @@ struct CellBox {
   [[nodiscard]] bool empty() const { return lo[0] > hi[0]; }
 };
 static_assert(sizeof(CellBox) == 6);
-
-// The slab of a leaf's discs along one direction (leaf_slabs): every point of every disc x has
-// lo <= v . x <= hi, with v the normal stored as 16-bit fixed point (v = n / 32767, |v| ~ 1; the
-// build bounds the discs along the v the walk reads back, so the rounding of v costs nothing). On a
-// surface a leaf's discs are nearly parallel and the slab is thin, while their box fills the cell
-// once the discs are wider than it: a ray crossing the cell above the surface misses the slab.
-// lo > hi: no bound (a leaf whose discs face every way, or no disc).
-struct LeafSlab {
-  std::array<int16_t, 3> n{};
-  float lo = 1, hi = 0;
-  [[nodiscard]] Vec3 normal() const {
-    constexpr float kInv = 1.0f / 32767.0f;
-    return {float(n[0]) * kInv, float(n[1]) * kInv, float(n[2]) * kInv};
-  }
-  [[nodiscard]] bool bounded() const { return lo <= hi; }
-};
-static_assert(sizeof(LeafSlab) == 16);
 
 // The CellBoxes of one node's k stored children (nodes first .. first + k - 1) at byte 6 * first,
 // axis by axis: the lo bytes of axis a at a * k + rank, the hi bytes at (3 + a) * k + rank. The
@@ -692,7 +676,7 @@ class Octree final : public Structure {
     const Aabb box = keeps_boxes_ ? footprint_within(items, lo, side) : Aabb{};
     uint32_t flags = 0;
     if (keeps_slabs_) {
-      const LeafSlab slab = slab_of(items);
+      const LeafSlab slab = slab_of(items_, items);
       b.disc_slabs[{node.chunk, node.pos}] = slab;
       flags = slab_flag(slab, side);
     }
@@ -716,46 +700,12 @@ class Octree final : public Structure {
     return box;
   }
 
-  // The slab of discs `items` along their mean normal (each flipped to face the first's way):
-  // a disc (c, m, r) spans v . c +- r |v x m| / |m| along v (the cross product, not the
-  // cancelling |v|^2 - (v . m)^2 / |m|^2, since v and m are nearly parallel), padded as its box is
-  // (1e-4 r) and for the rounding of the dot products (1e-6 of |c|_1, their terms' sizes).
-  [[nodiscard]] LeafSlab slab_of(std::span<const uint32_t> items) const {
-    LeafSlab slab;
-    if (items.empty()) return slab;
-    const Vec3 n0 = items_.disc_normals[items[0]];
-    Vec3 sum = Vec3::Zero();
-    for (const uint32_t i : items) {
-      const Vec3& m = items_.disc_normals[i];
-      sum += m.dot(n0) < 0 ? Vec3(-m) : m;
-    }
-    const float length = sum.norm();
-    if (!(length > 0) || !std::isfinite(length)) return slab;
-    for (int a = 0; a < 3; ++a) slab.n[size_t(a)] = int16_t(std::lround(sum[a] / length * 32767));
-    const Vec3 v = slab.normal();
-    float lo = kInfinity, hi = -kInfinity;
-    for (const uint32_t i : items) {
-      const Vec3& c = items_.positions[i];
-      const Vec3& m = items_.disc_normals[i];  // not always of unit length (a file's normals)
-      const float m_length = m.norm();
-      if (!(m_length > 0) || !std::isfinite(m_length)) return LeafSlab{};
-      const float r = items_.radius(i), along = v.dot(c);
-      const float reach = r * (v.cross(m).norm() / m_length + 1e-4f) + 1e-6f * c.cwiseAbs().sum();
-      lo = std::min(lo, along - reach);
-      hi = std::max(hi, along + reach);
-    }
-    slab.lo = lo, slab.hi = hi;
-    return slab;
-  }
-
-  // kOctSlab for a leaf whose walk tests its slab: one thinner than half the cell's extent along
-  // its normal. A thicker one culls few of the rays that cross the cell, and its test costs a
-  // load and a branch either way (goradia_2010's leaves visited per bounce ray of the aerial tile
-  // 1.27 -> 1.42, linsen_2007 0.01-0.04 faster there than with every leaf tested, the sphere and
-  // building unchanged within the spread; results/anchor/oct_slab).
+  // kOctSlab for a leaf whose walk tests its slab (LeafSlab::thin). Testing every leaf instead:
+  // goradia_2010's leaves visited per bounce ray of the aerial tile 1.27 -> 1.42, linsen_2007
+  // 0.01-0.04 faster there, the sphere and building unchanged within the spread
+  // (results/anchor/oct_slab).
   static uint32_t slab_flag(const LeafSlab& slab, float side) {
-    const float cell_extent = side * slab.normal().cwiseAbs().sum();
-    return slab.bounded() && slab.hi - slab.lo < 0.5f * cell_extent ? kOctSlab : 0;
+    return slab.thin(side * slab.normal().cwiseAbs().sum()) ? kOctSlab : 0;
   }
   // The ray interval whose crossings a leaf may report: its cell's, from hits_before_leaf before
   // it (crossings before tmin are no hits), widened by the gap rounding may leave between two
@@ -768,24 +718,6 @@ class Octree final : public Structure {
       const Todo& cur, const Ray& ray, float inv_max) const {
     const float gap = 4e-6f * (cur.lo.cwiseAbs().maxCoeff() + cur.side) * inv_max;
     return {std::max(cur.t0 - items_.hits_before_leaf - gap, ray.tmin), cur.t1 + gap};
-  }
-
-  // Whether the ray over `interval` may meet the slab: false when v . (o + t d) lies below lo or
-  // above hi at both ends (it is linear in t), beyond a margin for the rounding of both dot
-  // products (1e-6 of their terms' sizes, as slab_of's). NaN (an infinite t times a zero rate)
-  // and infinities keep the leaf.
-  __attribute__((always_inline)) static bool crosses_slab(const LeafSlab& slab, const Ray& ray,
-                                                          std::pair<float, float> interval) {
-    if (!slab.bounded()) return true;
-    const auto [t0, t1] = interval;
-    const Vec3 v = slab.normal();
-    const float at_o = v.dot(ray.o), rate = v.dot(ray.d);
-    const float s0 = at_o + t0 * rate, s1 = at_o + t1 * rate;
-    const float pad = 1e-6f * (ray.o.cwiseAbs().sum() +
-                               std::max(std::abs(t0), std::abs(t1)) * ray.d.cwiseAbs().sum());
-    const bool below = s0 < slab.lo - pad && s1 < slab.lo - pad;
-    const bool above = s0 > slab.hi + pad && s1 > slab.hi + pad;
-    return !(below || above);
   }
 
   // The box of the items' footprints clipped to the cube [lo, lo + side] (its far planes computed

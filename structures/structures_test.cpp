@@ -31,6 +31,7 @@ std::vector<std::string> structures_to_check() {
   ids.push_back("kd_tree:split=1");
   ids.push_back("octree:loose=1");
   ids.push_back("octree:leaf_slabs=0");
+  ids.push_back("kd_tree:leaf_slabs=0");
   return ids;
 }
 
@@ -453,11 +454,11 @@ OctreeVariants compare_octree_variants(const PointScene& first, const PointScene
 
 }  // namespace
 
-// An octree switch (`param`, on by default) turned off against the defaults, every method on the
-// same rays: the same hits, bit for bit; the work Work(variants) returns (before, after) no higher
-// with it, and at least the splat family's lower by a tenth.
+// A switch of a structure (`param`, on by default) turned off against the defaults, every method
+// on the same rays: the same hits, bit for bit; the work Work(variants) returns (before, after) no
+// higher with it, and at least the splat family's lower by a tenth.
 template <class Work>
-void check_octree_switch(const char* param, uint64_t seed, Work&& work) {
+void check_structure_switch(const char* structure, const char* param, uint64_t seed, Work&& work) {
   const PointCloud cloud = load_dataset("bumpy_sphere:n=4000,seed=5").cloud;
   const auto rays = random_rays(cloud, 6000, seed);
   size_t fewer = 0;
@@ -466,8 +467,8 @@ void check_octree_switch(const char* param, uint64_t seed, Work&& work) {
     INFO(info.id);
     OpCounters c;
     Timings t;
-    const PointScene off(cloud, SceneOptions{info.id, "octree", {{param, 0}}}, c, t);
-    const PointScene on(cloud, SceneOptions{info.id, "octree", {}}, c, t);
+    const PointScene off(cloud, SceneOptions{info.id, structure, {{param, 0}}}, c, t);
+    const PointScene on(cloud, SceneOptions{info.id, structure, {}}, c, t);
     const OctreeVariants v = compare_octree_variants(off, on, rays);
     CHECK(v.differ == 0);
     CHECK(v.hits > rays.size() / 10);
@@ -484,7 +485,7 @@ TEST_CASE("the octree's child boxes find its cells' hits for every method, in fe
   // A ray skips a child whose footprint box it misses; every method's hits lie within its items'
   // footprints, so the hits (item and t, closest and any) are the cells' own, bit for bit.
   // Methods hit on their discs keep the boxes; the others' walk is the cells' own.
-  check_octree_switch("child_bounds", 21, [](const OctreeVariants& v) {
+  check_structure_switch("octree", "child_bounds", 21, [](const OctreeVariants& v) {
     return std::pair(v.nodes_first, v.nodes_second);
   });
 }
@@ -494,13 +495,20 @@ TEST_CASE("the octree's leaf slabs skip leaves for every method, never a hit", "
   // cell on: no crossing a hit of that leaf could be made of lies there, so the hits (item, t
   // and normal, closest and any) are those of the walk without slabs, bit for bit. Rays from
   // inside the bounds start near the surface, as bounce and shadow rays do.
-  check_octree_switch("leaf_slabs", 23, [](const OctreeVariants& v) {
+  check_structure_switch("octree", "leaf_slabs", 23, [](const OctreeVariants& v) {
     return std::pair(v.leaves_first, v.leaves_second);
   });
 }
 
-TEST_CASE("the octree's leaf slabs leave the blends' frames as they were, in fewer leaves",
-          "[structures]") {
+TEST_CASE("the kd-tree's leaf slabs skip leaves for every method, never a hit", "[structures]") {
+  // As the octree's: a leaf's interval is its cell's, shared with its neighbours at the planes,
+  // and the slab test looks hits_before_leaf back from it.
+  check_structure_switch("kd_tree", "leaf_slabs", 29, [](const OctreeVariants& v) {
+    return std::pair(v.leaves_first, v.leaves_second);
+  });
+}
+
+TEST_CASE("the leaf slabs leave the blends' frames as they were, in fewer leaves", "[structures]") {
   // A blend records a hit up to hits_before_leaf before its leaf: the slab test looks that far
   // back. The frames of all three blends, bounce and shadow rays from their hits included, are
   // the same bit for bit with and without slabs (looking back from the cell alone changes some
@@ -511,19 +519,21 @@ TEST_CASE("the octree's leaf slabs leave the blends' frames as they were, in few
   settings.threads = 1;
   for (const char* data : {"torus:n=4000,seed=4,noise=0.002", "bumpy_sphere:n=4000,seed=5"}) {
     const PointCloud cloud = load_dataset(data).cloud;
-    for (const char* id : {"goradia_2010", "kashyap_2010_splat", "linsen_2007"}) {
-      INFO(data << ", " << id);
-      OpCounters c;
-      Timings t;
-      const PointScene plain(cloud, SceneOptions{id, "octree", {{"leaf_slabs", 0}}}, c, t);
-      const PointScene slabs(cloud, SceneOptions{id, "octree", {}}, c, t);
-      const RenderResult a = render(plain, cloud, settings), b = render(slabs, cloud, settings);
-      CHECK(a.image.pixels() == b.image.pixels());
-      CHECK(a.primary_t == b.primary_t);
-      CHECK(a.primary_n == b.primary_n);
-      INFO("leaves " << a.counters.get(kLeavesVisited) << " -> " << b.counters.get(kLeavesVisited));
-      CHECK(b.counters.get(kLeavesVisited) < a.counters.get(kLeavesVisited));
-    }
+    for (const char* structure : {"octree", "kd_tree"})
+      for (const char* id : {"goradia_2010", "kashyap_2010_splat", "linsen_2007"}) {
+        INFO(data << ", " << structure << ", " << id);
+        OpCounters c;
+        Timings t;
+        const PointScene plain(cloud, SceneOptions{id, structure, {{"leaf_slabs", 0}}}, c, t);
+        const PointScene slabs(cloud, SceneOptions{id, structure, {}}, c, t);
+        const RenderResult a = render(plain, cloud, settings), b = render(slabs, cloud, settings);
+        CHECK(a.image.pixels() == b.image.pixels());
+        CHECK(a.primary_t == b.primary_t);
+        CHECK(a.primary_n == b.primary_n);
+        INFO("leaves " << a.counters.get(kLeavesVisited) << " -> "
+                       << b.counters.get(kLeavesVisited));
+        CHECK(b.counters.get(kLeavesVisited) < a.counters.get(kLeavesVisited));
+      }
   }
 }
 

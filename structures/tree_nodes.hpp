@@ -7,11 +7,12 @@
 namespace pcrt {
 
 // 16 bytes. Inner: the split plane, axis 0..2 and the index of the right child (the left one
-// follows its parent). Leaf: axis 3, the count of its references and the first one as 64 bits, the
-// low half in `a` and the high half where an inner node keeps its plane, so 64-bit offsets cost no
-// byte.
+// follows its parent). Leaf: axis 3 (4: a leaf whose walk tests its slab, kd_tree.cpp
+// leaf_slabs), the count of its references and the first one as 64 bits, the low half in `a` and
+// the high half where an inner node keeps its plane, so 64-bit offsets cost no byte.
 struct KdNode {
   static constexpr uint32_t kLeaf = 3;
+  static constexpr uint32_t kLeafSlab = 4;
   union {
     float split = 0;
     uint32_t first_hi;
@@ -33,12 +34,17 @@ struct KdNode {
     n.b = count;
     return n;
   }
-  [[nodiscard]] bool is_leaf() const { return axis == kLeaf; }
+  [[nodiscard]] bool is_leaf() const { return axis >= kLeaf; }
+  [[nodiscard]] bool tests_slab() const { return axis == kLeafSlab; }
   [[nodiscard]] uint64_t first() const { return uint64_t(first_hi) << 32 | a; }
   [[nodiscard]] uint32_t count() const { return b; }
   // The node with its indices moved by a subtree's place in its parent's arrays.
   [[nodiscard]] KdNode shifted(uint32_t node_base, uint64_t ref_base) const {
-    if (is_leaf()) return leaf(first() + ref_base, b);
+    if (is_leaf()) {
+      KdNode n = leaf(first() + ref_base, b);
+      n.axis = axis;
+      return n;
+    }
     KdNode n = *this;
     n.a += node_base;
     return n;

@@ -88,7 +88,7 @@ m = {x["id"]: x for x in j["methods"]}
 assert {"id", "paper", "structure", "needs", "parameters", "claims"} <= set(m["reference_splat"])
 s = {x["id"]: x for x in j["structures"]}
 assert {"brute_force", "kd_tree", "octree", "sphere_tree", "grid", "bvh"} <= set(s), s.keys()
-assert [p["name"] for p in s["kd_tree"]["parameters"]] == ["leaf_size", "max_depth", "max_straddle", "split"]
+assert [p["name"] for p in s["kd_tree"]["parameters"]] == ["leaf_size", "max_depth", "max_straddle", "split", "leaf_slabs"]
 '
 "$pcrt" convert torus:n=100 --out "$dir/t.ply" >/dev/null
 test "$("$pcrt" info "$dir/t.ply" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["points"])')" = 100
