@@ -459,9 +459,9 @@ class KdTree final : public Structure {
 namespace {
 
 // Item order from results/scale/lean (its build's chunks grow: the larger of 10^7 and 10^8). The
-// leaf slabs of methods hit on their discs add 16 B a node: goradia_2010's splats on the 10^6
-// sphere, 281 699 nodes, structure 19.4 -> 23.9 MB and peak 166.9 -> 171.3 MB (4.4 B/item),
-// priced as 5, whichever method (the estimate does not know whether it keeps them).
+// leaf slabs of methods hit on their discs add 16 B a node: goradia_2010's splats on the 10^7
+// sphere, structure +4.5 B/item, peak +2.3 (results/scale/kd_slab), priced as 5 whichever the
+// method (the estimate does not know whether it keeps them).
 StructureFootprint kd_tree_footprint(const ParamValues& params) {
   const auto slabs = params.find("leaf_slabs");
   const size_t slab_bytes = slabs != params.end() && slabs->second == 0 ? 0 : 5;
