@@ -73,7 +73,7 @@ inline LeafSlab slab_of(const ItemSet& items, std::span<const uint32_t> refs) {
 // above hi at both ends (it is linear in t), beyond a margin for the rounding of both dot
 // products (1e-6 of their terms' sizes, as slab_of's). NaN (an infinite t times a zero rate)
 // and infinities keep the leaf. Always inlined: the walks call it once per leaf, and the AVX2
-// ones would otherwise call out of their encoding (3-7% of the octree's walk).
+// ones would otherwise call out of their encoding (3-7% of the octree's walk, c2ee3c5).
 __attribute__((always_inline)) inline bool crosses_slab(const LeafSlab& slab, const Ray& ray,
                                                         std::pair<float, float> interval) {
   if (!slab.bounded()) return true;
