@@ -123,6 +123,85 @@ enum class OctRefs : uint8_t {
   kCompact = 1,  // 16-bit offsets from the leaf's lowest item where they fit
   kAuto = 2,     // 32-bit up to kCompactAbove items, compact beyond
 };
+// A node the walk is to visit: its cell, where the ray enters its box (`near`, what orders and
+// ends the walk) and the ray's interval in its cell (what a leaf is handed).
+struct OctTodo {
+  uint32_t node;
+  Vec3 lo;
+  float side, near, t0, t1;
+};
+
+// Compact leaves hold at most this many items (decoded onto the walk's stack, 1 KiB).
+constexpr size_t kOctCompactMax = 256;
+
+// What the walk reads of a built octree: its cube and pointers into its arrays.
+struct OctWalkData {
+  Vec3 root_lo = Vec3::Zero();
+  float root_side = 0;
+  float hits_before_leaf = 0;  // ItemSet::hits_before_leaf
+  size_t items = 0;
+  const uint8_t* boxes = nullptr;        // GroupBoxes of every node, null without child boxes
+  const LeafSlab* disc_slabs = nullptr;  // by node, for leaves with has_slab()
+  const uint32_t* refs = nullptr;
+  const uint16_t* refs16 = nullptr;
+};
+
+// Eight bytes of a group (one bound of one axis, by rank) as eight int lanes in child order.
+__attribute__((target("avx2"), always_inline)) inline __m256i bytes_by_child(const uint8_t* at,
+                                                                             __m256i rank) {
+  const __m128i b = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(at));  // NOLINT: intrinsic
+  return _mm256_permutevar8x32_epi32(_mm256_cvtepu8_epi32(b), rank);
+}
+
+// child_tests (octree_walk.hpp) in eight AVX2 lanes, cells and boxes: the cells as
+// octant_test_avx2, then each child's box (its group's bytes permuted from rank to child order)
+// as narrow_to_box computes it (the same IEEE operations in the same order, so the same children
+// and t bit for bit).
+__attribute__((target("avx2"), always_inline)) inline uint32_t cells_and_boxes_avx2(
+    uint32_t children, const GroupBoxes& group, const Vec3& lo, float half, const RaySlabs& slabs,
+    float tmax, float* t0s, float* t1s, float* nears) {
+  const __m256 h = _mm256_set1_ps(half), quantum = _mm256_set1_ps(cell_quantum(half));
+  __m256 tn = _mm256_set1_ps(slabs.tmin), tf = _mm256_set1_ps(tmax);
+  __m256 clo[3];
+  for (int a = 0; a < 3; ++a) {
+    clo[a] = _mm256_add_ps(_mm256_set1_ps(lo[a]), _mm256_mul_ps(h, _mm256_load_ps(kOctantBit[a])));
+    slab_axis_avx2(clo[a], _mm256_add_ps(clo[a], h), slabs, a, tn, tf);
+  }
+  _mm256_store_ps(t0s, tn);
+  _mm256_store_ps(t1s, tf);
+  const uint32_t cells = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+  if ((cells & children) == 0) return 0;
+  const __m256i rank = _mm256_cvtepu8_epi32(_mm_loadl_epi64(
+      reinterpret_cast<const __m128i*>(kRankOf[children].data())));  // NOLINT: intrinsic load
+  uint32_t empty = 0;
+  for (uint32_t a = 0; a < 3; ++a) {
+    const __m256i qlo = bytes_by_child(group.bytes + a * group.k, rank);
+    const __m256i qhi = bytes_by_child(group.bytes + (3 + a) * group.k, rank);
+    if (a == 0)
+      empty = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(qlo, qhi))));
+    const __m256 blo = _mm256_add_ps(clo[a], _mm256_mul_ps(quantum, _mm256_cvtepi32_ps(qlo)));
+    const __m256 bhi = _mm256_add_ps(clo[a], _mm256_mul_ps(quantum, _mm256_cvtepi32_ps(qhi)));
+    slab_axis_avx2(blo, bhi, slabs, int(a), tn, tf);
+  }
+  _mm256_store_ps(nears, tn);
+  return cells & children & ~empty &
+         uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+}
+
+// The walk for any x86-64 (SSE lanes), and compiled for AVX2 as a whole (octree_walk.hpp says
+// why). octree_walk.hpp includes nothing, so nothing else is compiled under the pragma.
+namespace oct_sse {
+constexpr bool kWalkAvx2 = false;
+#include "structures/octree_walk.hpp"  // NOLINT: included twice, by design
+}  // namespace oct_sse
+#pragma GCC push_options
+#pragma GCC target("avx2")
+namespace oct_avx2 {
+constexpr bool kWalkAvx2 = true;
+#include "structures/octree_walk.hpp"  // NOLINT: included twice, by design
+}  // namespace oct_avx2
+#pragma GCC pop_options
+
 // Up to 2^21 items the octree's references (7 to 10 per item on a surface) copied as 28-byte
 // discs stay near SplatLeafBlocks' 512 MiB cap for a leaf-order copy, which compact references
 // rule out; beyond it no copy is made, and the compact ones halve the references' bytes.
@@ -177,9 +256,6 @@ const ParamList<OctreeParams>& octree_params() {
 }
 
 class Octree final : public Structure {
-  // Compact leaves hold at most this many items (decoded onto the walk's stack, 1 KiB).
-  static constexpr size_t kCompactMax = 256;
-
  public:
   explicit Octree(const OctreeParams& p)
       : leaf_size_(p.leaf_size),
@@ -208,6 +284,7 @@ class Octree final : public Structure {
       release(nodes32_);
       build_all(nodes64_);
     }
+    walk_data_ = walk_data();
     counters.add(kBuildNodes, nodes32_.size() + nodes64_.size());
     counters.add(kBuildItemRefs, references_);
     counters.add(kBuildItemVisits,
@@ -216,21 +293,13 @@ class Octree final : public Structure {
 
   bool closest_hit(const Ray& ray, const LeafIntersector& leaf, Hit& hit,
                    OpCounters& counters) const override {
-    if (avx2_)
-      return wide() ? walk_avx2<false>(nodes64_, ray, leaf, hit, counters)
-                    : walk_avx2<false>(nodes32_, ray, leaf, hit, counters);
-    return wide() ? walk<false, false>(nodes64_, ray, leaf, hit, counters)
-                  : walk<false, false>(nodes32_, ray, leaf, hit, counters);
+    return walk<false>(ray, leaf, hit, counters);
   }
 
   bool any_hit(const Ray& ray, const LeafIntersector& leaf, OpCounters& counters) const override {
     Hit hit;
     hit.t = ray.tmax;
-    if (avx2_)
-      return wide() ? walk_avx2<true>(nodes64_, ray, leaf, hit, counters)
-                    : walk_avx2<true>(nodes32_, ray, leaf, hit, counters);
-    return wide() ? walk<true, false>(nodes64_, ray, leaf, hit, counters)
-                  : walk<true, false>(nodes32_, ray, leaf, hit, counters);
+    return walk<true>(ray, leaf, hit, counters);
   }
 
   // Compact leaves are decoded for the method, so they are no pieces of one array.
@@ -244,15 +313,36 @@ class Octree final : public Structure {
   }
 
  private:
-  // A node to visit: its cell, where the ray enters its box (`near`, what orders and ends the
-  // walk) and the ray's interval in its cell (what a leaf is handed).
-  struct Todo {
-    uint32_t node;
-    Vec3 lo;
-    float side, near, t0, t1;
-  };
-
   [[nodiscard]] bool wide() const { return !nodes64_.empty(); }
+
+  // The walk of the nodes built, in AVX2 lanes where the CPU has them (octree_walk.hpp), compiled
+  // apart with and without child boxes (each instance then holds one child test).
+  template <bool kAny>
+  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
+    return walk_data_.boxes != nullptr ? walk<kAny, true>(ray, leaf, hit, counters)
+                                       : walk<kAny, false>(ray, leaf, hit, counters);
+  }
+  template <bool kAny, bool kBoxes>
+  bool walk(const Ray& ray, const LeafIntersector& leaf, Hit& hit, OpCounters& counters) const {
+    const OctWalkData& w = walk_data_;
+    if (avx2_)
+      return wide() ? oct_avx2::walk<kAny, kBoxes>(w, nodes64_.data(), ray, leaf, hit, counters)
+                    : oct_avx2::walk<kAny, kBoxes>(w, nodes32_.data(), ray, leaf, hit, counters);
+    return wide() ? oct_sse::walk<kAny, kBoxes>(w, nodes64_.data(), ray, leaf, hit, counters)
+                  : oct_sse::walk<kAny, kBoxes>(w, nodes32_.data(), ray, leaf, hit, counters);
+  }
+
+  // Where the walk finds the arrays just built.
+  [[nodiscard]] OctWalkData walk_data() const {
+    return {root_lo_,
+            root_side_,
+            items_.hits_before_leaf,
+            items_.size(),
+            boxes_.empty() ? nullptr : boxes_.data(),
+            disc_slabs_.data(),
+            refs_.data(),
+            refs16_.data()};
+  }
 
   // Sum over leaves of their references x levels from the root: the build's partitioning work as
   // the leaves keep it (references a leaf drops by the plane test are not counted).
@@ -265,238 +355,6 @@ class Octree final : public Structure {
     for (uint32_t k = 0; k < kids; ++k)
       sum += item_visits(nodes, uint32_t(n.first()) + k, level + 1);
     return sum;
-  }
-
-  // The walk compiled for AVX2 (as the bvh's): the eight cubes in one 8-lane test, and the rest of
-  // the walk inlined into it, since GCC inlines no target("avx2") function into a generic one.
-  template <bool kAny, class N>
-  __attribute__((target("avx2"))) bool walk_avx2(const std::vector<N>& nodes, const Ray& ray,
-                                                 const LeafIntersector& leaf, Hit& hit,
-                                                 OpCounters& counters) const {
-    return walk<kAny, true>(nodes, ray, leaf, hit, counters);
-  }
-
-  // kAny: an occlusion query, ended by the first leaf that reports a hit. kAvx2: the children's
-  // cube test in one AVX2 pass (the same operations per lane as the two SSE halves).
-  template <bool kAny, bool kAvx2, class N>
-  __attribute__((always_inline)) bool walk(const std::vector<N>& nodes, const Ray& ray,
-                                           const LeafIntersector& leaf, Hit& hit,
-                                           OpCounters& counters) const {
-    if ((items_.size() == 0)) return false;
-    const Vec3 inv = ray.d.cwiseInverse();
-    const RaySlabs slabs(ray);
-    const float inv_max = inv.cwiseAbs().maxCoeff();  // for slab_interval
-    std::array<Todo, 8 * 32> stack;  // at most 7 siblings waiting per level, max_depth <= 30
-    std::array<uint32_t, kCompactMax> decoded;
-    int top = 0;
-    float t0 = 0, t1 = 0;
-    if (!Aabb{root_lo_, root_lo_ + Vec3::Constant(root_side_)}.intersect(ray, inv, t0, t1))
-      return false;
-    float near = t0, far = t1;
-    if (!boxes_.empty() && !narrow_to_box(GroupBoxes{boxes_.data(), 1}.box(0), root_lo_,
-                                          cell_quantum(root_side_), slabs, near, far))
-      return false;
-    // The next node to visit stays out of the stack: reading back a Todo just written piecewise
-    // stalled store forwarding (15% of the walk).
-    Todo cur{0, root_lo_, root_side_, near, t0, t1};
-    bool found = false;
-    while (true) {
-      if (may_improve(cur.near, hit.t)) {
-        const N& n = nodes[cur.node];
-        if (n.count != 0) {  // else a leaf the disc planes all missed (inner nodes count > 0)
-          counters.add(kNodesVisited);
-          if (!n.leaf()) {
-            if (next_children<kAny, kAvx2>(n, slabs, ray.tmax, stack.data(), top, cur)) continue;
-          } else if (!n.has_slab() ||
-                     crosses_slab(disc_slabs_[cur.node], ray, slab_interval(cur, ray, inv_max))) {
-            counters.add(kLeavesVisited);
-            counters.add(kItemsVisited, n.leaf_count());
-            const LeafVisit visit{leaf_items(n, decoded), cur.t0, cur.t1};
-            if constexpr (kAny) {
-              if (leaf.occluded_leaf(ray, visit, hit.t, counters)) return true;
-            } else {
-              found |= leaf.intersect_leaf(ray, visit, hit, counters);
-            }
-          }
-        }
-      } else if constexpr (!kAny) {
-        break;  // disjoint cells in depth-first order: the rest is further
-      }         // kAny: pushed in child order, only this cell is beyond
-      if (top == 0) break;
-      cur = stack[size_t(--top)];
-    }
-    return found;
-  }
-
-  // The items of leaf n: a piece of refs_, or its compact references decoded into `decoded`.
-  template <class N>
-  std::span<const uint32_t> leaf_items(const N& n,
-                                       std::array<uint32_t, kCompactMax>& decoded) const {
-    if (!n.compact()) return {refs_.data() + n.first(), n.leaf_count()};
-    const uint16_t* r = refs16_.data() + n.first();
-    const uint32_t base = uint32_t(r[0]) | uint32_t(r[1]) << 16;
-    for (uint32_t k = 0; k < n.leaf_count(); ++k) decoded[k] = base + r[2 + k];
-    return {decoded.data(), n.leaf_count()};
-  }
-
-  // The children of `n` (the node of `cur`) that the ray crosses, in the order a stack pops them:
-  // near to far (ties: the lower child first), or for kAny in reverse child order (any blocker
-  // ends an occlusion query and an unblocked ray visits every cell it crosses anyway). The first
-  // replaces `cur`, the others are pushed; false if there are none. The eight child cubes are
-  // tested at once (octant_test_*: AVX2 or SSE), as the bvh tests its wide nodes, and then the
-  // crossed children's boxes, if kept (child_tests).
-  template <bool kAny, bool kAvx2, class N>
-  __attribute__((always_inline)) bool next_children(const N& n, const RaySlabs& slabs, float tmax,
-                                                    Todo* stack, int& top, Todo& cur) const {
-    const float half = 0.5f * cur.side;
-    const Vec3 lo = cur.lo;
-    alignas(32) float t0s[8], t1s[8], nears[8];
-    const uint32_t children = n.child_mask();
-    const auto first = uint32_t(n.first());
-    const uint32_t hit =
-        child_tests<kAvx2>(children, first, lo, half, slabs, tmax, t0s, t1s, nears);
-    if (hit == 0) return false;
-    // Bottom of the stack to top: far to near (a ray crosses at most 4), else child order.
-    std::array<uint32_t, 8> order;
-    const int m = sort_children<kAny>(hit, nears, order);
-    for (int k = 0; k < m; ++k) {
-      const uint32_t c = order[size_t(k)];
-      const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-      const Todo x{first + kRankOf[children][c], clo, half, nears[c], t0s[c], t1s[c]};
-      if (k + 1 < m) {
-        stack[top++] = x;
-      } else {
-        cur = x;
-      }
-    }
-    return true;
-  }
-
-  // The children of `hit` (not 0) into order, bottom of the stack to top: far to near (ties: the
-  // lower child on top), or for kAny in child order; returns how many. Two children are ordered by
-  // a select, not a branch: which of two entries is nearer is a coin toss the branch predictor
-  // loses half the time (that comparison was the walk's hottest branch in a profile on the tile).
-  template <bool kAny>
-  __attribute__((always_inline)) static int sort_children(uint32_t hit, const float* nears,
-                                                          std::array<uint32_t, 8>& order) {
-    const auto c0 = uint32_t(__builtin_ctz(hit));
-    const uint32_t rest = hit & (hit - 1);
-    if (rest == 0) {
-      order[0] = c0;
-      return 1;
-    }
-    const auto c1 = uint32_t(__builtin_ctz(rest));
-    if ((rest & (rest - 1)) == 0) {
-      const bool c0_on_top = !kAny && nears[c0] <= nears[c1];
-      order[0] = c0_on_top ? c1 : c0;
-      order[1] = c0_on_top ? c0 : c1;
-      return 2;
-    }
-    int m = 0;
-    for (uint32_t mask = hit; mask; mask &= mask - 1) {
-      const auto c = uint32_t(__builtin_ctz(mask));
-      int j = m++;
-      if constexpr (!kAny)
-        for (; j > 0 && nears[order[size_t(j - 1)]] <= nears[c]; --j)
-          order[size_t(j)] = order[size_t(j - 1)];
-      order[size_t(j)] = c;
-    }
-    return m;
-  }
-
-  // The stored children of a cell at lo (children of side `half`) that the ray crosses: a bit per
-  // child, their cells' intervals in t0s and t1s and where the ray enters their boxes in nears
-  // (the cells' entries without kept boxes). Empty leaves too: the pop reads a node anyway, and
-  // reading each child here to skip them was a cache miss per child pushed (9% of the walk).
-  template <bool kAvx2>
-  __attribute__((always_inline)) uint32_t child_tests(uint32_t children, uint32_t first,
-                                                      const Vec3& lo, float half,
-                                                      const RaySlabs& slabs, float tmax, float* t0s,
-                                                      float* t1s, float* nears) const {
-    const GroupBoxes group{boxes_.empty() ? nullptr : boxes_.data() + 6 * size_t(first),
-                           uint32_t(kBitsSet[children])};  // unread without boxes
-    if constexpr (kAvx2) {
-      if (!boxes_.empty())
-        return cells_and_boxes_avx2(children, group, lo, half, slabs, tmax, t0s, t1s, nears);
-    }
-    uint32_t hit = (kAvx2 ? octant_test_avx2(lo, half, slabs, tmax, t0s, t1s)
-                          : octant_test_sse(lo, half, slabs, tmax, t0s, t1s)) &
-                   children;
-    if (boxes_.empty()) {
-      std::memcpy(nears, t0s, 8 * sizeof(float));
-      return hit;
-    }
-    const float quantum = cell_quantum(half);
-    for (uint32_t mask = hit; mask; mask &= mask - 1) {
-      const auto c = uint32_t(__builtin_ctz(mask));
-      const Vec3 clo = lo + half * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-      float far = t1s[c];
-      nears[c] = t0s[c];
-      if (!narrow_to_box(group.box(kRankOf[children][c]), clo, quantum, slabs, nears[c], far))
-        hit &= ~(1u << c);
-    }
-    return hit;
-  }
-
-  // Eight bytes of a group (one bound of one axis, by rank) as eight int lanes in child order.
-  __attribute__((target("avx2"), always_inline)) static __m256i bytes_by_child(const uint8_t* at,
-                                                                               __m256i rank) {
-    const __m128i b = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(at));  // NOLINT: intrinsic
-    return _mm256_permutevar8x32_epi32(_mm256_cvtepu8_epi32(b), rank);
-  }
-
-  // child_tests in eight AVX2 lanes, cells and boxes: the cells as octant_test_avx2, then each
-  // child's box (its group's bytes permuted from rank to child order) as narrow_to_box computes it
-  // (the same IEEE operations in the same order, so the same children and t bit for bit).
-  __attribute__((target("avx2"))) static uint32_t cells_and_boxes_avx2(
-      uint32_t children, const GroupBoxes& group, const Vec3& lo, float half, const RaySlabs& slabs,
-      float tmax, float* t0s, float* t1s, float* nears) {
-    const __m256 h = _mm256_set1_ps(half), quantum = _mm256_set1_ps(cell_quantum(half));
-    __m256 tn = _mm256_set1_ps(slabs.tmin), tf = _mm256_set1_ps(tmax);
-    __m256 clo[3];
-    for (int a = 0; a < 3; ++a) {
-      clo[a] =
-          _mm256_add_ps(_mm256_set1_ps(lo[a]), _mm256_mul_ps(h, _mm256_load_ps(kOctantBit[a])));
-      slab_axis_avx2(clo[a], _mm256_add_ps(clo[a], h), slabs, a, tn, tf);
-    }
-    _mm256_store_ps(t0s, tn);
-    _mm256_store_ps(t1s, tf);
-    const uint32_t cells = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
-    if ((cells & children) == 0) return 0;
-    const __m256i rank = _mm256_cvtepu8_epi32(_mm_loadl_epi64(
-        reinterpret_cast<const __m128i*>(kRankOf[children].data())));  // NOLINT: intrinsic load
-    uint32_t empty = 0;
-    for (uint32_t a = 0; a < 3; ++a) {
-      const __m256i qlo = bytes_by_child(group.bytes + a * group.k, rank);
-      const __m256i qhi = bytes_by_child(group.bytes + (3 + a) * group.k, rank);
-      if (a == 0)
-        empty = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(qlo, qhi))));
-      const __m256 blo = _mm256_add_ps(clo[a], _mm256_mul_ps(quantum, _mm256_cvtepi32_ps(qlo)));
-      const __m256 bhi = _mm256_add_ps(clo[a], _mm256_mul_ps(quantum, _mm256_cvtepi32_ps(qhi)));
-      slab_axis_avx2(blo, bhi, slabs, int(a), tn, tf);
-    }
-    _mm256_store_ps(nears, tn);
-    return cells & children & ~empty &
-           uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
-  }
-
-  // Narrows [near, far] to the ray's interval in box q of the cell at lo (quantum: cell_quantum
-  // of its side), as slab_axis_sse does; false when the ray misses the box or it is empty.
-  // Always inlined, so that the AVX2 walk runs it in its own encoding: called from there, an SSE
-  // function runs with the upper halves of the registers dirty (a transition per call).
-  __attribute__((always_inline)) static bool narrow_to_box(const CellBox& q, const Vec3& lo,
-                                                           float quantum, const RaySlabs& r,
-                                                           float& near, float& far) {
-    if (q.empty()) return false;
-    for (int a = 0; a < 3; ++a) {
-      const float blo = lo[a] + quantum * kByteFloat[q.lo[size_t(a)]];
-      const float bhi = lo[a] + quantum * kByteFloat[q.hi[size_t(a)]];
-      const float tn = ((r.neg[a] ? bhi : blo) - r.o[a]) * r.inv[a];
-      const float tf = ((r.neg[a] ? blo : bhi) - r.o[a]) * r.inv[a] * kWiden;
-      near = tn > near ? tn : near;  // NaN (0 * inf) keeps the interval
-      far = tf < far ? tf : far;
-    }
-    return near <= far;
   }
 
   // The quantized box of `b` (a box within the cell [lo, lo + side]) for narrow_to_box: the
@@ -683,7 +541,7 @@ class Octree final : public Structure {
     if (items.size() >= kOctSlab) throw std::length_error("octree: a leaf of 2^29 references");
     const auto n = uint32_t(items.size());
     b.references += n;
-    std::array<uint16_t, kCompactMax + 2> packed;
+    std::array<uint16_t, kOctCompactMax + 2> packed;
     if (compact_ && pack_compact(items, packed)) {
       const size_t first = b.refs16.size();
       if (!N::kWide && !fits_narrow_offset(first)) throw NeedsWideOffsets{};
@@ -707,19 +565,6 @@ class Octree final : public Structure {
   static uint32_t slab_flag(const LeafSlab& slab, float side) {
     return slab.thin(side * slab.normal().cwiseAbs().sum()) ? kOctSlab : 0;
   }
-  // The ray interval whose crossings a leaf may report: its cell's, from hits_before_leaf before
-  // it (crossings before tmin are no hits), widened by the gap rounding may leave between two
-  // cells' intervals. A wall shared by cells of different depths is summed from the root in
-  // different orders (up to max_depth half-ulps of its coordinate each), which in t is divided by
-  // the ray's direction along it: a crossing in such a gap is a hit the nearest-disc methods report
-  // from the leaf before it (inv_max: the largest |1 / d_a|; infinite keeps every leaf).
-  // Both always inlined, as narrow_to_box: the AVX2 walk calls them once per leaf.
-  [[nodiscard]] __attribute__((always_inline)) std::pair<float, float> slab_interval(
-      const Todo& cur, const Ray& ray, float inv_max) const {
-    const float gap = 4e-6f * (cur.lo.cwiseAbs().maxCoeff() + cur.side) * inv_max;
-    return {std::max(cur.t0 - items_.hits_before_leaf - gap, ray.tmin), cur.t1 + gap};
-  }
-
   // The box of the items' footprints clipped to the cube [lo, lo + side] (its far planes computed
   // as the child test computes them); empty for no items.
   [[nodiscard]] Aabb footprint_within(std::span<const uint32_t> items, const Vec3& lo,
@@ -734,11 +579,11 @@ class Octree final : public Structure {
   }
 
   // A leaf's items as its lowest item (two 16-bit halves) and each item's offset from it, in the
-  // leaf's order: where there are at most kCompactMax items within 2^16 of each other (most
+  // leaf's order: where there are at most kOctCompactMax items within 2^16 of each other (most
   // leaves: items are in Morton order, so a cell's neighbours are mostly near in it).
   static bool pack_compact(std::span<const uint32_t> items,
-                           std::array<uint16_t, kCompactMax + 2>& out) {
-    if (items.empty() || items.size() > kCompactMax) return false;
+                           std::array<uint16_t, kOctCompactMax + 2>& out) {
+    if (items.empty() || items.size() > kOctCompactMax) return false;
     const auto [lo, hi] = std::minmax_element(items.begin(), items.end());
     if (*hi - *lo > 0xFFFFu) return false;
     out[0] = uint16_t(*lo & 0xFFFFu);
@@ -822,6 +667,7 @@ class Octree final : public Structure {
   // If leaf_slabs: each node's LeafSlab, by node index (inner nodes' unused; tested for the
   // leaves flagged kOctSlab).
   std::vector<LeafSlab> disc_slabs_;
+  OctWalkData walk_data_;  // set at the end of build
 };
 
 }  // namespace
