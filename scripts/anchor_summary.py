@@ -8,6 +8,7 @@ Usage: anchor_summary.py BEFORE.json AFTER.json
        anchor_summary.py --table [--reference K] FILE.json [FILE.json ...]
        anchor_summary.py --frames FILE.json [FILE.json ...]
        anchor_summary.py --mesh FILE.json [FILE.json ...]
+       anchor_summary.py --rounds [--reference K] FILE.json [FILE.json ...]
 --ratios prints one table of "before -> after" ratios per ray kind against reference K (0: Embree
 ray by ray in Morton order, the default; 3: Embree in packets of 16 where the files have it), with
 each file's load average, so that the README and docs quote the files and nothing else. --table
@@ -19,7 +20,9 @@ normals' angle in degrees, median / 95th percentile, and the rays only one of th
 reads `pcrt anchor --mesh` files, groups them by the binary that made them (build commit) and the
 mesh, and prints per group and ray kind the runs with rays, the median of their ratios against
 Embree's triangles, their range, and the work per ray (identical across one binary's runs on one
-mesh: the counts are exact)."""
+mesh: the counts are exact). --rounds does the same for point-cloud anchor files (several rounds
+of two binaries, scripts/anchor_binaries.sh): per binary, data set, method and structure, the
+median of the runs' ratios against reference K and their range, per ray kind."""
 import argparse
 import json
 import statistics
@@ -193,6 +196,33 @@ def mesh_table(paths):
                 build, mesh, k, len(used), statistics.median(r), min(r), max(r), work))
 
 
+def rounds_table(paths, ref):
+    """Point-cloud anchor runs grouped by binary and data set: per candidate and ray kind the
+    median of the runs' ratios against reference ref, and their range."""
+    groups = {}
+    for path in paths:
+        try:
+            j, cands = rows(path)
+            c = j["context"]
+            build = c["build_commit"][:7] + (" (uncommitted changes)" if c["build_dirty"] else "")
+            groups.setdefault((build, j["dataset"]), []).append((path, cands))
+        except (OSError, ValueError, KeyError, TypeError) as e:
+            sys.exit("anchor_summary.py: %s is no `pcrt anchor` file: %r" % (path, e))
+    print("| binary | data | method | structure | runs | primary | bounce | shadow |")
+    print("|---|---|---|---|---|---|---|---|")
+    for (build, data), runs in groups.items():
+        for key in sorted(set().union(*(set(cands) for _, cands in runs))):
+            cells = []
+            for k in KINDS:
+                r = [ratio(cands.get(key), k, ref) for _, cands in runs]
+                if any(x is None for x in r):
+                    sys.exit("anchor_summary.py: %s %s %s: a run without a ratio (%s)" % (
+                        data, " ".join(key), k, ", ".join(p for p, _ in runs)))
+                cells.append("%.2f (%.2f-%.2f)" % (statistics.median(r), min(r), max(r)))
+            print("| %s | %s | %s | %s | %d | %s |" % (build, data, key[0], key[1], len(runs),
+                                                       " | ".join(cells)))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("files", nargs="+", help="BEFORE.json AFTER.json, or with --table any number")
@@ -200,10 +230,14 @@ def main():
     p.add_argument("--table", action="store_true", help="one table of several files")
     p.add_argument("--frames", action="store_true", help="the blend methods' frames vs their paper's")
     p.add_argument("--mesh", action="store_true", help="pcrt anchor --mesh files, by binary")
-    p.add_argument("--reference", type=int, default=0, help="with --ratios or --table: reference index")
+    p.add_argument("--rounds", action="store_true", help="rounds of point-cloud runs, by binary")
+    p.add_argument("--reference", type=int, default=0, help="with --ratios, --table or --rounds: reference index")
     a = p.parse_args()
     if a.mesh:
         mesh_table(a.files)
+        return
+    if a.rounds:
+        rounds_table(a.files, a.reference)
         return
     if a.table or a.frames:
         try:

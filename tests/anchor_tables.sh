@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The anchor tables quoted in results/anchor/*/summary.md are what scripts/anchor_summary.py makes
 # from the JSON files committed beside them (--mesh for the triangle runs, --table against each of
-# the three references for the whole anchor), and a file it cannot read is refused in one line
-# with status 1. Usage: tests/anchor_tables.sh (from anywhere).
+# the three references for the whole anchor, --rounds for alternated binaries), and a file it
+# cannot read is refused in one line with status 1. Usage: tests/anchor_tables.sh (from anywhere).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 summary=scripts/anchor_summary.py
@@ -19,26 +19,34 @@ quoted() {
 for dir in results/anchor/tri_sah results/anchor/tri_prefetch results/anchor/tri_planes; do
   quoted "$dir" "$(/usr/bin/python3 "$summary" --mesh "$dir"/before/*.json "$dir"/after/*.json)"
 done
-for dir in results/anchor/epyc_slab results/anchor/epyc_sort; do
+for dir in results/anchor/epyc_slab results/anchor/epyc_sort results/anchor/oct_flat; do
   files=("$dir"/sphere_1e6.json "$dir"/building.json "$dir"/b9_training.json)
   quoted "$dir" "$(/usr/bin/python3 "$summary" --table "${files[@]}")"
   for ref in 2 3; do
     quoted "$dir" "$(/usr/bin/python3 "$summary" --table --reference "$ref" "${files[@]}" | grep '^|')"
   done
 done
+for run in results/anchor/oct_flat/before results/anchor/oct_flat/r2; do
+  quoted results/anchor/oct_flat "$(/usr/bin/python3 "$summary" --table "$run"/sphere_1e6.json \
+    "$run"/building.json "$run"/b9_training.json | grep '| octree |')"
+done
+quoted results/anchor/oct_flat "$(/usr/bin/python3 "$summary" --rounds \
+  results/anchor/oct_flat/ab/before/*.json results/anchor/oct_flat/ab/after/*.json)"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo '[1]' >"$tmp/list.json"
 printf '{"context": {"build_commit": null' >"$tmp/truncated.json"
-for bad in list truncated; do
-  if /usr/bin/python3 "$summary" --mesh "$tmp/$bad.json" >"$tmp/out" 2>"$tmp/err"; then
-    echo "anchor_tables: $bad.json was accepted"
-    exit 1
-  fi
-  [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "$bad.json" "$tmp/err" || {
-    echo "anchor_tables: $bad.json: not one line naming the file:"
-    cat "$tmp/err"
-    exit 1
-  }
+for mode in --mesh --rounds; do
+  for bad in list truncated; do
+    if /usr/bin/python3 "$summary" "$mode" "$tmp/$bad.json" >"$tmp/out" 2>"$tmp/err"; then
+      echo "anchor_tables: $mode $bad.json was accepted"
+      exit 1
+    fi
+    [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "$bad.json" "$tmp/err" || {
+      echo "anchor_tables: $mode $bad.json: not one line naming the file:"
+      cat "$tmp/err"
+      exit 1
+    }
+  done
 done
 echo "anchor_tables: ok"
