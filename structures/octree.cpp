@@ -189,18 +189,20 @@ __attribute__((target("avx2"), always_inline)) inline uint32_t cells_and_boxes_a
 }
 
 // The walk for any x86-64 (SSE lanes), and compiled for AVX2 as a whole (octree_walk.hpp says
-// why). octree_walk.hpp includes nothing, so nothing else is compiled under the pragma.
+// why): each of its functions carries PCRT_OCT_WALK_TARGET (an attribute, not GCC's target pragma,
+// which clang ignores).
 namespace oct_sse {
 constexpr bool kWalkAvx2 = false;
+#define PCRT_OCT_WALK_TARGET
 #include "structures/octree_walk.hpp"  // NOLINT: included twice, by design
+#undef PCRT_OCT_WALK_TARGET
 }  // namespace oct_sse
-#pragma GCC push_options
-#pragma GCC target("avx2")
 namespace oct_avx2 {
 constexpr bool kWalkAvx2 = true;
+#define PCRT_OCT_WALK_TARGET __attribute__((target("avx2")))
 #include "structures/octree_walk.hpp"  // NOLINT: included twice, by design
+#undef PCRT_OCT_WALK_TARGET
 }  // namespace oct_avx2
-#pragma GCC pop_options
 
 // Up to 2^21 items the octree's references (7 to 10 per item on a surface) copied as 28-byte
 // discs stay near SplatLeafBlocks' 512 MiB cap for a leaf-order copy, which compact references

@@ -1,5 +1,6 @@
 // The octree's walk (octree.cpp), which includes this file twice: in namespace oct_sse for any
-// x86-64, and in oct_avx2 under `#pragma GCC target("avx2")`, with kWalkAvx2 set before each.
+// x86-64, and in oct_avx2 with PCRT_OCT_WALK_TARGET the attribute target("avx2") on every function
+// (empty in oct_sse), with kWalkAvx2 set before each.
 // Before, a generic walk was inlined into one AVX2 entry point; GCC inlines no target("avx2")
 // function into a generic one, so the AVX2 child test (cells_and_boxes_avx2) stayed a call per
 // inner node. Compiled for AVX2 as a whole it inlines, and `flatten` on walk inlines the rest
@@ -13,19 +14,16 @@
 // different orders (up to max_depth half-ulps of its coordinate each), which in t is divided by
 // the ray's direction along it: a crossing in such a gap is a hit the nearest-disc methods report
 // from the leaf before it (inv_max: the largest |1 / d_a|; infinite keeps every leaf).
-__attribute__((always_inline)) inline std::pair<float, float> slab_interval(const OctWalkData& w,
-                                                                            const OctTodo& cur,
-                                                                            const Ray& ray,
-                                                                            float inv_max) {
+PCRT_OCT_WALK_TARGET __attribute__((always_inline)) inline std::pair<float, float> slab_interval(
+    const OctWalkData& w, const OctTodo& cur, const Ray& ray, float inv_max) {
   const float gap = 4e-6f * (cur.lo.cwiseAbs().maxCoeff() + cur.side) * inv_max;
   return {std::max(cur.t0 - w.hits_before_leaf - gap, ray.tmin), cur.t1 + gap};
 }
 
 // Narrows [near, far] to the ray's interval in box q of the cell at lo (quantum: cell_quantum
 // of its side), as slab_axis_sse does; false when the ray misses the box or it is empty.
-__attribute__((always_inline)) inline bool narrow_to_box(const CellBox& q, const Vec3& lo,
-                                                         float quantum, const RaySlabs& r,
-                                                         float& near, float& far) {
+PCRT_OCT_WALK_TARGET __attribute__((always_inline)) inline bool narrow_to_box(
+    const CellBox& q, const Vec3& lo, float quantum, const RaySlabs& r, float& near, float& far) {
   if (q.empty()) return false;
   for (int a = 0; a < 3; ++a) {
     const float blo = lo[a] + quantum * kByteFloat[q.lo[size_t(a)]];
@@ -41,7 +39,7 @@ __attribute__((always_inline)) inline bool narrow_to_box(const CellBox& q, const
 // The items of leaf n: a piece of the references, or its compact references decoded into
 // `decoded`.
 template <class N>
-__attribute__((always_inline)) inline std::span<const uint32_t> leaf_items(
+PCRT_OCT_WALK_TARGET __attribute__((always_inline)) inline std::span<const uint32_t> leaf_items(
     const OctWalkData& w, const N& n, std::array<uint32_t, kOctCompactMax>& decoded) {
   if (!n.compact()) return {w.refs + n.first(), n.leaf_count()};
   const uint16_t* r = w.refs16 + n.first();
@@ -55,8 +53,8 @@ __attribute__((always_inline)) inline std::span<const uint32_t> leaf_items(
 // a select, not a branch: which of two entries is nearer is a coin toss the branch predictor
 // loses half the time (that comparison was the walk's hottest branch in a profile on the tile).
 template <bool kAny>
-__attribute__((always_inline)) inline int sort_children(uint32_t hit, const float* nears,
-                                                        std::array<uint32_t, 8>& order) {
+PCRT_OCT_WALK_TARGET __attribute__((always_inline)) inline int sort_children(
+    uint32_t hit, const float* nears, std::array<uint32_t, 8>& order) {
   const auto c0 = uint32_t(__builtin_ctz(hit));
   const uint32_t rest = hit & (hit - 1);
   if (rest == 0) {
@@ -87,10 +85,9 @@ __attribute__((always_inline)) inline int sort_children(uint32_t hit, const floa
 // (the cells' entries without kept boxes). Empty leaves too: the pop reads a node anyway, and
 // reading each child here to skip them was a cache miss per child pushed (9% of the walk).
 template <bool kBoxes, class N>
-__attribute__((always_inline)) inline uint32_t child_tests(const OctWalkData& w, const N& n,
-                                                           const Vec3& lo, float half,
-                                                           const RaySlabs& slabs, float tmax,
-                                                           float* t0s, float* t1s, float* nears) {
+PCRT_OCT_WALK_TARGET __attribute__((always_inline)) inline uint32_t child_tests(
+    const OctWalkData& w, const N& n, const Vec3& lo, float half, const RaySlabs& slabs, float tmax,
+    float* t0s, float* t1s, float* nears) {
   const uint32_t children = n.child_mask();
   const GroupBoxes group{kBoxes ? w.boxes + 6 * size_t(n.first()) : nullptr,
                          uint32_t(kBitsSet[children])};  // unread without boxes
@@ -125,9 +122,9 @@ __attribute__((always_inline)) inline uint32_t child_tests(const OctWalkData& w,
 // tested at once (octant_test_*: AVX2 or SSE), as the bvh tests its wide nodes, and then the
 // crossed children's boxes, if kept (child_tests).
 template <bool kAny, bool kBoxes, class N>
-__attribute__((always_inline)) inline bool next_children(const OctWalkData& w, const N& n,
-                                                         const RaySlabs& slabs, float tmax,
-                                                         OctTodo* stack, int& top, OctTodo& cur) {
+PCRT_OCT_WALK_TARGET __attribute__((always_inline)) inline bool next_children(
+    const OctWalkData& w, const N& n, const RaySlabs& slabs, float tmax, OctTodo* stack, int& top,
+    OctTodo& cur) {
   const float half = 0.5f * cur.side;
   const Vec3 lo = cur.lo;
   alignas(32) float t0s[8], t1s[8], nears[8];
@@ -155,8 +152,9 @@ __attribute__((always_inline)) inline bool next_children(const OctWalkData& w, c
 // leaf that reports a hit; `hit.t` is then the ray's tmax. kBoxes: the nodes keep child boxes
 // (w.boxes is not null).
 template <bool kAny, bool kBoxes, class N>
-__attribute__((flatten)) bool walk(const OctWalkData& w, const N* nodes, const Ray& ray,
-                                   const LeafIntersector& leaf, Hit& hit, OpCounters& counters) {
+PCRT_OCT_WALK_TARGET __attribute__((flatten)) bool walk(const OctWalkData& w, const N* nodes,
+                                                        const Ray& ray, const LeafIntersector& leaf,
+                                                        Hit& hit, OpCounters& counters) {
   if (w.items == 0) return false;
   const Vec3 inv = ray.d.cwiseInverse();
   const RaySlabs slabs(ray);
