@@ -214,7 +214,11 @@ def rounds_table(paths, ref):
         for key in sorted(set().union(*(set(cands) for _, cands in runs))):
             cells = []
             for k in KINDS:
-                r = [ratio(cands.get(key), k, ref) for _, cands in runs]
+                try:
+                    r = [ratio(cands.get(key), k, ref) for _, cands in runs]
+                except (KeyError, TypeError, IndexError) as e:
+                    sys.exit("anchor_summary.py: %s %s %s: a run without its ray kind (%s): %r" % (
+                        data, " ".join(key), k, ", ".join(p for p, _ in runs), e))
                 if any(x is None for x in r):
                     sys.exit("anchor_summary.py: %s %s %s: a run without a ratio (%s)" % (
                         data, " ".join(key), k, ", ".join(p for p, _ in runs)))

@@ -36,8 +36,10 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo '[1]' >"$tmp/list.json"
 printf '{"context": {"build_commit": null' >"$tmp/truncated.json"
+printf '{"context": {"build_commit": "0", "build_dirty": false}, "dataset": "d", %s}\n' \
+  '"candidates": [{"method": "m", "structure": "s"}]' >"$tmp/bare.json"
 for mode in --mesh --rounds; do
-  for bad in list truncated; do
+  for bad in list truncated bare; do
     if /usr/bin/python3 "$summary" "$mode" "$tmp/$bad.json" >"$tmp/out" 2>"$tmp/err"; then
       echo "anchor_tables: $mode $bad.json was accepted"
       exit 1
