@@ -3,11 +3,12 @@
 // the items' footprint boxes: every item sits in exactly one leaf, so no reference is duplicated.
 // Build: at each node the item box centres are binned (kBins per axis) and the split with the
 // least surface area heuristic cost is taken, until a node holds leaf_size items or fewer, so
-// leaves hold what leaf_size says. The binary tree is then collapsed into 8-wide nodes (Embree's
-// BVH8, wide_node.hpp). Traversal: a node's eight child boxes are tested at once (AVX2, else two
-// SSE halves) when it is visited, the children hit are pushed farthest first so the nearest is
-// walked next, and a waiting one is dropped once its entry lies beyond the hit so far (boxes
-// overlap, so the walk cannot stop at the first hit).
+// leaves hold what leaf_size says (by default sized to the method's leaf test: auto_leaf_size). The
+// binary tree is then collapsed into 8-wide nodes (Embree's BVH8, wide_node.hpp). Traversal: a
+// node's eight child boxes are tested at once (AVX2, else two SSE halves) when it is visited, the
+// children hit are pushed farthest first so the nearest is walked next, and a waiting one is
+// dropped once its entry lies beyond the hit so far (boxes overlap, so the walk cannot stop at the
+// first hit).
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -50,23 +51,33 @@ struct Subtree {
 };
 
 struct BvhParams {
-  uint32_t leaf_size = 8;
+  uint32_t leaf_size = 0;
 };
 const ParamList<BvhParams>& bvh_params() {
   static const auto l = ParamList<BvhParams>().add(
       &BvhParams::leaf_size,
-      {"leaf_size", 8, 1, 1e6,
-       "largest leaf (K of the leaf-based methods; 8: one AVX2 lane group)"});
+      {"leaf_size", 0, 0, 1e6,
+       "largest leaf (K of the leaf-based methods; 0: at least 8 items and two of the method's "
+       "leaf blocks, so 16 for the disc methods' blocks of eight)"});
   return l;
 }
 
+// The leaf size of leaf_size=0: 8 items, or two blocks of the method's leaf test where a block is
+// larger (ItemSet::leaf_block). Each level of the tree is a node test on a ray's critical path and
+// each leaf a call into the method, so the disc methods, which test a block of eight about as
+// fast as one disc, trace faster with leaves of two blocks than of one, while the methods that
+// test items one at a time (the Gaussian particles) trace slower with larger leaves
+// (results/anchor/bvh_leaf).
+constexpr uint32_t auto_leaf_size(uint32_t leaf_block) { return std::max(8u, 2 * leaf_block); }
+
 class Bvh final : public Structure {
  public:
-  explicit Bvh(const BvhParams& p) : leaf_size_(p.leaf_size) {}
+  explicit Bvh(const BvhParams& p) : params_(p) {}
 
   void build(const ItemSet& set, OpCounters& counters) override {
     const auto n = uint32_t(set.size());
     items_ = set;
+    leaf_size_ = params_.leaf_size > 0 ? params_.leaf_size : auto_leaf_size(set.leaf_block);
     order_.resize(n);
     for (uint32_t i = 0; i < n; ++i) order_[i] = i;
     Subtree tree;
@@ -258,7 +269,8 @@ class Bvh final : public Structure {
     return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
   }
 
-  uint32_t leaf_size_;
+  BvhParams params_;
+  uint32_t leaf_size_ = 0;  // params_.leaf_size, or its automatic value for the items built
   bool avx2_ = wide_nodes_use_avx2();
   ItemSet items_;               // the caller's, read by the build only
   std::vector<BvhNode> nodes_;  // the binary tree, build only

@@ -39,6 +39,10 @@ struct ItemSet {
   // recorded there). A structure that skips a leaf whose discs the ray does not cross (the octree's
   // leaf_slabs) looks this far back, so that skipping never changes a hit.
   float hits_before_leaf = 0;
+  // How many items the method's leaf test takes in one pass (the disc methods' blocks of eight,
+  // DiscBlock): a structure whose leaf size is engineering, not a paper's rule (the bvh), sizes
+  // its leaves by it.
+  uint32_t leaf_block = 1;
 
   // One axis of a disc's box: r * sqrt(1 - n_a^2), padded by 1e-4 r so rounding of a hit point on
   // the disc never leaves the box. The one formula for both forms below.

@@ -290,6 +290,23 @@ TEST_CASE("bvh and loose octree leaves hold at most leaf_size items", "[structur
   }
 }
 
+// leaf_size=0 sizes the bvh's leaves to the method's leaf test: 8 items one at a time, two blocks
+// where the test takes blocks (16 for the disc methods' eight). The largest leaf a ray meets is
+// the bound reached: the median split of 20 000 items leaves some leaves full.
+TEST_CASE("the bvh's automatic leaf size follows the method's leaf block", "[structures]") {
+  const Dataset d = load_dataset("sphere:n=20000,seed=7");
+  std::vector<float> radii(d.cloud.size(), 0.04f);
+  const auto rays = random_rays(d.cloud, 3000, 5);
+  for (const uint32_t block : {1u, 4u, 8u, 16u}) {
+    ItemSet items{d.cloud.positions, radii, {}};
+    items.leaf_block = block;
+    const size_t expected = std::max<size_t>(8, 2 * size_t(block));
+    INFO("leaf block " << block);
+    CHECK(largest_leaf("bvh", items, {}, rays) == expected);
+    CHECK(largest_leaf("bvh", items, {{"leaf_size", 5}}, rays) <= 5);
+  }
+}
+
 TEST_CASE("the 8-wide node tests hit the same children with AVX2, its offsets and SSE",
           "[structures]") {
   if (!wide_nodes_use_avx2()) PCRT_SKIP("no AVX2 on this CPU: nothing to compare");

@@ -8,6 +8,7 @@
 
 #include "core/params.hpp"
 #include "core/point_cloud.hpp"
+#include "methods/kernels/disc_lanes.hpp"
 #include "methods/kernels/splat_kernel.hpp"
 #include "methods/method.hpp"
 
@@ -46,8 +47,13 @@ struct SplatSet {
 
   [[nodiscard]] size_t size() const { return centres.size(); }
   [[nodiscard]] ItemSet items() const { return {centres, radii, {}, normals}; }
-  // The same for methods whose leaf candidates are points of the discs (ItemSet::hits_on_discs).
-  [[nodiscard]] ItemSet disc_items() const { return {centres, radii, {}, normals, true}; }
+  // The same for methods whose leaf candidates are points of the discs (ItemSet::hits_on_discs),
+  // tested in blocks of kDiscGroup (SplatLeafBlocks).
+  [[nodiscard]] ItemSet disc_items() const {
+    ItemSet s{centres, radii, {}, normals, true};
+    s.leaf_block = kDiscGroup;
+    return s;
+  }
   [[nodiscard]] uint32_t point_of(uint32_t k) const { return point.empty() ? k : point[k]; }
   [[nodiscard]] uint32_t prim_of(uint32_t k) const { return prim.empty() ? k : prim[k]; }
   [[nodiscard]] PackedSplat splat(uint32_t k) const {
