@@ -21,8 +21,9 @@ reads `pcrt anchor --mesh` files, groups them by the binary that made them (buil
 mesh, and prints per group and ray kind the runs with rays, the median of their ratios against
 Embree's triangles, their range, and the work per ray (identical across one binary's runs on one
 mesh: the counts are exact). --rounds does the same for point-cloud anchor files (several rounds
-of two binaries, scripts/anchor_binaries.sh): per binary, data set, method and structure, the
-median of the runs' ratios against reference K and their range, per ray kind."""
+of two binaries, scripts/anchor_binaries.sh, or of parameter values, scripts/anchor_sweep.sh): per
+binary and --set parameters, data set, method and structure, the median of the runs' ratios
+against reference K and their range, per ray kind."""
 import argparse
 import json
 import statistics
@@ -197,14 +198,18 @@ def mesh_table(paths):
 
 
 def rounds_table(paths, ref):
-    """Point-cloud anchor runs grouped by binary and data set: per candidate and ray kind the
-    median of the runs' ratios against reference ref, and their range."""
+    """Point-cloud anchor runs grouped by binary, parameters set (--set) and data set: per
+    candidate and ray kind the median of the runs' ratios against reference ref, and their
+    range."""
     groups = {}
     for path in paths:
         try:
             j, cands = rows(path)
             c = j["context"]
             build = c["build_commit"][:7] + (" (uncommitted changes)" if c["build_dirty"] else "")
+            sets = " ".join("%s=%g" % kv for kv in sorted(j["set"].items()))
+            if sets:
+                build += " " + sets
             groups.setdefault((build, j["dataset"]), []).append((path, cands))
         except (OSError, ValueError, KeyError, TypeError) as e:
             sys.exit("anchor_summary.py: %s is no `pcrt anchor` file: %r" % (path, e))
