@@ -10,7 +10,7 @@ import sys
 HERE = pathlib.Path(__file__).resolve().parent
 SHAPES = ["bunny", "cow", "elk", "camel", "blade", "bear", "homer", "bunny_scan"]
 VARIANTS = [("octree", "octree (the papers' cells)"), ("octree_loose", "octree loose=1"),
-            ("bvh", "bvh")]
+            ("bvh", "bvh (leaves of up to 16)"), ("bvh_leaf8", "bvh leaf_size=8")]
 METHODS = ["goradia_2010", "kashyap_2010_splat", "linsen_2007", "reference_splat"]
 
 
