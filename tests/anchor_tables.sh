@@ -32,6 +32,13 @@ for run in results/anchor/oct_flat/before results/anchor/oct_flat/r2; do
 done
 quoted results/anchor/oct_flat "$(/usr/bin/python3 "$summary" --rounds \
   results/anchor/oct_flat/ab/before/*.json results/anchor/oct_flat/ab/after/*.json)"
+leaf=results/anchor/bvh_leaf
+quoted "$leaf" "$(/usr/bin/python3 "$summary" --rounds --reference 3 "$leaf"/leaf_size=*/*.json)"
+for ref in 0 3; do
+  quoted "$leaf" "$(/usr/bin/python3 "$summary" --rounds --reference "$ref" \
+    "$leaf"/ab/before/*.json "$leaf"/ab/after/*.json)"
+done
+quoted "$leaf" "$(/usr/bin/python3 "$leaf"/particles.py)"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo '[1]' >"$tmp/list.json"
