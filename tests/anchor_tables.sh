@@ -58,4 +58,26 @@ for mode in --mesh --rounds; do
     }
   done
 done
+# particles.py: a run or context file it cannot read is refused in one line naming it.
+pdir=$tmp/particles
+mkdir -p "$pdir"
+cp results/anchor/bvh_leaf/particles/context.json "$pdir/"
+run=grt_2024_leaf_size=8_1.json
+for bad in '[1]' '{"timings": {"render": 1}, "counters": [1]}' '{"timings"' \
+  '{"timings": {"render": 1}, "counters": {"rays_cast": 0}}'; do
+  printf '%s' "$bad" >"$pdir/$run"
+  for file in "$run" context.json; do
+    [ "$file" = context.json ] && printf '%s' "$bad" >"$pdir/context.json"
+    if /usr/bin/python3 "$leaf"/particles.py "$pdir" >"$tmp/out" 2>"$tmp/err"; then
+      echo "anchor_tables: particles.py accepted $file: $bad"
+      exit 1
+    fi
+    [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "$file" "$tmp/err" || {
+      echo "anchor_tables: particles.py, $file $bad: not one line naming the file:"
+      cat "$tmp/err"
+      exit 1
+    }
+  done
+  cp results/anchor/bvh_leaf/particles/context.json "$pdir/"
+done
 echo "anchor_tables: ok"
