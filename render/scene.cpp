@@ -97,6 +97,7 @@ void PointScene::prepare_and_build(const std::function<void(PrepareContext&)>& p
   ScopedTimer t(timings, "build");
   structure_->build(method_->items(), counters);
   method_->bind_leaf_references(structure_->leaf_references());
+  for (const auto& [name, value] : structure_->resolved_params()) structure_params_[name] = value;
 }
 
 bool PointScene::closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const {

@@ -66,6 +66,7 @@ class PointScene final : public SceneIntersector {
   // The structure's id, or the method's own acceleration (e.g. "embree_bvh").
   [[nodiscard]] const std::string& structure_id() const { return structure_id_; }
   [[nodiscard]] const ParamValues& method_params() const { return method_params_; }
+  // As given, with what the build chose where a value was left to it (Structure::resolved_params).
   [[nodiscard]] const ParamValues& structure_params() const { return structure_params_; }
   [[nodiscard]] size_t structure_bytes() const {
     return structure_ ? structure_->memory_bytes() : 0;
@@ -77,8 +78,8 @@ class PointScene final : public SceneIntersector {
   // Looks up the method and structure and splits --set between them.
   void resolve(const SceneOptions& options);
   // Creates the method, runs `prepare` on it and builds the structure over its items.
-  void prepare_and_build(const std::function<void(PrepareContext&)>& prepare,
-                         OpCounters& counters, Timings& timings);
+  void prepare_and_build(const std::function<void(PrepareContext&)>& prepare, OpCounters& counters,
+                         Timings& timings);
 
   const MethodInfo* method_info_;
   const StructureInfo* structure_info_ = nullptr;  // null when the method traces on its own

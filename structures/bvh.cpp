@@ -110,6 +110,9 @@ class Bvh final : public Structure {
   }
 
   [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return order_; }
+  [[nodiscard]] ParamValues resolved_params() const override {
+    return {{"leaf_size", double(leaf_size_)}};
+  }
   [[nodiscard]] size_t memory_bytes() const override {
     return wide_.capacity() * sizeof(WideNode) + order_.capacity() * sizeof(uint32_t);
   }

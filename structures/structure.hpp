@@ -127,6 +127,9 @@ class Structure {
   // order), so that a method may lay its data out in the same order (leaf blocks); empty where
   // the structure decodes its leaves for the method (the octree's compact references).
   [[nodiscard]] virtual std::span<const uint32_t> leaf_references() const = 0;
+  // The parameters whose value the last build chose for its items (an automatic default: the
+  // bvh's leaf_size=0), so that a run records what ran; empty where none was left to choose.
+  [[nodiscard]] virtual ParamValues resolved_params() const { return {}; }
 };
 
 // What a structure adds per item at the process's peak (its build or its final arrays with the

@@ -307,25 +307,27 @@ TEST_CASE("the bvh's automatic leaf size follows the method's leaf block", "[str
   }
 }
 
-// The methods that test discs in blocks of eight say so (so their bvh leaves hold 16); the
-// Gaussian particle methods, which test one particle at a time, do not.
-TEST_CASE("methods declare the leaf block their leaf test takes", "[structures]") {
+// The methods that test discs in blocks of eight say so (ItemSet::leaf_block), so their bvh
+// leaves hold 16; the Gaussian particle methods, which test one particle at a time, keep 8. The
+// scene records the size its bvh was built with (what a run's stats report), and a size given is
+// the size used.
+TEST_CASE("a scene's bvh leaf size follows its method's leaf block and is recorded",
+          "[structures]") {
   const PointCloud cloud = load_dataset("sphere:n=2000,seed=3").cloud;
-  for (const auto& [id, block] :
-       std::vector<std::pair<std::string, uint32_t>>{{"reference_splat", 8},
-                                                     {"goradia_2010", 8},
-                                                     {"kashyap_2010_splat", 8},
-                                                     {"linsen_2007", 8},
-                                                     {"grt_2024", 1},
-                                                     {"ever_2024", 1}}) {
-    const MethodInfo& info = MethodRegistry::instance().get(id, "method");
-    auto method = info.create(resolve_params(info.params, {}, id));
-    OpCounters prep;
+  for (const auto& [id, leaf_size] :
+       std::vector<std::pair<std::string, double>>{{"reference_splat", 16},
+                                                   {"goradia_2010", 16},
+                                                   {"kashyap_2010_splat", 16},
+                                                   {"linsen_2007", 16},
+                                                   {"grt_2024", 8},
+                                                   {"ever_2024", 8}}) {
+    OpCounters c;
     Timings t;
-    PrepareContext ctx{prep, t};
-    method->prepare(cloud, ctx);
+    const PointScene automatic(cloud, SceneOptions{id, "bvh", {}}, c, t);
+    const PointScene given(cloud, SceneOptions{id, "bvh", {{"leaf_size", 5}}}, c, t);
     INFO(id);
-    CHECK(method->items().leaf_block == block);
+    CHECK(automatic.structure_params().at("leaf_size") == leaf_size);
+    CHECK(given.structure_params().at("leaf_size") == 5);
   }
 }
 
