@@ -47,20 +47,27 @@ inline bool record_blend(const Ray& ray, const LeafVisit& leaf, const Projection
   return true;
 }
 
+// The weight of p's crossing of the ray at t (t its tangent plane's crossing): false if t is
+// before tmin or Weight(ray, p, t, lateral) is 0 (lateral: the point's offset from the ray axis).
+template <typename Weight>
+inline bool weigh_crossing(const Ray& ray, const PackedSplat& p, float t, Weight&& weight,
+                           float& w) {
+  if (t < ray.tmin) return false;
+  const Vec3 v = p.c - ray.o;
+  w = weight(ray, p, t, Vec3(v - v.dot(ray.d) * ray.d));
+  return w > 0;
+}
+
 // Projects point p onto the ray through its tangent plane: false if the ray is parallel to the
-// plane, crosses it before tmin, or Weight(ray, p, t, lateral) is 0 (no candidate); else the
-// crossing t and the weight w (lateral: the point's offset from the ray axis).
+// plane or weigh_crossing refuses the crossing; else the crossing t and the weight w. The
+// dots sum x + (y + z), as the disc lanes' num and den (disc_lanes.hpp): their t is this one.
 template <typename Weight>
 inline bool project_point(const Ray& ray, const PackedSplat& p, Weight&& weight, float& t,
                           float& w) {
-  const Vec3 v = p.c - ray.o;
-  const Vec3 lateral = v - v.dot(ray.d) * ray.d;
   const float denom = p.n.dot(ray.d);
   if (denom == 0) return false;
-  t = p.n.dot(v) / denom;
-  if (t < ray.tmin) return false;
-  w = weight(ray, p, t, lateral);
-  return w > 0;
+  t = p.n.dot(Vec3(p.c - ray.o)) / denom;
+  return weigh_crossing(ray, p, t, weight, w);
 }
 
 // The blend over a leaf's projected points. ForEachProjected(g) calls g(k, p, t, w) for each
@@ -130,6 +137,27 @@ struct ProjectedPoints {
   }
 };
 
+// The blend over a leaf's crossings: ForEachCrossing(g) calls g(k, splat, t) for the leaf's items
+// whose plane the ray crosses, in leaf order, t as project_point computes it (the disc lanes'
+// candidates carry it: one division per candidate, not two). Weight and NormalAt as in
+// blend_projected.
+template <typename ForEachCrossing, typename Weight, typename NormalAt>
+bool blend_crossings(const Ray& ray, const LeafVisit& leaf, ForEachCrossing&& for_each_crossing,
+                     const ProjectionSettings& s, Weight&& weight, NormalAt&& normal_at, Hit& hit,
+                     OpCounters& counters) {
+  auto projected = [&](auto&& g) {
+    for_each_crossing([&](uint32_t k, const PackedSplat& p, float t) {
+      float w = 0;
+      if (weigh_crossing(ray, p, t, weight, w)) g(k, p, t, w);
+    });
+  };
+  ProjectedPoints kept;
+  projected([&](uint32_t k, const PackedSplat& p, float t, float w) { kept.add(k, p, t, w); });
+  if (kept.overflow) return blend_groups(ray, leaf, projected, s, normal_at, hit, counters);
+  auto each_kept = [&](auto&& g) { kept.for_each(g); };
+  return blend_groups(ray, leaf, each_kept, s, normal_at, hit, counters);
+}
+
 // Weight(ray, splat, t, lateral) as in project_point. ForEachSplat(f) calls f(k, splat) for the
 // leaf's items in leaf order (k the item index; it may skip items whose weight would be 0).
 // NormalAt(k, splat, x) is item k's normal at the crossing x (its own normal, or a normal field's
@@ -138,17 +166,13 @@ template <typename ForEachSplat, typename Weight, typename NormalAt>
 bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_each_splat,
                      const ProjectionSettings& s, Weight&& weight, NormalAt&& normal_at, Hit& hit,
                      OpCounters& counters) {
-  auto projected = [&](auto&& g) {
+  auto crossings = [&](auto&& g) {
     for_each_splat([&](uint32_t k, const PackedSplat& p) {
-      float t = 0, w = 0;
-      if (project_point(ray, p, weight, t, w)) g(k, p, t, w);
+      const float denom = p.n.dot(ray.d);
+      if (denom != 0) g(k, p, p.n.dot(Vec3(p.c - ray.o)) / denom);
     });
   };
-  ProjectedPoints kept;
-  projected([&](uint32_t k, const PackedSplat& p, float t, float w) { kept.add(k, p, t, w); });
-  if (kept.overflow) return blend_groups(ray, leaf, projected, s, normal_at, hit, counters);
-  auto each_kept = [&](auto&& g) { kept.for_each(g); };
-  return blend_groups(ray, leaf, each_kept, s, normal_at, hit, counters);
+  return blend_crossings(ray, leaf, crossings, s, weight, normal_at, hit, counters);
 }
 
 // The prefilter's query: crossings from ray.tmin widened by 1e-5 relative (the exact t = num / den

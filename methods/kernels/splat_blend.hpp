@@ -65,8 +65,8 @@ inline DiscQuery blend_prefilter(const Ray& ray) {
 
 // The blend over the leaf's splats, those the disc lanes let through (the exact weight decides),
 // read from the bound leaf blocks (the splats' only copy once bound), else from the item-order
-// set one at a time. NormalAt(k, splat, x) as in blend_projected. Work counts as one splat test
-// per leaf item, as the lanes test them all.
+// set one at a time, each with the crossing the lanes computed. NormalAt(k, splat, x) as in
+// blend_projected. Work counts as one splat test per leaf item, as the lanes test them all.
 template <typename NormalAt>
 bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, const SplatLeafBlocks& blocks,
                       const SplatSet& splats, const SplatBlendSettings& s, NormalAt&& normal_at,
@@ -79,11 +79,11 @@ bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, const SplatLeafBloc
   const DiscQuery q = blend_prefilter(ray);
   auto each = [&](auto&& f) {
     for_each_disc_candidate(blocks, splats, leaf.items, q, [&](const DiscCandidate& c) {
-      f(leaf.items[c.i], PackedSplat{c.c, c.r, c.n, c.prim});
+      f(leaf.items[c.i], PackedSplat{c.c, c.r, c.n, c.prim}, c.t);
       return true;
     });
   };
-  return blend_projected(ray, leaf, each, projection, weight, normal_at, hit, counters);
+  return blend_crossings(ray, leaf, each, projection, weight, normal_at, hit, counters);
 }
 
 inline bool blend_splat_hits(const Ray& ray, const LeafVisit& leaf, const SplatLeafBlocks& blocks,

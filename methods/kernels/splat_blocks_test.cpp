@@ -108,7 +108,7 @@ TEST_CASE("disc lanes agree with the ray-disc kernel away from the rim", "[kerne
   REQUIRE(hits > 1000);
 }
 
-TEST_CASE("the blend's prefilter keeps every splat its exact weight accepts, at the rim too",
+TEST_CASE("the blend's prefilter keeps every splat its exact weight accepts, with its exact t",
           "[kernels]") {
   // splat_blend.hpp widens r^2 by 10% so that the lanes' radius test, rounded otherwise than the
   // exact weight 1 - |x - c|^2 / r^2 (blend_projected's projection), never drops a splat that
@@ -134,6 +134,8 @@ TEST_CASE("the blend's prefilter keeps every splat its exact weight accepts, at 
     if (!project_point(ray, s, blend_weight, t, w)) continue;
     ++kept, grazing += graze;
     REQUIRE(disc_candidate(blend_prefilter(ray), s));
+    // blend_splat_hits blends the candidates' own t (blend_crossings): it must be this one.
+    REQUIRE(disc_t(blend_prefilter(ray), s) == t);
   }
   REQUIRE(kept > 10000);  // most aimed points lie inside the rim
   REQUIRE(grazing > 4000);
