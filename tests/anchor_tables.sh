@@ -39,6 +39,10 @@ for ref in 0 3; do
     "$leaf"/ab/before/*.json "$leaf"/ab/after/*.json)"
 done
 quoted "$leaf" "$(/usr/bin/python3 "$leaf"/particles.py)"
+blend=results/anchor/blend_t
+quoted "$blend" "$(/usr/bin/python3 "$summary" --rounds "$blend"/octree/{before,after}/*.json)"
+quoted "$blend" "$(/usr/bin/python3 "$summary" --rounds --reference 3 \
+  "$blend"/bvh/{before,after}/*.json)"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo '[1]' >"$tmp/list.json"
