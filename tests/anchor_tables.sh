@@ -43,8 +43,33 @@ blend=results/anchor/blend_t
 quoted "$blend" "$(/usr/bin/python3 "$summary" --rounds "$blend"/octree/{before,after}/*.json)"
 quoted "$blend" "$(/usr/bin/python3 "$summary" --rounds --reference 3 \
   "$blend"/bvh/{before,after}/*.json)"
+quoted results/anchor/issue31 "$(/usr/bin/python3 results/anchor/issue31/table.py)"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# issue31/table.py: a run it cannot read, or a side with no runs, is refused in one line.
+i31=$tmp/issue31
+for bad in '[1]' '{"candidates": [{"method": "m"}]' '{"dataset": "d", "candidates": 1}'; do
+  cp -r results/anchor/issue31 "$i31"
+  printf '%s' "$bad" >"$i31/after/building_2.json"
+  if /usr/bin/python3 "$i31"/table.py "$i31" >"$tmp/out" 2>"$tmp/err"; then
+    echo "anchor_tables: issue31/table.py accepted after/building_2.json: $bad"
+    exit 1
+  fi
+  [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q building_2.json "$tmp/err" || {
+    echo "anchor_tables: issue31/table.py, $bad: not one line naming the file:"
+    cat "$tmp/err"
+    exit 1
+  }
+  rm -rf "$i31"
+done
+cp -r results/anchor/issue31 "$i31"
+rm "$i31"/mesh_c733_*.json
+if /usr/bin/python3 "$i31"/table.py "$i31" >"$tmp/out" 2>"$tmp/err" ||
+  [ "$(wc -l <"$tmp/err")" -ne 1 ]; then
+  echo "anchor_tables: issue31/table.py without the before mesh runs: not one line and status 1"
+  exit 1
+fi
+rm -rf "$i31"
 echo '[1]' >"$tmp/list.json"
 printf '{"context": {"build_commit": null' >"$tmp/truncated.json"
 printf '{"context": {"build_commit": "0", "build_dirty": false}, "dataset": "d", %s}\n' \
