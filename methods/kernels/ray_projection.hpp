@@ -58,16 +58,21 @@ inline bool weigh_crossing(const Ray& ray, const PackedSplat& p, float t, Weight
   return w > 0;
 }
 
-// Projects point p onto the ray through its tangent plane: false if the ray is parallel to the
-// plane or weigh_crossing refuses the crossing; else the crossing t and the weight w. The
-// dots sum x + (y + z), as the disc lanes' num and den (disc_lanes.hpp): their t is this one.
-template <typename Weight>
-inline bool project_point(const Ray& ray, const PackedSplat& p, Weight&& weight, float& t,
-                          float& w) {
+// Where the ray crosses p's tangent plane (t), false if it runs parallel to it. The dots sum
+// x + (y + z), as the disc lanes' num and den (disc_t, splat_blocks.hpp): their t is this one.
+inline bool plane_crossing(const Ray& ray, const PackedSplat& p, float& t) {
   const float denom = p.n.dot(ray.d);
   if (denom == 0) return false;
   t = p.n.dot(Vec3(p.c - ray.o)) / denom;
-  return weigh_crossing(ray, p, t, weight, w);
+  return true;
+}
+
+// Projects point p onto the ray through its tangent plane: false if the ray is parallel to the
+// plane or weigh_crossing refuses the crossing; else the crossing t and the weight w.
+template <typename Weight>
+inline bool project_point(const Ray& ray, const PackedSplat& p, Weight&& weight, float& t,
+                          float& w) {
+  return plane_crossing(ray, p, t) && weigh_crossing(ray, p, t, weight, w);
 }
 
 // The blend over a leaf's projected points. ForEachProjected(g) calls g(k, p, t, w) for each
@@ -138,9 +143,9 @@ struct ProjectedPoints {
 };
 
 // The blend over a leaf's crossings: ForEachCrossing(g) calls g(k, splat, t) for the leaf's items
-// whose plane the ray crosses, in leaf order, t as project_point computes it (the disc lanes'
-// candidates carry it: one division per candidate, not two). Weight and NormalAt as in
-// blend_projected.
+// whose plane the ray crosses, in leaf order, t as plane_crossing computes it (the disc lanes'
+// candidates carry it: one division per candidate, not two); it may skip items whose weight
+// would be 0. Weight and NormalAt as in blend_projected.
 template <typename ForEachCrossing, typename Weight, typename NormalAt>
 bool blend_crossings(const Ray& ray, const LeafVisit& leaf, ForEachCrossing&& for_each_crossing,
                      const ProjectionSettings& s, Weight&& weight, NormalAt&& normal_at, Hit& hit,
@@ -168,8 +173,8 @@ bool blend_projected(const Ray& ray, const LeafVisit& leaf, ForEachSplat&& for_e
                      OpCounters& counters) {
   auto crossings = [&](auto&& g) {
     for_each_splat([&](uint32_t k, const PackedSplat& p) {
-      const float denom = p.n.dot(ray.d);
-      if (denom != 0) g(k, p, p.n.dot(Vec3(p.c - ray.o)) / denom);
+      float t = 0;
+      if (plane_crossing(ray, p, t)) g(k, p, t);
     });
   };
   return blend_crossings(ray, leaf, crossings, s, weight, normal_at, hit, counters);

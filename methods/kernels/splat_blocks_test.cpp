@@ -111,9 +111,9 @@ TEST_CASE("disc lanes agree with the ray-disc kernel away from the rim", "[kerne
 TEST_CASE("the blend's prefilter keeps every splat its exact weight accepts, with its exact t",
           "[kernels]") {
   // splat_blend.hpp widens r^2 by 10% so that the lanes' radius test, rounded otherwise than the
-  // exact weight 1 - |x - c|^2 / r^2 (blend_projected's projection), never drops a splat that
-  // weight keeps. Rays aimed at points between 0.9 and 1.0 radii from the centre, where the two
-  // tests round apart; half of them grazing the plane (n.d down to 1e-6), where t = num / den
+  // exact weight 1 - |x - c|^2 / r^2 (weigh_crossing in ray_projection.hpp), never drops a splat
+  // that weight keeps. Rays aimed at points between 0.9 and 1.0 radii from the centre, where the
+  // two tests round apart; half of them grazing the plane (n.d down to 1e-6), where t = num / den
   // magnifies any difference in num: fails with the lanes' num summed (x + y) + z.
   Rng rng(23);
   const auto discs = random_discs(20000, rng);
