@@ -48,7 +48,8 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # issue31/table.py: a run it cannot read, or a side with no runs, is refused in one line.
 i31=$tmp/issue31
-for bad in '[1]' '{"candidates": [{"method": "m"}]' '{"dataset": "d", "candidates": 1}'; do
+for bad in '[1]' '{"candidates": [{"method": "m"}]' '{"dataset": "d", "candidates": 1}' \
+  '{"context": {"build_commit": null, "build_dirty": false}, "load_average": {}}'; do
   cp -r results/anchor/issue31 "$i31"
   printf '%s' "$bad" >"$i31/after/building_2.json"
   if /usr/bin/python3 "$i31"/table.py "$i31" >"$tmp/out" 2>"$tmp/err"; then
@@ -62,14 +63,17 @@ for bad in '[1]' '{"candidates": [{"method": "m"}]' '{"dataset": "d", "candidate
   }
   rm -rf "$i31"
 done
-cp -r results/anchor/issue31 "$i31"
-rm "$i31"/mesh_c733_*.json
-if /usr/bin/python3 "$i31"/table.py "$i31" >"$tmp/out" 2>"$tmp/err" ||
-  [ "$(wc -l <"$tmp/err")" -ne 1 ]; then
-  echo "anchor_tables: issue31/table.py without the before mesh runs: not one line and status 1"
-  exit 1
-fi
-rm -rf "$i31"
+# A side without its mesh runs, a round missing on one side: refused in one line.
+for missing in 'mesh_c733_*.json' 'after/building_3.json' 'mesh_a9_2.json'; do
+  cp -r results/anchor/issue31 "$i31"
+  (cd "$i31" && rm $missing)
+  if /usr/bin/python3 "$i31"/table.py "$i31" >"$tmp/out" 2>"$tmp/err" ||
+    [ "$(wc -l <"$tmp/err")" -ne 1 ]; then
+    echo "anchor_tables: issue31/table.py without $missing: not one line and status 1"
+    exit 1
+  fi
+  rm -rf "$i31"
+done
 echo '[1]' >"$tmp/list.json"
 printf '{"context": {"build_commit": null' >"$tmp/truncated.json"
 printf '{"context": {"build_commit": "0", "build_dirty": false}, "dataset": "d", %s}\n' \

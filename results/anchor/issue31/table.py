@@ -6,8 +6,9 @@ the median over the rounds of the ratio against Embree's single rays, before -> 
 after runs' range; then, per data set and ray kind, the best method against Embree's packets of 16
 (after only: the before binary had no packet reference); then our triangle BVH against Embree's
 triangles on the armadillo, mesh_c733_R.json (before) and mesh_a9_R.json (after), alternated
-round by round. Usage: table.py [DIR] (default: this file's directory). A file it cannot read is
-refused in one line naming it, with status 1."""
+round by round (the after files name a clean build, the before files none). Usage: table.py
+[DIR] (default: this file's directory). A file it cannot read is refused in one line naming it,
+and a run missing from one side or one cell missing from a run in one line, with status 1."""
 import glob
 import json
 import os
@@ -19,10 +20,21 @@ BEFORE = "c733a89"
 PAPER = {}  # method -> its paper's structure, as the after runs report it
 
 
-def runs(pattern):
-    """{(dataset, method, structure): {kind: [ratio per reference index, per run]}} and the
-    after runs' contexts and loads."""
-    cells, contexts = {}, []
+def after_context(j):
+    """The build and the 1-minute loads an after file records; KeyError/TypeError if absent."""
+    c, la = j["context"], j["load_average"]
+    if not isinstance(c["build_commit"], str) or c["build_dirty"] is not False:
+        raise ValueError("no clean build named: %r" % c)
+    names = j["references"]
+    if names[0] != "embree_oriented_disc morton_order=1" or "packets of 16" not in names[3]:
+        raise ValueError("references are not single rays (0) and packets of 16 (3): %r" % names)
+    return c["build_commit"][:7], [float(la["before"][0]), float(la["after"][0])]
+
+
+def runs(pattern, after):
+    """{(dataset, method, structure): {kind: [ratios per reference index, one per run]}}, the
+    number of files per data set, and for the after side the builds and loads named."""
+    cells, files, builds, loads = {}, {}, set(), []
     paths = sorted(glob.glob(pattern))
     if not paths:
         sys.exit("table.py: no runs match %s" % pattern)
@@ -30,18 +42,25 @@ def runs(pattern):
         try:
             with open(path) as f:
                 j = json.load(f)
+            if after:
+                build, load = after_context(j)
+                builds.add(build)
+                loads += load
+            files[j["dataset"]] = files.get(j["dataset"], 0) + 1
             for c in j["candidates"]:
                 key = (j["dataset"], c["method"], c["structure"])
                 for k in KINDS:
                     refs = [float(r["ratio"]) for r in c[k]["references"]]
                     cells.setdefault(key, {}).setdefault(k, []).append(refs)
-            for c in j["candidates"]:  # the after runs name each blend's paper structure
-                if "frame_vs_paper" in c:
+                if "frame_vs_paper" in c:  # the after runs name each blend's paper structure
                     PAPER[c["method"]] = c["frame_vs_paper"]["paper_structure"]
-            contexts.append((j.get("context"), j.get("load_average")))
-        except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
-            sys.exit("table.py: %s is no `pcrt anchor` file: %r" % (path, e))
-    return cells, contexts, len(paths)
+        except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError) as e:
+            sys.exit("table.py: %s is no `pcrt anchor` file of this directory: %r" % (path, e))
+    for key, kinds in cells.items():  # every cell in every run of its data set
+        if any(len(v) != files[key[0]] for v in kinds.values()) or len(kinds) != len(KINDS):
+            sys.exit("table.py: %s: %s is missing from some of the %d runs" % (
+                pattern, " ".join(key), files[key[0]]))
+    return cells, files, builds, loads
 
 
 def median_at(values, ref, where):
@@ -53,17 +72,15 @@ def median_at(values, ref, where):
 
 def main():
     d = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
-    before, _, nb = runs(os.path.join(d, "before", "*.json"))
-    after, contexts, na = runs(os.path.join(d, "after", "*.json"))
-    builds = {(c or {}).get("build_commit", "none")[:7] + ("" if (c or {}).get("build_dirty") is False
-                                                          else " (dirty or unknown)")
-              for c, _ in contexts}
-    loads = [x for _, la in contexts if la for x in (la["before"][0], la["after"][0])]
-    if len(builds) != 1 or not loads:
-        sys.exit("table.py: the after runs name %s and %d loads" % (sorted(builds), len(loads)))
-    after_build = builds.pop()
-    print("before: %s, %d files; after: %s, %d files, 1-minute load %.2f-%.2f" % (
-        BEFORE, nb, after_build, na, min(loads), max(loads)))
+    before, bfiles, _, _ = runs(os.path.join(d, "before", "*.json"), False)
+    after, afiles, builds, loads = runs(os.path.join(d, "after", "*.json"), True)
+    if len(builds) != 1 or bfiles != afiles or set(before) - set(after):
+        sys.exit("table.py: %s: the after runs name builds %s; runs per data set %s before, %s "
+                 "after; cells only before: %s" % (d, sorted(builds), bfiles, afiles,
+                                                   sorted(set(before) - set(after))))
+    print("before: %s; after: %s; runs per data set: %s; after's 1-minute load %.2f-%.2f" % (
+        BEFORE, builds.pop(), ", ".join("%s %d" % kv for kv in sorted(afiles.items())),
+        min(loads), max(loads)))
     print()
     print("Against Embree's single rays (Morton order), median of the rounds, before -> after "
           "(after's range):")
@@ -126,6 +143,11 @@ def mesh_table(d):
             try:
                 with open(path) as f:
                     j = json.load(f)
+                c = j.get("context")
+                if j["reference"] != "embree" or (side == "a9") != (c is not None) or (
+                        c is not None and (not isinstance(c["build_commit"], str) or
+                                           c["build_dirty"] is not False)):
+                    raise ValueError("not Embree's triangles, or not this side's build")
                 for k in KINDS:
                     ratios.setdefault((side, j["mesh"], k), []).append(
                         float(j[k]["references"][0]["ratio"]))
@@ -137,6 +159,8 @@ def mesh_table(d):
             b, a = ratios.get(("c733", mesh, k)), ratios.get(("a9", mesh, k))
             if not b or not a:
                 sys.exit("table.py: %s %s: runs of one binary only" % (mesh, k))
+            if len(a) != len(b):
+                sys.exit("table.py: %s %s: %d runs before, %d after" % (mesh, k, len(b), len(a)))
             n = len(a)
             cells.append("%.2f -> %.2f (%.2f-%.2f)" % (statistics.median(b), statistics.median(a),
                                                       min(a), max(a)))
