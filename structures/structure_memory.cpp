@@ -16,6 +16,7 @@
 #include <string>
 
 #include "core/dataset.hpp"
+#include "methods/kernels/disc_lanes.hpp"
 #include "structures/structure.hpp"
 
 namespace pcrt {
@@ -37,10 +38,10 @@ int run(const std::string& id, size_t n) {
   PointCloud cloud = load_dataset(fmt::format("sphere:n={},seed=1", n)).cloud;
   const float r = 1.2f * std::sqrt(4.0f * 3.14159265f / float(n));
   std::vector<float> radii(n, r);
-  // Discs hit only on the disc and tested eight at a time, as reference_splat's
-  // (ItemSet::hits_on_discs, leaf_block: its kernel's kDiscGroup).
+  // Discs hit only on the disc and tested a block at a time, as reference_splat's
+  // (ItemSet::hits_on_discs, ItemSet::leaf_block).
   ItemSet items{cloud.positions, radii, {}, cloud.normals, true};
-  items.leaf_block = 8;
+  items.leaf_block = kDiscGroup;
   const StructureInfo& info = StructureRegistry::instance().get(id, "structure");
   auto structure = info.create(resolve_params(info.params, {}, id));
   OpCounters counters;
