@@ -65,6 +65,23 @@ void make_output_directory(const std::string& dir, const std::string& option) {
   if (ec) input_error("{} {}: cannot create: {}", option, dir, ec.message());
 }
 
+void check_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+  std::vector<std::pair<fs::path, const NamedPath*>> seen;
+  for (const NamedPath& out : outputs) {
+    const auto& [path, option] = out;
+    check_output_path(path, option);
+    check_not_an_input(path, option, inputs);
+    std::error_code ec;  // absolute first: a missing relative name would come back as given
+    const fs::path where =
+        fs::weakly_canonical(fs::absolute(landing(path), ec), ec).lexically_normal();
+    for (const auto& [other, named] : seen)
+      if (!ec && where == other)
+        input_error("{} {}: is also the output {} {}; two outputs cannot share a file", option,
+                    path, named->second, named->first);
+    if (!ec) seen.emplace_back(where, &out);
+  }
+}
+
 OutputFiles::~OutputFiles() {
   for (const Staged& s : staged_) std::remove(s.temporary.c_str());
 }

@@ -25,6 +25,15 @@ void check_output_path(const std::string& path, const std::string& option);
 void check_not_an_input(const std::string& path, const std::string& option,
                         const std::vector<std::pair<std::string, std::string>>& inputs);
 
+// A file a command writes or reads and the option naming it (an input with an empty path is
+// not given; outputs not given are left out).
+using NamedPath = std::pair<std::string, std::string>;
+
+// Every check a command makes of its outputs before any work: each one writable
+// (check_output_path), none of them one of its inputs (check_not_an_input) and no two of them
+// the same file, which would keep only the last one written (`--out a.png --stats a.png`).
+void check_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
+
 // Creates the output directory `dir` (and its parents) or throws InputError naming `option`.
 void make_output_directory(const std::string& dir, const std::string& option);
 

@@ -14,6 +14,7 @@
 #include <charconv>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -22,6 +23,7 @@
 
 #include "core/error.hpp"
 #include "core/params.hpp"
+#include "core/point_cloud.hpp"
 #include "harness/commands.hpp"
 #include "render/mesh_truth.hpp"
 
@@ -44,11 +46,16 @@ CLI::Validator integer_in(const std::string& option, long long lo, long long hi)
           ""};
 }
 
-// A finite number >= lo (no NaN, no infinity).
-CLI::Validator number_at_least(const std::string& option, double lo) {
-  return {[option, lo](std::string& text) {
+// A ray's offset from a surface stays within the coordinate range (kMaxCoordinate, as written).
+constexpr double kMaxRayEpsilon = 1e12;
+static_assert(float(kMaxRayEpsilon) == kMaxCoordinate);
+
+// A finite number in [lo, hi] (no NaN, no infinity).
+CLI::Validator number_in(const std::string& option, double lo, double hi) {
+  return {[option, lo, hi](std::string& text) {
             const double x = parse_number(text, option);
             if (!(x >= lo)) input_error("{} must be >= {}", option, lo);
+            if (!(x <= hi)) input_error("{} must be <= {:g}", option, hi);
             text = fmt::format("{}", x);
             return std::string();
           },
@@ -120,9 +127,10 @@ CLI::Option* integer(CLI::App& c, const std::string& name, std::optional<Int>& f
 
 template <class Real>
 CLI::Option* number(CLI::App& c, const std::string& name, Real& field, const char* value_name,
-                    const std::string& help, double lo) {
+                    const std::string& help, double lo,
+                    double hi = std::numeric_limits<double>::max()) {
   return once(c.add_option(name, field, help), value_name)
-      ->transform(number_at_least(name, lo))
+      ->transform(number_in(name, lo, hi))
       ->capture_default_str();
 }
 
@@ -214,7 +222,7 @@ void bind(CLI::App& c, RenderOptions& o) {
   direction(c, "--view", o.settings.view, "direction from the cloud's centre to the camera");
   direction(c, "--up", o.settings.up, "camera up vector");
   number(c, "--ray-epsilon", o.settings.ray_epsilon, "E",
-         "offset of secondary ray origins (0: 1e-3 x scene diagonal)", 0.0);
+         "offset of secondary ray origins (0: 1e-3 x scene diagonal)", 0.0, kMaxRayEpsilon);
   text(c, "--depth", o.depth, "FILE.png|.exr",
        "also write the primary-hit depth image (EXR: distance in scene units, inf: no hit)");
   text(c, "--normals", o.normals, "FILE.png|.exr",
@@ -253,7 +261,7 @@ void bind(CLI::App& c, FurnaceOptions& o) {
   direction(c, "--view", o.settings.view, "direction from the cloud's centre to the camera");
   direction(c, "--up", o.settings.up, "camera up vector");
   number(c, "--ray-epsilon", o.settings.ray_epsilon, "E",
-         "offset of secondary ray origins (0: 1e-3 x scene diagonal)", 0.0);
+         "offset of secondary ray origins (0: 1e-3 x scene diagonal)", 0.0, kMaxRayEpsilon);
   text(c, "--out", o.out, "FILE.png|.exr", "also write the furnace image");
   flag(c, "--exact", o.exact,
        "trace the generator's exact surface (the floor of what the shape itself loses)");
@@ -356,6 +364,9 @@ void bind(CLI::App& c, MergeOptions& o) {
   flag(c, "--keep-partial", o.keep_partial,
        "merge shards that miss runs or end in a torn line as far as they go, listing what is "
        "missing (refused without it)");
+  flag(c, "--overwrite", o.overwrite,
+       "--out holds an earlier merge: move its files (runs, context, fits, report) to "
+       "DIR/previous.N first");
 }
 
 void bind(CLI::App& c, FitOptions& o) { c.add_option("DIR", o.dir, "sweep directory")->required(); }

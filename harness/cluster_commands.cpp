@@ -241,7 +241,7 @@ std::string merge_script(const ClusterDir& d, const std::string& name, size_t n,
       "{head}{options}"
       "set -euo pipefail\n"
       "echo \"pcrt: merge, job $SLURM_JOB_ID on $(hostname), $(date)\"\n"
-      "{exe} merge {shards} --out {root}\n"
+      "{exe} merge {shards} --out {root} --overwrite\n"
       "{exe} fit {root}\n"
       "{exe} report {root}\n",
       fmt::arg("name", name), fmt::arg("head", head), fmt::arg("options", directives(options)),

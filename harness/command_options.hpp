@@ -176,10 +176,11 @@ struct SweepOptions {
 };
 
 struct MergeOptions {
-  static constexpr const char* usage = "pcrt merge DIR... --out DIR [--keep-partial]";
+  static constexpr const char* usage = "pcrt merge DIR... --out DIR [--keep-partial] [--overwrite]";
   std::vector<std::string> dirs;
   std::string out;
   bool keep_partial = false;  // merge shards that miss runs, saying what is missing
+  bool overwrite = false;     // an earlier merge's files in --out are moved to previous.N
 };
 
 struct FitOptions {

@@ -285,9 +285,22 @@ json scene_file_stats(const SceneFile& file, const RenderSettings& rs, const Ren
 }
 
 // `pcrt render --scene`: the file's objects, lights and camera at the command line's M, S, B.
+// The outputs of a render, which none of its inputs may be.
+std::vector<NamedPath> render_outputs(const RenderOptions& o) {
+  std::vector<NamedPath> out{{o.out, "--out"}};
+  for (const auto& [path, option] :
+       {std::pair{&o.depth, "--depth"}, std::pair{&o.normals, "--normals"},
+        std::pair{&o.stats, "--stats"}})
+    if (*path) out.emplace_back(**path, option);
+  return out;
+}
+
 int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   check_scene_file_args(o);
   const auto file = load_scene_file(*o.scene_file);
+  std::vector<NamedPath> read;  // the files the scene names, checked now that they are known
+  for (const std::string& f : file->files) read.emplace_back(f, *o.scene_file);
+  check_outputs(render_outputs(o), read);
   apply_scene_camera(*file, rs);
   RenderResult r = render(file->scene, rs);
   file->timings["render"] = r.seconds;
@@ -305,7 +318,7 @@ int render_scene_file(const RenderOptions& o, RenderSettings rs) {
 }
 
 // The files a render or trace reads, which none of its outputs may be.
-std::vector<std::pair<std::string, std::string>> scene_inputs(const SceneArgs& a) {
+std::vector<NamedPath> scene_inputs(const SceneArgs& a) {
   return {{a.data.value_or(""), "--data"}, {a.mesh.value_or(""), "--mesh"}};
 }
 
@@ -316,12 +329,7 @@ int command_render(const RenderOptions& o) {
   const RenderSettings rs = frame_settings(o.settings, o.scene.threads, "render");
   auto inputs = scene_inputs(o.scene);
   inputs.emplace_back(o.scene_file.value_or(""), "--scene");
-  for (const auto& [path, option] :
-       {std::pair{&o.depth, "--depth"}, std::pair{&o.normals, "--normals"},
-        std::pair{&o.stats, "--stats"}})
-    if (*path) check_output_path(**path, option), check_not_an_input(**path, option, inputs);
-  check_output_path(o.out, "--out");
-  check_not_an_input(o.out, "--out", inputs);
+  check_outputs(render_outputs(o), inputs);
   if (o.scene_file) {
     if (o.stream) input_error("pcrt render: --stream does not apply to --scene");
     return render_scene_file(o, rs);
@@ -375,10 +383,9 @@ int command_trace(const TraceOptions& o) {
   auto limit = limit_threads(o.scene.threads);
   auto inputs = scene_inputs(o.scene);
   inputs.emplace_back(o.rays, "--rays");
-  check_output_path(o.out, "--out");
-  check_not_an_input(o.out, "--out", inputs);
-  if (o.stats)
-    check_output_path(*o.stats, "--stats"), check_not_an_input(*o.stats, "--stats", inputs);
+  std::vector<NamedPath> written{{o.out, "--out"}};
+  if (o.stats) written.emplace_back(*o.stats, "--stats");
+  check_outputs(written, inputs);
   std::vector<Ray> rays = read_rays_csv(o.rays);  // checked before the load
   const auto loaded = load_scene(o.scene, "trace", TraceOptions::usage);
   const Vec3d& origin = loaded->cloud().origin;
@@ -669,7 +676,10 @@ void print_furnace(const std::string& label, const FurnaceResult& f, const json&
 int command_furnace(const FurnaceOptions& o) {
   auto limit = limit_threads(o.scene.threads);
   const RenderSettings rs = frame_settings(o.settings, o.scene.threads, "furnace");
-  if (o.out) check_output_path(*o.out, "--out");
+  if (o.out)
+    check_outputs({{*o.out, "--out"}}, {{o.scene.data.value_or(""), "--data"},
+                                        {o.scene.mesh.value_or(""), "--mesh"},
+                                        {o.truth.mesh.value_or(""), "--truth"}});
   const auto loaded = furnace_scene(o);
   std::optional<FurnaceTruth> truth;
   if (loaded->data.truth) {
@@ -763,11 +773,11 @@ void check_compare_options(const CompareOptions& o) {
         std::pair{o.scene.engine.has_value(), "engine"}})
     if (given)
       input_error("pcrt compare: --{} does not apply (the cloud comes from --truth)", option);
-  check_output_path(o.out, "--out");
-  if (o.images) {
-    check_output_path(*o.images + ".method.png", "--images");
-    check_output_path(*o.images + ".truth.png", "--images");
-  }
+  std::vector<NamedPath> outputs{{o.out, "--out"}};
+  if (o.images)
+    for (const char* side : {".method.png", ".truth.png"})
+      outputs.emplace_back(*o.images + side, "--images");
+  check_outputs(outputs, {{*o.truth.mesh, "--truth"}});
 }
 
 RenderSettings compare_settings(const CompareOptions& o) {
@@ -872,8 +882,7 @@ int command_list(const ListOptions& o) {
 }
 
 int command_convert(const ConvertOptions& o) {
-  check_output_path(o.out, "--out");
-  check_not_an_input(o.out, "--out", {{o.data, "DATA"}});
+  check_outputs({{o.out, "--out"}}, {{o.data, "DATA"}});
   const Dataset d = load_dataset_in_input_order(o.data);  // a file keeps its order
   write_ply(o.out, d.cloud, o.ascii ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", o.out.c_str(), d.cloud.size(),

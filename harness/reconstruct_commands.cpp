@@ -21,7 +21,7 @@ int command_reconstruct(const ReconstructOptions& o) {
   auto limit = limit_threads(o.threads);
   const ReconstructionInfo& info =
       ReconstructionRegistry::instance().get(o.method, "reconstruction");
-  if (o.out) check_output_path(*o.out, "--out");
+  if (o.out) check_outputs({{*o.out, "--out"}}, {{o.data, "--data"}});
   const Dataset d = load_dataset(o.data);
   const ReconstructionReport r = info.run(d.cloud);
   if (o.out) {

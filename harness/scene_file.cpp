@@ -52,7 +52,9 @@ float number(const json& j, const Where& w, float lo, float hi) {
 }
 
 // A position in the scene file's coordinates, in double: georeferenced scenes need it.
-double coordinate(const json& j, const Where& w) { return number_in_double(j, w, -kBig, kBig); }
+double coordinate(const json& j, const Where& w) {
+  return number_in_double(j, w, -double(kMaxCoordinate), double(kMaxCoordinate));
+}
 
 Vec3d position_in_file(const json& j, const Where& w) {
   if (j.is_number()) return Vec3d::Constant(coordinate(j, w));
@@ -71,6 +73,20 @@ Vec3 vec3(const json& j, const Where& w, float lo, float hi) {
   if (!j.is_array() || j.size() != 3) w.fail("must be a number or an array of 3 numbers");
   return Vec3(number(j[0], w.at(0), lo, hi), number(j[1], w.at(1), lo, hi),
               number(j[2], w.at(2), lo, hi));
+}
+
+// A direction: a number or three, not all zero, normalised in double (in float a component of
+// 1e20 squares to infinity).
+Vec3 direction(const json& j, const Where& w) {
+  Vec3d v;
+  if (j.is_number()) {
+    v = Vec3d::Constant(number_in_double(j, w, -kBig, kBig));
+  } else {
+    if (!j.is_array() || j.size() != 3) w.fail("must be a number or an array of 3 numbers");
+    for (int a = 0; a < 3; ++a) v[a] = number_in_double(j[size_t(a)], w.at(size_t(a)), -kBig, kBig);
+  }
+  if (!(v.norm() > 0)) w.fail("must not be zero");
+  return v.normalized().cast<float>();
 }
 
 std::string text(const json& j, const Where& w) {
@@ -110,15 +126,15 @@ Material parse_material(const json& j, const Where& w) {
 Transform parse_transform(const json& j, const Where& w) {
   only_keys(j, w, {"translate", "scale", "rotate"});
   Transform t;
-  if (j.contains("translate")) t.translate = vec3(j["translate"], w / "translate", -kBig, kBig);
+  if (j.contains("translate"))
+    t.translate = vec3(j["translate"], w / "translate", -kMaxCoordinate, kMaxCoordinate);
   if (j.contains("scale")) t.scale = number(j["scale"], w / "scale", 1e-6f, 1e6f);
   if (j.contains("rotate")) {
     const Where r = w / "rotate";
     only_keys(j["rotate"], r, {"axis", "degrees"});
     if (!j["rotate"].contains("axis") || !j["rotate"].contains("degrees"))
       r.fail("needs \"axis\" and \"degrees\"");
-    const Vec3 axis = vec3(j["rotate"]["axis"], r / "axis", -kBig, kBig);
-    if (!(axis.norm() > 0)) (r / "axis").fail("must not be zero");
+    const Vec3 axis = direction(j["rotate"]["axis"], r / "axis");
     const float deg = number(j["rotate"]["degrees"], r / "degrees", -360, 360);
     t.rotate = Eigen::AngleAxisf(deg * kPi / 180.0f, axis.normalized()).toRotationMatrix();
   }
@@ -126,7 +142,7 @@ Transform parse_transform(const json& j, const Where& w) {
 }
 
 Light parse_light(const json& j, const Where& w, const std::filesystem::path& dir,
-                  const Vec3d& origin) {
+                  const Vec3d& origin, std::vector<std::string>& files) {
   only_keys(j, w, {"type", "position", "intensity", "radius", "radiance", "file", "sampled"});
   if (!j.contains("type")) w.fail("needs a \"type\"");
   const std::string type = text(j["type"], w / "type");
@@ -146,8 +162,10 @@ Light parse_light(const json& j, const Where& w, const std::filesystem::path& di
   } else if (type == "environment") {
     l.kind = LightKind::kEnvironment;
     l.power = j.contains("radiance") ? vec3(j["radiance"], w / "radiance", 0, kBig) : Vec3::Ones();
-    if (j.contains("file"))
-      l.map = EnvironmentMap::load((dir / text(j["file"], w / "file")).string());
+    if (j.contains("file")) {
+      files.push_back((dir / text(j["file"], w / "file")).string());
+      l.map = EnvironmentMap::load(files.back());
+    }
   } else if (type == "sky") {
     l.kind = LightKind::kSky;
   } else {
@@ -168,7 +186,7 @@ CameraSpec parse_camera(const json& j, const Where& w, const Vec3d& origin) {
   CameraSpec c;
   c.eye = position(j["eye"], w / "eye", origin);
   c.target = position(j["target"], w / "target", origin);
-  if (j.contains("up")) c.up = vec3(j["up"], w / "up", -kBig, kBig);
+  if (j.contains("up")) c.up = direction(j["up"], w / "up");
   if (j.contains("fov")) c.fov_degrees = number(j["fov"], w / "fov", 1, 170);
   if (!((c.target - c.eye).norm() > 0)) w.fail("eye and target must differ");
   if ((c.target - c.eye).cross(c.up).norm() <= 1e-6f * (c.target - c.eye).norm() * c.up.norm())
@@ -236,6 +254,7 @@ void add_geometry(SceneFile& s, const json& j, const Where& w, const std::filesy
     if (!j.contains("method")) w.fail("(a point cloud) needs \"method\"");
     const std::string data = j.contains("points") ? resolve(text(j["points"], w / "points"), dir)
                                                   : resolve(text(j["sample"], w / "sample"), dir);
+    s.files.push_back(data);  // a generator spec too: no file has its name, so it is never one
     s.clouds.push_back(j.contains("points") ? load_dataset(data)
                                             : sampled_dataset(j, w, data, s.prepare));
     const PointCloud& cloud = s.clouds.back().cloud;
@@ -255,6 +274,7 @@ void add_geometry(SceneFile& s, const json& j, const Where& w, const std::filesy
   }
   if (j.contains("mesh")) {
     const std::string file = resolve(text(j["mesh"], w / "mesh"), dir);
+    s.files.push_back(file);
     s.meshes.push_back(read_mesh(file));
     orient_outward(s.meshes.back());  // dielectrics tell inside from outside by the normal
     record = {{"mesh", file}};
@@ -339,6 +359,37 @@ void place_objects(SceneFile& s, const std::vector<Placement>& placements) {
   }
 }
 
+// Every ray a frame of the scene traces starts within reach of it: inside the box of its objects,
+// lights and camera, or of a camera framing the objects (Camera::framing: 3.5 bounding radii out),
+// or within --ray-epsilon (at most kMaxCoordinate) of a surface. An object's transform takes the
+// rays into its own frame, where a scale of 1e-6 makes 1e12 into 1e18, near where Embree aborts
+// (about 1.8e18): so that reach must lie within kMaxCoordinate of every moved object's zero, in
+// the object's frame, as a ray origin in a file must.
+void check_object_frames(const SceneFile& s, const Where& objects) {
+  const Aabb box = s.scene.bounds();
+  if (box.empty()) return;
+  Aabb reach = box;
+  const Vec3 margin = Vec3::Constant(4.0f * box.diagonal());
+  reach.extend(box.center() + margin), reach.extend(box.center() - margin);
+  for (const Light& l : s.scene.lights) reach.extend(l.position);
+  if (s.camera) reach.extend(s.camera->eye), reach.extend(s.camera->target);
+  for (size_t i = 0; i < s.scene.objects.size(); ++i) {
+    const Transform& t = s.scene.objects[i].transform;
+    if (t.identity()) continue;
+    const Eigen::Matrix3d to_object = t.rotate.cast<double>().transpose() / double(t.scale);
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3d c((corner & 1) ? reach.hi.x() : reach.lo.x(),
+                    (corner & 2) ? reach.hi.y() : reach.lo.y(),
+                    (corner & 4) ? reach.hi.z() : reach.lo.z());
+      if (!within_coordinate_range(Vec3d(to_object * (c - t.translate.cast<double>()))))
+        (objects.at(i) / "transform")
+            .fail(fmt::format("puts the scene's rays beyond +-{:g} in the object's own frame "
+                              "(its scale is too small for the scene's extent)",
+                              kMaxCoordinate));
+    }
+  }
+}
+
 }  // namespace
 
 TriangleMesh quad_mesh(float size) {
@@ -377,8 +428,9 @@ std::unique_ptr<SceneFile> load_scene_file(const std::string& path, const SweptC
   if (!j.contains("lights") || !j["lights"].is_array() || j["lights"].empty())
     lights.fail("must be a non-empty array");
   for (size_t i = 0; i < j["lights"].size(); ++i)
-    s->scene.lights.push_back(parse_light(j["lights"][i], lights.at(i), dir, s->origin));
+    s->scene.lights.push_back(parse_light(j["lights"][i], lights.at(i), dir, s->origin, s->files));
   if (j.contains("camera")) s->camera = parse_camera(j["camera"], root / "camera", s->origin);
+  check_object_frames(*s, objects);
   return s;
 }
 

@@ -39,6 +39,7 @@ struct SceneFile {
   Timings timings;
   RenderScene scene;
   std::optional<CameraSpec> camera;
+  std::vector<std::string> files;  // what it read (clouds, meshes, maps): never an output
   nlohmann::json params;  // what --stats records: the file and each object's method or engine
   const PointScene* swept = nullptr;  // the sweep's geometry, when it was given one
   // Where the renderer's zero lies in the file's coordinates: the first georeferenced object's

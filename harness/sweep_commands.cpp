@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -454,6 +455,39 @@ int command_sweep(const SweepOptions& o) {
   return 0;
 }
 
+// The files a merge writes, and the fit and report made from them.
+constexpr std::array<const char*, 8> kMergedFiles = {"runs.jsonl", "runs.csv", "context.json",
+                                                     "fits.json",  "fits.csv", "fit_context.json",
+                                                     "report.md",  "plots"};
+
+// A merge never writes into one of its shards, and never over an earlier merge's runs: refused,
+// or with --overwrite that merge's files (only those: --out may hold the shards, as a cluster
+// folder does) are moved to previous.N.
+void claim_merge_folder(const MergeOptions& o) {
+  std::error_code ec;
+  for (const std::string& dir : o.dirs)
+    if (fs::exists(o.out, ec) && fs::equivalent(o.out, dir, ec) && !ec)
+      input_error("--out {}: is also the shard {}; merge into another directory", o.out, dir);
+  const std::string jsonl = o.out + "/runs.jsonl";
+  if (!fs::exists(jsonl, ec) || fs::file_size(jsonl, ec) == 0) return;
+  if (!o.overwrite)
+    input_error(
+        "--out {} holds an earlier merge's runs: give --overwrite to move its files to "
+        "{}/previous.N",
+        o.out, o.out);
+  fs::path aside;
+  for (int n = 1;; ++n)
+    if (!fs::exists(aside = fs::path(o.out) / fmt::format("previous.{}", n))) break;
+  fs::create_directory(aside, ec);
+  if (ec) input_error("--out {}: cannot create {}: {}", o.out, aside.string(), ec.message());
+  for (const char* name : kMergedFiles)
+    if (fs::exists(fs::path(o.out) / name, ec)) {
+      fs::rename(fs::path(o.out) / name, aside / name, ec);
+      if (ec) input_error("--out {}: cannot move {} aside: {}", o.out, name, ec.message());
+    }
+  std::printf("%s: the earlier merge's files are now in %s\n", o.out.c_str(), aside.c_str());
+}
+
 int command_merge(const MergeOptions& o) {
   std::map<std::string, RunResult> runs;
   json contexts = json::array();
@@ -478,6 +512,7 @@ int command_merge(const MergeOptions& o) {
     }
   }
   make_output_directory(o.out, "--out");
+  claim_merge_folder(o);
   std::vector<RunResult> all;
   for (auto& [k, r] : runs) all.push_back(r);
   write_runs_jsonl(o.out + "/runs.jsonl", all);

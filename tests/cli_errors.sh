@@ -170,6 +170,19 @@ expect_error "s_method.json: objects[0] (unknown method 'nope'" "${sr[@]}" "$dir
 expect_error "missing.exr" "${sr[@]}" "$dir/s_env.json"
 expect_error "camera eye and target must differ" "${sr[@]}" "$dir/s_camera.json"
 expect_error "s_trunc.json" "${sr[@]}" "$dir/s_trunc.json"
+# Positions beyond the coordinate range, and transforms that would take the scene's rays beyond it
+# in an object's frame, where Embree aborts on a ray past about 1.8e18.
+scene s_far_eye '{"objects": [{"points": "sphere:n=100", "method": "embree_oriented_disc"}], "lights": [{"type": "sky"}], "camera": {"eye": [1e19,1,1], "target": [0,0,0]}}'
+scene s_far_move '{"objects": [{"points": "sphere:n=100", "method": "embree_oriented_disc", "transform": {"translate": [1e19,0,0]}}], "lights": [{"type": "sky"}]}'
+scene s_tiny_far '{"objects": [{"points": "sphere:n=100", "method": "embree_oriented_disc", "transform": {"scale": 1e-6, "translate": [-9e11,0,0]}}, {"quad": {"size": 1}, "transform": {"translate": [9e11,0,0]}}], "lights": [{"type": "sky"}]}'
+expect_error "s_far_eye.json: camera.eye[0] must lie in [-1e+12, 1e+12]" "${sr[@]}" "$dir/s_far_eye.json"
+expect_error "s_far_move.json: objects[0].transform.translate[0] must lie in" "${sr[@]}" "$dir/s_far_move.json"
+expect_error "s_tiny_far.json: objects[0].transform puts the scene's rays beyond" "${sr[@]}" "$dir/s_tiny_far.json"
+expect_error "--ray-epsilon must be <= 1e+12" render --method embree_oriented_disc --data sphere:n=100 --width 8 --height 8 --out "$dir/s.png" --ray-epsilon 1e19
+expect_error "--ray-epsilon must be <= 1e+12" furnace --method embree_oriented_disc --data sphere:n=100 --width 8 --height 8 --ray-epsilon 1e19
+# A direction of huge components is a direction: normalised, not squared to infinity.
+scene s_big_up '{"objects": [{"quad": {"size": 1}, "transform": {"rotate": {"axis": [1e30,1e30,1e30], "degrees": 30}}}], "lights": [{"type": "sky"}], "camera": {"eye": [0,-3,1], "target": [0,0,0], "up": [0,0,1e30]}}'
+if "$pcrt" "${sr[@]}" "$dir/s_big_up.json" >/dev/null 2>"$dir/err"; then echo "ok: a scene with an up and an axis of 1e30"; else echo "FAIL: up or axis of 1e30: $(cat "$dir/err")"; fails=$((fails + 1)); fi
 expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" --method reference_splat
 expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
 expect_error "--exact traces a generator's own surface: give --data only" furnace --exact --method reference_splat --data sphere:n=100
@@ -219,6 +232,15 @@ expect_error "--out $dir/in.ply: is also the input --data" render --method refer
 expect_error "--stats $dir/in_link.ply: is also the input --data" render --method reference_splat --data "$dir/in.ply" --out "$dir/x.png" --stats "$dir/in_link.ply"
 expect_error "--out $dir/rays.csv: is also the input --rays" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/rays.csv"
 expect_error "is also the input DATA" convert "$dir/in.ply" --out "$dir/in_link.ply"
+expect_error "--out $dir/in.ply: is also the input --data" reconstruct --method afsr --data "$dir/in.ply" --out "$dir/in.ply"
+expect_error "--out $dir/in.ply: is also the input --data" furnace --method reference_splat --data "$dir/in.ply" --out "$dir/in.ply" --width 8 --height 8
+expect_error "--out $dir/tri.off: is also the input --truth" compare --method reference_splat --truth "$dir/tri.off" --out "$dir/tri.off" --width 8 --height 8
+# Two outputs naming one file would keep only the last one written.
+expect_error "--stats $dir/./two.png: is also the output --out $dir/two.png" render --method reference_splat --data sphere:n=100 --width 8 --height 8 --out "$dir/two.png" --stats "$dir/./two.png"
+expect_error "--stats $dir/two.csv: is also the output --out $dir/two.csv" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/two.csv" --stats "$dir/two.csv"
+# Files a scene reads are inputs too, known once the scene is read.
+scene s_reads "{\"objects\": [{\"points\": \"in.ply\", \"method\": \"reference_splat\"}, {\"mesh\": \"tri.off\"}], \"lights\": [{\"type\": \"sky\"}]}"
+expect_error "--depth $dir/in.ply: is also the input $dir/s_reads.json" render --scene "$dir/s_reads.json" --width 8 --height 8 --out "$dir/s.png" --depth "$dir/in.ply"
 cmp -s "$dir/in.ply" "$dir/in.copy" || { echo "FAIL: an input was overwritten"; fails=$((fails + 1)); }
 # A cloud a few 1e-38 across: Morton order at load must not convert infinities (UB under UBSan).
 printf '0 0 0\n1e-38 0 0\n0 2e-38 0\n3e-39 1e-38 1e-38\n' >"$dir/tiny.xyz"

@@ -171,6 +171,14 @@ expect_error "runs.jsonl: cannot open" merge "$dir/nosweep" --out "$dir/merged"
 expect_error "only shards of one build merge" merge "$dir/s0" "$dir/s1_other" --out "$dir/merged"
 bad 'c["name"] = "other"'; "$pcrt" sweep "$dir/bad.json" --out "$dir/o1" --shard 1/2 >/dev/null
 expect_error "only shards of one sweep merge" merge "$dir/s0" "$dir/o1" --out "$dir/merged"
+# A merge never writes over an earlier merge's runs, nor into one of its shards; --overwrite
+# moves the earlier merge's files (and its fits) to previous.N.
+expect_error "--out $dir/m holds an earlier merge's runs" merge "$dir/s0" "$dir/s1" --out "$dir/m"
+expect_error "--out $dir/s0: is also the shard $dir/s0" merge "$dir/s0" "$dir/s1" --out "$dir/s0" --overwrite
+"$pcrt" merge "$dir/s0" --out "$dir/m" --overwrite >/dev/null
+test "$(wc -l <"$dir/m/runs.jsonl")" -lt 18 && test "$(wc -l <"$dir/m/previous.1/runs.jsonl")" -eq 18 &&
+  test -s "$dir/m/previous.1/fits.csv" && test ! -e "$dir/m/fits.csv" ||
+  { echo "FAIL: merge --overwrite did not move the earlier merge aside"; exit 1; }
 expect_error "--plan and --costs need --shard" sweep "$dir/tiny.json" --plan "$dir/a/context.json"
 echo '{"shards": [{"runs": []}]}' >"$dir/plan.json"; expect_error "plans 1 shards, not 2" sweep "$dir/tiny.json" --shard 0/2 --plan "$dir/plan.json"
 # pcrt cluster without Slurm: --dry-run writes the scripts and plan; submitting says plainly that
