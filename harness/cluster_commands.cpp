@@ -12,10 +12,13 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <regex>
 #include <set>
 #include <string_view>
+#include <tuple>
 
 #include "core/error.hpp"
+#include "core/file_output.hpp"
 #include "core/json_input.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
@@ -179,6 +182,20 @@ std::string index_list(const std::vector<size_t>& shards) {
 }
 
 // --partition, --time, --cpus-per-task, --mem and every --sbatch-arg, as sbatch options.
+// The resource options in the forms sbatch takes, refused here rather than by sbatch after the
+// files are written: --cpus-per-task a count from 1, --mem a size (digits, then K, M, G or T),
+// --time minutes, MM:SS, HH:MM:SS or D-HH[:MM[:SS]] (or UNLIMITED).
+void check_resources(const ClusterSubmitOptions& o) {
+  static const std::regex count("[1-9][0-9]{0,5}"), mem("[0-9]{1,12}[KMGT]?"),
+      time("[0-9]{1,6}(-[0-9]{1,2}(:[0-9]{1,2}){0,2}|(:[0-9]{1,2}){0,2})|UNLIMITED|INFINITE");
+  for (const auto& [option, value, form, what] :
+       {std::tuple{"--cpus-per-task", &o.cpus_per_task, &count, "a count of 1 or more"},
+        std::tuple{"--mem", &o.mem, &mem, "a size such as 4000 or 16G"},
+        std::tuple{"--time", &o.time, &time, "minutes, MM:SS, HH:MM:SS or D-HH[:MM[:SS]]"}})
+    if (*value && !std::regex_match(**value, *form))
+      input_error("{} '{}': not an sbatch value ({})", option, **value, what);
+}
+
 std::vector<std::string> resource_options(const ClusterSubmitOptions& o) {
   std::vector<std::string> opts;
   for (const auto& [name, value] :
@@ -366,7 +383,7 @@ void write_cluster_files(const ClusterDir& d, const SweepConfig& config, size_t 
   const std::vector<RunResult> earlier =
       o.costs ? read_runs_jsonl(*o.costs + "/runs.jsonl") : std::vector<RunResult>{};
   const ShardPlan plan = plan_shards(run_costs(config.runs, earlier), n);
-  fs::create_directories(d.slurm() + "/logs");
+  make_output_directory(d.slurm() + "/logs", "--out");
   write_json(d.config(), config.raw);
   write_json(d.plan(), plan_json(plan, config.runs, o.costs.value_or("model")));
   write_script(d.shard_script(), shard);
@@ -420,6 +437,7 @@ int submit_resume(const ClusterSubmitOptions& o) {
 int command_cluster_submit(const ClusterSubmitOptions& o) {
   if (!o.dry_run) require_slurm_command("sbatch");
   check_sbatch_values(o);
+  check_resources(o);
   if (o.resume) {
     if (o.out || o.shards || o.costs)
       input_error(

@@ -548,9 +548,15 @@ int command_report(const ReportOptions& o) {
   const std::string script = installed_script("report.py");
   const CommandOutput out = run_command({python(), script, o.dir});
   std::fputs(out.out.c_str(), stdout);
-  std::fputs(out.err.c_str(), stderr);
-  if (out.exit_code != 0) input_error("report: {} failed (exit {})", script, out.exit_code);
-  return 0;
+  if (out.exit_code == 0) {
+    std::fputs(out.err.c_str(), stderr);  // matplotlib's warnings, if any
+    return 0;
+  }
+  // The script's own one-line error names the input (scripts/verdicts.py, run_main).
+  std::string last = out.err.substr(0, out.err.find_last_not_of('\n') + 1);
+  last = last.substr(last.find_last_of('\n') + 1);
+  if (last.empty()) input_error("report: {} failed (exit {})", script, out.exit_code);
+  input_error("report: {}", last);
 }
 
 namespace {
@@ -640,10 +646,17 @@ json read_baseline(const std::string& path) {
   if (!fs::exists(path)) input_error("{}: no such file (create it with --update)", path);
   json base = read_json_file(path);
   if (!base.is_object() || !base.contains("runs") || !base["runs"].is_object() ||
-      !base.value("verdicts", json::object()).is_object())
+      !base.contains("verdicts") || !base["verdicts"].is_object())
     input_error("{}: not a baseline (written by pcrt check --update)", path);
-  for (const auto& [key, old] : base["runs"].items())
+  // A counter is a count; anything else in its place is a damaged file, not a regression.
+  for (const auto& [key, old] : base["runs"].items()) {
     if (!old.is_object()) input_error("{}: run {} is not an object of counters", path, key);
+    for (const auto& [name, v] : old.items())
+      if (name == "status" ? !v.is_string() : !v.is_number_unsigned())
+        input_error("{}: run {}: {} is {}, not a count", path, key, name, v.dump());
+  }
+  for (const auto& [key, v] : base["verdicts"].items())
+    if (!v.is_string()) input_error("{}: verdict {} is {}, not a verdict", path, key, v.dump());
   return base;
 }
 
@@ -704,7 +717,10 @@ size_t gate_differences(const json& base, const json& now, double tolerance) {
   for (const auto& [key, cur] : now["runs"].items())
     if (!base["runs"].contains(key))
       std::printf("new run (not in the baseline): %s\n", key.c_str()), ++problems;
-  const json base_verdicts = base.value("verdicts", json::object());
+  const json& base_verdicts = base["verdicts"];
+  for (const auto& [key, cur] : now["verdicts"].items())
+    if (!base_verdicts.contains(key))
+      std::printf("new verdict (not in the baseline): %s\n", key.c_str()), ++problems;
   for (const auto& [key, old] : base_verdicts.items()) {
     const json cur = now["verdicts"].value(key, json(nullptr));
     if (cur != old) {

@@ -445,13 +445,28 @@ void check_set_values(const Experiment& x) {
       input_error("{}: {} must be a number", x.where, k);
 }
 
-// Generators must leave n to the grid; files must hold the largest N.
+// A generator's values within their ranges can still make an impossible cloud (a radius of 1e13
+// puts points beyond kMaxCoordinate): a few of its points are made now, so that every run does
+// not fail on it later.
+void probe_generator(const Experiment& x, const std::string& spec) {
+  double n = 1024;
+  for (const GridPoint& p : x.points)
+    if (p.get("N")) n = std::min(n, *p.get("N"));
+  try {
+    (void)run_cloud(spec, n, 1);
+  } catch (const InputError& e) {
+    input_error("{}.datasets: {}", x.where, e.what());
+  }
+}
+
+// Generators must leave n to the grid and make a cloud; files must hold the largest N.
 void check_datasets(const Experiment& x) {
   for (const std::string& d : x.datasets) {
     if (is_generator(d)) {
       (void)parse_generator_spec(d, nullptr);
       if (sets_n(d))
         input_error("{}.datasets: '{}' sets n; a sweep takes N from its grid", x.where, d);
+      probe_generator(x, d);
       continue;
     }
     if (x.check == DatasetCheck::kNamesOnly) continue;

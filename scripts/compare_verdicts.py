@@ -9,6 +9,9 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from verdicts import run_main  # noqa: E402
+
 SIDE = {"holds": "holds", "exceeds": "fails", "meets": "holds", "misses": "fails"}
 
 
@@ -47,6 +50,8 @@ def changes(old_path, new_path):
 
 def main():
     if sys.argv[1] == "--changes":
+        if len(sys.argv) != 4:
+            raise IndexError("--changes takes OLD_FITS_JSON NEW_FITS_JSON")
         return changes(sys.argv[2], sys.argv[3])
     a, b = verdicts(sys.argv[1]), verdicts(sys.argv[2])
     shared = sorted(set(a) & set(b))
@@ -59,4 +64,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_main(main, "compare_verdicts.py DIR_A DIR_B | --changes OLD_FITS_JSON NEW_FITS_JSON", 2))

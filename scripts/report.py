@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from verdicts import GROWTH, tally_text  # noqa: E402
+from verdicts import GROWTH, run_main, tally_text  # noqa: E402
 
 
 def fmt(v, digits=3):
@@ -227,4 +227,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(run_main(main, "report.py DIR", 1))

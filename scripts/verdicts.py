@@ -48,3 +48,22 @@ def tally_text(fits):
             + (f" Claims of later papers, tallied apart ({sum(later.values())}): "
                + ", ".join(f"{later[v]} {v}" for v in ORDER if later[v]) + "."
                if sum(later.values()) else ""))
+
+
+def run_main(main, usage, nargs):
+    """Runs a results script's main() as a pcrt command runs: fewer than `nargs` arguments print
+    the usage; a missing, unreadable or malformed input (a cut fits.json, a runs.csv without a
+    column, a value of the wrong type) ends it with one line naming the inputs and status 1,
+    never a traceback."""
+    import csv
+    import sys
+    prog = sys.argv[0].rsplit("/", 1)[-1]
+    if len(sys.argv) < 1 + nargs:
+        print(f"{prog}: usage: {usage}", file=sys.stderr)
+        return 1
+    try:
+        return main()
+    except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError, csv.Error) as e:
+        what = f"{type(e).__name__}: {e}".replace("\n", " ")
+        print(f"{prog}: {' '.join(sys.argv[1:])}: missing or malformed results ({what})", file=sys.stderr)
+        return 1

@@ -166,6 +166,17 @@ bad 'c["experiments"][0]["camera"] = "under"';           expect_error "camera mu
 printf '{"experiments": [' >"$dir/trunc.json";            expect_error "not valid JSON" sweep "$dir/trunc.json"
 expect_error "--shard 2/2" sweep "$dir/tiny.json" --shard 2/2
 echo '{"runs": 3}' >"$dir/notbase.json"; expect_error "notbase.json: not a baseline" check --config "$dir/tiny.json" --baseline "$dir/notbase.json"
+# A damaged baseline is an error, never a pass: its verdicts gone, or a counter not a count; and
+# verdicts it lacks are differences.
+damage() { python3 -c "import json,sys; b=json.load(open('$dir/base.json')); exec(sys.argv[1]); json.dump(b, open('$dir/damaged.json','w'))" "$1"; }
+damage 'del b["verdicts"]'; expect_error "damaged.json: not a baseline" check --config "$dir/tiny.json" --baseline "$dir/damaged.json"
+damage 'r = next(iter(b["runs"].values())); r[next(k for k in r if k != "status")] = "5"'
+expect_error "not a count" check --config "$dir/tiny.json" --baseline "$dir/damaged.json"
+damage 'b["verdicts"] = {}'
+if "$pcrt" check --config "$dir/tiny.json" --baseline "$dir/damaged.json" >"$dir/check.out" ||
+  ! grep -q "new verdict (not in the baseline)" "$dir/check.out"; then
+  echo "FAIL: check passed a baseline without its verdicts"; exit 1
+fi
 mkdir -p "$dir/nosweep" && echo '{"x": 1}' >"$dir/nosweep/context.json"; expect_error "has no \"config\"" fit "$dir/nosweep"
 expect_error "runs.jsonl: cannot open" merge "$dir/nosweep" --out "$dir/merged"
 expect_error "only shards of one build merge" merge "$dir/s0" "$dir/s1_other" --out "$dir/merged"
@@ -179,6 +190,13 @@ expect_error "--out $dir/s0: is also the shard $dir/s0" merge "$dir/s0" "$dir/s1
 test "$(wc -l <"$dir/m/runs.jsonl")" -lt 18 && test "$(wc -l <"$dir/m/previous.1/runs.jsonl")" -eq 18 &&
   test -s "$dir/m/previous.1/fits.csv" && test ! -e "$dir/m/fits.csv" ||
   { echo "FAIL: merge --overwrite did not move the earlier merge aside"; exit 1; }
+# A cut or retyped fits.json, context.json or runs.csv: report's one line names the folder.
+for cut in 'head -c 100 "$d/fits.json" >"$d/x" && mv "$d/x" "$d/fits.json"' \
+  'echo "{\"not\": \"a list\"}" >"$d/fits.json"' 'sed -i "s/\"git_commit\": *\"[^\"]*\"/\"git_commit\": 5/" "$d/context.json"' \
+  'rm "$d/runs.csv"'; do
+  d="$dir/bad_report"; rm -rf "$d"; cp -r "$dir/m/previous.1" "$d"; eval "$cut"
+  expect_error "report: report.py: $d: missing or malformed results" report "$d"
+done
 expect_error "--plan and --costs need --shard" sweep "$dir/tiny.json" --plan "$dir/a/context.json"
 echo '{"shards": [{"runs": []}]}' >"$dir/plan.json"; expect_error "plans 1 shards, not 2" sweep "$dir/tiny.json" --shard 0/2 --plan "$dir/plan.json"
 # pcrt cluster without Slurm: --dry-run writes the scripts and plan; submitting says plainly that
