@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # pcrt calibrate on a loaded machine: RUNS calibrations while LOAD busy loops compete for the
-# cores, each run's wrong classifications listed. Usage:
+# cores, each run's wrong classifications listed. The first run waits until the 1-minute load
+# average has risen to three quarters of LOAD (at most 3 minutes): it lags the loops, and the
+# table records it per run. LOAD=0 calibrates on the machine as it is. Usage:
 #   scripts/calibrate_loaded.sh PCRT OUT.md [RUNS=8] [LOAD=4]
 set -euo pipefail
 pcrt=$1 out=$2 runs=${3:-8} load=${4:-4}
@@ -9,7 +11,10 @@ pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$tmp"; }
 trap cleanup EXIT
 for _ in $(seq "$load"); do (while :; do :; done) & pids+=($!); done
-sleep 1
+for _ in $(seq 180); do
+  awk -v want="$load" '{ exit !($1 >= 0.75 * want) }' /proc/loadavg && break
+  sleep 1
+done
 wrong_runs=0 wrong_fits=0
 {
   echo "# pcrt calibrate with $load busy loops on $(nproc) cores"
