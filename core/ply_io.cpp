@@ -238,6 +238,9 @@ VertexLayout vertex_layout(const PlyElement& e, const std::string& path) {
       slot = gaussian_slot(l, n);
     if (!slot) continue;
     if (e.properties[i].is_list) input_error("{}: vertex property '{}' is a list", path, n);
+    if (*slot >= 0)
+      input_error("{}: vertex property '{}' gives a value property '{}' gave already", path, n,
+                  e.properties[size_t(*slot)].name);
     *slot = static_cast<int>(i);
   }
   if (l.x < 0 || l.y < 0 || l.z < 0) input_error("{}: vertex element lacks x, y and z", path);
@@ -301,7 +304,10 @@ struct VertexSink {
     cloud.gaussians.rotations.push_back(q.normalized().cast<float>());
     cloud.gaussians.opacities.push_back(float(1.0 / (1.0 + std::exp(-logit_opacity))));
   }
-  void emit_dc_colour() {
+  void emit_dc_colour(const std::string& path, uint64_t index) {
+    for (int k : layout.dc)
+      if (!std::isfinite(values[size_t(k)]))
+        input_error("{}: vertex {} has a non-finite colour", path, index);
     auto byte = [&](int i) {
       const double c = 0.5 + double(kShC0) * values[size_t(i)];
       return static_cast<uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255.0));
@@ -320,15 +326,49 @@ struct VertexSink {
     if (layout.nx >= 0) cloud.normals.emplace_back(f(layout.nx), f(layout.ny), f(layout.nz));
     if (layout.r >= 0) {
       const auto& ps = element.properties;
+      if (!std::isfinite(v(layout.r) + v(layout.g) + v(layout.b)))
+        input_error("{}: vertex {} has a non-finite colour", path, index);
       cloud.colours.push_back(Rgb8{colour_byte(v(layout.r), ps[size_t(layout.r)].type),
                                    colour_byte(v(layout.g), ps[size_t(layout.g)].type),
                                    colour_byte(v(layout.b), ps[size_t(layout.b)].type)});
     }
     if (layout.radius >= 0) cloud.radii.push_back(f(layout.radius));
-    if (layout.dc_colour()) emit_dc_colour();
+    if (layout.dc_colour()) emit_dc_colour(path, index);
     if (layout.gaussian()) emit_gaussian(path, index);
   }
 };
+
+// An ascii value of an integer property must be one its type holds: a uchar colour of 300 is a
+// damaged file, not a colour to clamp.
+void check_ascii_value(double v, const PlyProperty& p, const std::string& path, size_t line) {
+  double lo = 0, hi = 0;
+  switch (p.type) {
+    case PlyType::kInt8:
+      lo = -128, hi = 127;
+      break;
+    case PlyType::kUint8:
+      hi = 255;
+      break;
+    case PlyType::kInt16:
+      lo = -32768, hi = 32767;
+      break;
+    case PlyType::kUint16:
+      hi = 65535;
+      break;
+    case PlyType::kInt32:
+      lo = -2147483648.0, hi = 2147483647.0;
+      break;
+    case PlyType::kUint32:
+      hi = 4294967295.0;
+      break;
+    case PlyType::kFloat32:
+    case PlyType::kFloat64:
+      return;
+  }
+  if (!(v >= lo && v <= hi && v == std::floor(v)))
+    input_error("{}: line {}: property '{}' is {:g}, not an integer in [{:g}, {:g}]", path, line,
+                p.name, v, lo, hi);
+}
 
 // Collects the polygons of the 'face' element's vertex_indices list, fanned into triangles.
 struct FaceSink {
@@ -481,6 +521,7 @@ void read_ascii(const std::string& text, const PlyHeader& h, const std::string& 
           t += 1 + static_cast<size_t>(n);
         } else {
           const double v = scan.number<double>(t++);
+          check_ascii_value(v, e.properties[k], path, scan.line());
           if (sink) sink->values[k] = v;
         }
       }
@@ -729,7 +770,10 @@ class PlyStream final : public PointStream {
     if (scan.tokens().size() > values.size())
       input_error("{}: line {}: 'vertex' element {} has {} values, the header says {}", path_,
                   scan.line(), index, scan.tokens().size(), values.size());
-    for (size_t k = 0; k < values.size(); ++k) values[k] = scan.number<double>(k);
+    for (size_t k = 0; k < values.size(); ++k) {
+      values[k] = scan.number<double>(k);
+      check_ascii_value(values[k], vertex().properties[k], path_, scan.line());
+    }
   }
   static constexpr uint64_t kMaxHeaderBytes = uint64_t(1) << 20;
 

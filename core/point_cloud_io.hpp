@@ -60,9 +60,11 @@ void normalize_loaded_normals(PointCloud& cloud);
 // A file's normal scaled to unit length, the rule every reader and stream applies to one; false
 // where it is not finite or shorter than 1e-12 (and then unchanged).
 inline bool to_unit_normal(Vec3& n) {
-  const float len = n.norm();
-  if (!n.allFinite() || !(len > 1e-12f)) return false;
-  n /= len;
+  if (!n.allFinite()) return false;
+  const Vec3d d = n.cast<double>();  // in float a component of 1e20 squares to infinity
+  const double len = d.norm();
+  if (!(len > 1e-12)) return false;
+  n = (d / len).cast<float>();
   return true;
 }
 

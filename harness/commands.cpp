@@ -438,7 +438,8 @@ AccuracyInput accuracy_input(const std::optional<std::string>& data, const Truth
     in.data = load_dataset(spec);
     if (!in.data.truth)
       input_error(
-          "--data {} is a file; accuracy needs a generator with an exact surface or --truth MESH",
+          "--data {}: no exact surface (a file, or a generator without one); accuracy needs a "
+          "generator with an exact surface or --truth MESH",
           spec);
     in.truth = in.data.truth;
     in.h = mean_spacing(in.data.cloud.positions, prep);
@@ -625,8 +626,10 @@ std::unique_ptr<LoadedScene> furnace_scene(const FurnaceOptions& o) {
     auto s = std::make_unique<LoadedScene>();
     s->data = load_dataset(required(o.scene.data, "--data", FurnaceOptions::usage));
     if (!s->data.truth)
-      input_error("--data {} is a file; --exact needs a generator with an exact surface",
-                  *o.scene.data);
+      input_error(
+          "--data {}: no exact surface (a file, or a generator without one); --exact "
+          "needs a generator with an exact surface",
+          *o.scene.data);
     s->exact = std::make_unique<SurfaceScene>(*s->data.truth);
     s->params = {{"dataset", *o.scene.data}, {"N", s->data.cloud.size()}};
     return s;

@@ -82,7 +82,7 @@ expect_error "short_row.csv: line 3" trace --method reference_splat --data spher
 expect_error "--out $dir/no/such/dir/h.csv: folder $dir/no/such/dir does not exist" trace --method reference_splat --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/no/such/dir/h.csv"
 
 printf "0 0 0\\n1 0 0\\n0 1 0\\n1 1 1\\n" >"$dir/four.xyz"
-expect_error "is a file; accuracy needs a generator" accuracy --method reference_splat --data "$dir/four.xyz"
+expect_error "no exact surface (a file, or a generator without one); accuracy needs a generator" accuracy --method reference_splat --data "$dir/four.xyz"
 expect_error "traces through its own embree_bvh" trace --method embree_oriented_disc --structure kd_tree --data sphere:n=100 --rays "$dir/rays.csv" --out "$dir/h.csv"
 expect_error "--rays 0 is outside" accuracy --method reference_splat --data sphere:n=100 --rays 0
 expect_error "--data is required" anchor
@@ -186,7 +186,9 @@ if "$pcrt" "${sr[@]}" "$dir/s_big_up.json" >/dev/null 2>"$dir/err"; then echo "o
 expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" --method reference_splat
 expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
 expect_error "--exact traces a generator's own surface: give --data only" furnace --exact --method reference_splat --data sphere:n=100
-expect_error "tri.off is a file; --exact needs a generator with an exact surface" furnace --exact --data "$dir/tri.off"
+expect_error "tri.off: no exact surface (a file, or a generator without one); --exact needs a generator with an exact surface" furnace --exact --data "$dir/tri.off"
+expect_error "skew_lines:n=100: no exact surface" accuracy --method hubo_2006 --data skew_lines:n=100
+expect_error "--set opacity=0 max_alpha=0.5: flat particles (init=flat) need a peak opacity above 0.5" render --method ever_2024 --data sphere:n=200 --width 8 --height 8 --out "$dir/e.png" --set max_alpha=0.5
 # Registry and reader errors inside a config name the config and the experiment (issue 29).
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "structures": ["NaN"], "datasets": ["sphere"], "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_structure.json"
 expect_error "c_structure.json: experiments[0]: unknown structure 'NaN'" sweep "$dir/c_structure.json" --out "$dir/c_structure_out"

@@ -122,8 +122,10 @@ std::vector<ParticleShape> initial_particles(const PointCloud& cloud, const Part
   if (p.init == GaussianInit::kFlat) {
     const float opacity = std::min(p.opacity > 0 ? p.opacity : 1.0f, p.max_alpha);
     if (!(opacity > 0.5f))
-      input_error("grt: flat particles need a peak opacity above 0.5 (opacity {}, max_alpha {})",
-                  p.opacity, p.max_alpha);
+      input_error(
+          "--set opacity={} max_alpha={}: flat particles (init=flat) need a peak opacity above "
+          "0.5, as their edge is where it halves",
+          p.opacity, p.max_alpha);
     for (size_t i = 0; i < out.size(); ++i)
       out[i] = flat_particle(normals[i], radii[i], opacity, p.flatness);
     return out;
