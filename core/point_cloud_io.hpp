@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -61,10 +62,16 @@ void normalize_loaded_normals(PointCloud& cloud);
 // where it is not finite or shorter than 1e-12 (and then unchanged).
 inline bool to_unit_normal(Vec3& n) {
   if (!n.allFinite()) return false;
-  const Vec3d d = n.cast<double>();  // in float a component of 1e20 squares to infinity
-  const double len = d.norm();
-  if (!(len > 1e-12)) return false;
-  n = (d / len).cast<float>();
+  const float len = n.norm();
+  if (std::isfinite(len) && len > 1e-12f) {
+    n /= len;
+    return true;
+  }
+  // A component beyond about 1e19 squares to infinity in float: that direction, in double.
+  const Vec3d d = n.cast<double>();
+  const double dlen = d.norm();
+  if (!(dlen > 1e-12)) return false;
+  n = (d / dlen).cast<float>();
   return true;
 }
 

@@ -20,6 +20,7 @@
 #include "core/error.hpp"
 #include "core/file_output.hpp"
 #include "core/json_input.hpp"
+#include "core/point_cloud_io.hpp"
 #include "harness/command_helpers.hpp"
 #include "harness/commands.hpp"
 #include "harness/run_files.hpp"
@@ -186,8 +187,10 @@ std::string index_list(const std::vector<size_t>& shards) {
 // files are written: --cpus-per-task a count from 1, --mem a size (digits, then K, M, G or T),
 // --time minutes, MM:SS, HH:MM:SS or D-HH[:MM[:SS]] (or UNLIMITED).
 void check_resources(const ClusterSubmitOptions& o) {
-  static const std::regex count("[1-9][0-9]{0,5}"), mem("[0-9]{1,12}[KMGT]?"),
-      time("[0-9]{1,6}(-[0-9]{1,2}(:[0-9]{1,2}){0,2}|(:[0-9]{1,2}){0,2})|UNLIMITED|INFINITE");
+  static const std::regex count("[1-9][0-9]{0,5}"), mem("[0-9]{1,12}([KMGTkmgt][Bb]?)?"),
+      time(
+          "[0-9]{1,6}(-[0-9]{1,2}(:[0-9]{1,2}){0,2}|(:[0-9]{1,2}){0,2})|[Uu][Nn][Ll][Ii][Mm][Ii]["
+          "Tt][Ee][Dd]|[Ii][Nn][Ff][Ii][Nn][Ii][Tt][Ee]");
   for (const auto& [option, value, form, what] :
        {std::tuple{"--cpus-per-task", &o.cpus_per_task, &count, "a count of 1 or more"},
         std::tuple{"--mem", &o.mem, &mem, "a size such as 4000 or 16G"},
@@ -412,6 +415,26 @@ int submit_fresh(const ClusterSubmitOptions& o) {
   return 0;
 }
 
+// A merge job written before a merge refused an earlier merge's runs has no --overwrite, and a
+// resubmitted merge meets its first attempt's files: its merge line is brought up to date.
+void update_merge_script(const ClusterDir& d) {
+  std::string text = read_file(d.merge_script());
+  size_t start = 0;
+  while (start < text.size()) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string_view line(text.data() + start, end - start);
+    if (!line.starts_with("#") && line.find(" merge ") != std::string_view::npos &&
+        line.find(" --out ") != std::string_view::npos) {
+      if (line.find("--overwrite") == std::string_view::npos) {
+        text.insert(end, " --overwrite");
+        write_script(d.merge_script(), text);
+      }
+      return;
+    }
+    start = end + 1;
+  }
+}
+
 int submit_resume(const ClusterSubmitOptions& o) {
   const ClusterDir d = cluster_dir(o.target);
   require_slurm_command("squeue");  // even for --dry-run: what is unfinished comes from squeue
@@ -428,6 +451,7 @@ int submit_resume(const ClusterSubmitOptions& o) {
     std::printf("%s: every shard and the merge finished; nothing to resubmit\n", d.root.c_str());
     return 0;
   }
+  update_merge_script(d);
   submit(d, s, o.dry_run);
   return 0;
 }

@@ -359,8 +359,8 @@ void place_objects(SceneFile& s, const std::vector<Placement>& placements) {
   }
 }
 
-// Every ray a frame of the scene traces starts within reach of it: inside the box of its objects,
-// lights and camera, or of a camera framing the objects (Camera::framing: 3.5 bounding radii out),
+// Every ray a frame of the scene traces starts within reach of it: inside the box of its objects
+// and camera, or of a camera framing the objects (Camera::framing: 3.5 bounding radii out),
 // or within --ray-epsilon (at most kMaxCoordinate) of a surface. An object's transform takes the
 // rays into its own frame, where a scale of 1e-6 makes 1e12 into 1e18, near where Embree aborts
 // (about 1.8e18): so that reach must lie within kMaxCoordinate of every moved object's zero, in
@@ -371,7 +371,6 @@ void check_object_frames(const SceneFile& s, const Where& objects) {
   Aabb reach = box;
   const Vec3 margin = Vec3::Constant(4.0f * box.diagonal());
   reach.extend(box.center() + margin), reach.extend(box.center() - margin);
-  for (const Light& l : s.scene.lights) reach.extend(l.position);
   if (s.camera) reach.extend(s.camera->eye), reach.extend(s.camera->target);
   for (size_t i = 0; i < s.scene.objects.size(); ++i) {
     const Transform& t = s.scene.objects[i].transform;

@@ -477,7 +477,7 @@ void claim_merge_folder(const MergeOptions& o) {
         o.out, o.out);
   fs::path aside;
   for (int n = 1;; ++n)
-    if (!fs::exists(aside = fs::path(o.out) / fmt::format("previous.{}", n))) break;
+    if (!fs::exists(aside = fs::path(o.out) / fmt::format("previous.{}", n), ec)) break;
   fs::create_directory(aside, ec);
   if (ec) input_error("--out {}: cannot create {}: {}", o.out, aside.string(), ec.message());
   for (const char* name : kMergedFiles)
@@ -552,11 +552,13 @@ int command_report(const ReportOptions& o) {
     std::fputs(out.err.c_str(), stderr);  // matplotlib's warnings, if any
     return 0;
   }
-  // The script's own one-line error names the input (scripts/verdicts.py, run_main).
+  // The script's own one-line error names the input (scripts/verdicts.py, run_main); anything
+  // else is a fault of the script, shown whole.
   std::string last = out.err.substr(0, out.err.find_last_not_of('\n') + 1);
   last = last.substr(last.find_last_of('\n') + 1);
-  if (last.empty()) input_error("report: {} failed (exit {})", script, out.exit_code);
-  input_error("report: {}", last);
+  if (last.rfind("report.py: ", 0) == 0) input_error("report: {}", last);
+  std::fputs(out.err.c_str(), stderr);
+  input_error("report: {} failed (exit {})", script, out.exit_code);
 }
 
 namespace {
@@ -736,7 +738,7 @@ size_t gate_differences(const json& base, const json& now, double tolerance) {
 
 int command_check(const CheckOptions& o) {
   const SweepConfig config = load_sweep_config(o.config);
-  if (o.update) check_output_path(o.baseline, "--baseline");
+  if (o.update) check_outputs({{o.baseline, "--baseline"}}, {{o.config, "--config"}});
   const json base = o.update ? json() : read_baseline(o.baseline);
   const std::string dir = sweep_dir(o.out, "check");
   const std::vector<RunResult> results =

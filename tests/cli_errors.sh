@@ -188,7 +188,7 @@ expect_error "give --data, --mesh or --truth" furnace --method reference_splat -
 expect_error "--exact traces a generator's own surface: give --data only" furnace --exact --method reference_splat --data sphere:n=100
 expect_error "tri.off: no exact surface (a file, or a generator without one); --exact needs a generator with an exact surface" furnace --exact --data "$dir/tri.off"
 expect_error "skew_lines:n=100: no exact surface" accuracy --method hubo_2006 --data skew_lines:n=100
-expect_error "--set opacity=0 max_alpha=0.5: flat particles (init=flat) need a peak opacity above 0.5" render --method ever_2024 --data sphere:n=200 --width 8 --height 8 --out "$dir/e.png" --set max_alpha=0.5
+expect_error "max_alpha 0.5 and opacity 0 (0: 1) give flat particles (init=flat) a peak opacity of 0.5: it must be above 0.5" render --method ever_2024 --data sphere:n=200 --width 8 --height 8 --out "$dir/e.png" --set max_alpha=0.5
 # Registry and reader errors inside a config name the config and the experiment (issue 29).
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "structures": ["NaN"], "datasets": ["sphere"], "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_structure.json"
 expect_error "c_structure.json: experiments[0]: unknown structure 'NaN'" sweep "$dir/c_structure.json" --out "$dir/c_structure_out"

@@ -108,8 +108,11 @@ rc=$?
 set -e
 [ $rc = 1 ] || fail "status with a killed run exited $rc: $(cat "$dir/status")"
 grep -q "^shard 1: .* $((planned - 1)) of $planned .*log " "$dir/status" || fail "shard 1 not unfinished: $(cat "$dir/status")"
+# A merge job written before merges refused an earlier merge's runs: --resume adds --overwrite.
+sed -i 's/ --overwrite$//' "$out/slurm/merge.sbatch"
 "$pcrt" cluster submit --resume "$out" --dry-run >"$dir/resume"
 grep -q "^would run: sbatch --parsable --array=1 " "$dir/resume" || fail "--resume: $(cat "$dir/resume")"
+grep -q " merge .* --out .* --overwrite$" "$out/slurm/merge.sbatch" || fail "--resume left the merge line: $(grep ' merge ' "$out/slurm/merge.sbatch")"
 run_shard 1 || fail "the resubmitted shard failed: $(cat "$dir/shard.log")"
 grep -q "1 runs done ($((planned - 1)) already done" "$dir/shard.log" || fail "the killed run was not redone: $(cat "$dir/shard.log")"
 test "$(wc -l <"$out/shards/1/runs.jsonl")" = "$planned" || fail "the redone run is recorded twice"

@@ -123,9 +123,9 @@ std::vector<ParticleShape> initial_particles(const PointCloud& cloud, const Part
     const float opacity = std::min(p.opacity > 0 ? p.opacity : 1.0f, p.max_alpha);
     if (!(opacity > 0.5f))
       input_error(
-          "--set opacity={} max_alpha={}: flat particles (init=flat) need a peak opacity above "
-          "0.5, as their edge is where it halves",
-          p.opacity, p.max_alpha);
+          "max_alpha {} and opacity {} (0: 1) give flat particles (init=flat) a peak opacity of "
+          "{}: it must be above 0.5, as their edge is where it halves",
+          p.max_alpha, p.opacity, opacity);
     for (size_t i = 0; i < out.size(); ++i)
       out[i] = flat_particle(normals[i], radii[i], opacity, p.flatness);
     return out;
