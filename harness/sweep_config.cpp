@@ -158,7 +158,8 @@ void check_point_values(const GridPoint& p, RunKind kind, const std::string& whe
       input_error("{}: {} = {} is impossible (a whole number in [{}, {}])", where, key, *v, lo,
                   max);
   };
-  whole("N", 1, 2e8);
+  // A reconstruction (and a crossover's) triangulates in 3D: fewer than 4 points fail every run.
+  whole("N", kind == RunKind::kReconstruct || kind == RunKind::kCrossover ? 4 : 1, 2e8);
   whole("M", 1, 16384.0 * 16384.0);
   whole("S", 1, 65536);
   whole("B", 0, 64);

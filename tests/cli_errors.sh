@@ -196,6 +196,9 @@ printf '{"experiments": [{"kind": "reconstruct", "reconstructions": ["nope"], "d
 expect_error "c_recon.json: experiments[0]: unknown reconstruction 'nope'" sweep "$dir/c_recon.json" --out "$dir/c_recon_out"
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["missing.ply"], "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/c_data.json"
 expect_error "c_data.json: experiments[0]: $dir/missing.ply" sweep "$dir/c_data.json" --out "$dir/c_data_out"
+# A triangulation needs 4 points: a crossover (or reconstruct) grid below that is refused.
+printf '{"experiments": [{"kind": "crossover", "methods": ["reference_splat"], "datasets": ["sphere"], "grid": {"N": [3], "M": [16]}}]}' >"$dir/c_cross3.json"
+expect_error "c_cross3.json: experiments[0]: N = 3 is impossible (a whole number in [4," sweep "$dir/c_cross3.json" --out "$dir/c_cross3_out"
 # A config of absurd size is refused before any run, with its size and estimate (issue 29).
 printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["sphere"], "replicates": 100, "grid": {"N": [%s], "M": [16], "B": [1]}}]}' "$(seq -s, 100 1 1100)" >"$dir/c_huge.json"
 expect_error "c_huge.json: 100100 runs, about" sweep "$dir/c_huge.json" --out "$dir/c_huge_out"
