@@ -56,9 +56,7 @@ void normalize_loaded_normals(PointCloud& cloud) {
   const bool all_zero = std::all_of(cloud.normals.begin(), cloud.normals.end(),
                                     [](const Vec3& n) { return n.squaredNorm() == 0.0f; });
   if (all_zero) {
-    std::fprintf(stderr,
-                 "pcrt: %s: every normal is zero; treating the cloud as having no normals\n",
-                 cloud.name.c_str());
+    note("pcrt: {}: every normal is zero; treating the cloud as having no normals", cloud.name);
     cloud.normals.clear();
     return;
   }
@@ -376,8 +374,7 @@ PointCloud read_point_cloud(const std::string& path) {
     input_error("{}: unknown point cloud format '{}' (use .ply, .xyz, .pwn or .off)", path, ext);
   cloud.validate();
   if (const size_t dropped = cloud.remove_duplicates())
-    std::fprintf(stderr, "pcrt: %s: dropped %zu exact duplicate points (%zu remain)\n",
-                 path.c_str(), dropped, cloud.size());
+    note("pcrt: {}: dropped {} exact duplicate points ({} remain)", path, dropped, cloud.size());
   return cloud;
 }
 

@@ -85,7 +85,10 @@ int pcrt::cli_main(int argc, char** argv) {
       std::fputs(line.help().c_str(), stdout);
       return 0;
     }
-    return line.run();
+    pcrt::NoteHold notes;  // printed after a command that ran to its end, dropped on an error
+    const int status = line.run();
+    notes.print();
+    return status;
   } catch (const pcrt::InputError& e) {
     // Messages that already name the command are not prefixed twice.
     const std::string cmd = line.command();

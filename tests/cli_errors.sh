@@ -34,6 +34,10 @@ expect_error "unknown method 'nope'" render --method nope --data sphere:n=100 --
 expect_error "unknown structure 'nope'" render --method reference_splat --structure nope --data sphere:n=100 --out "$dir/a.png"
 expect_error "--set zzz: not a parameter" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --set zzz=1
 expect_error "radius_k=0 is outside" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --set radius_k=0
+# A note on a cloud read all the same (duplicates dropped) does not join a later error's line.
+printf '0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n' >"$dir/dup.xyz"
+expect_error "radius_k=0 is outside" render --method reference_splat --data "$dir/dup.xyz" --out "$dir/a.png" --set radius_k=0
+if ! "$pcrt" info "$dir/dup.xyz" 2>&1 >/dev/null | grep -q "dropped 1 exact duplicate points"; then echo "FAIL: the duplicates note is lost on success"; fails=$((fails + 1)); fi
 # An unknown node-lanes choice is refused rather than running the AVX2 walks under another name.
 PCRT_NODE_LANES=avx expect_error "PCRT_NODE_LANES=avx: unknown" render --method reference_splat --structure bvh --data sphere:n=100 --out "$dir/a.png"
 expect_error "--width 0 is outside" render --method reference_splat --data sphere:n=100 --out "$dir/a.png" --width 0
