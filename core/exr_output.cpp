@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/point_cloud_io.hpp"
 
 namespace pcrt {
 
@@ -103,23 +104,25 @@ struct ExrParts {
 }
 
 // One channel's values, row-major from the top row: scanline images hold one plane per channel,
-// tiled ones a plane per tile.
-std::vector<float> channel_values(const EXRImage& image, int c) {
+// tiled ones a plane per tile, of the header's tile size (a tile at the right or bottom edge is
+// cut to the image, its width and height, but keeps that stride and place).
+std::vector<float> channel_values(const EXRImage& image, const EXRHeader& header, int c) {
   std::vector<float> v(size_t(image.width) * size_t(image.height));
   if (!image.tiles) {
     const auto* p = reinterpret_cast<const float*>(image.images[c]);
     std::copy(p, p + v.size(), v.begin());
     return v;
   }
+  const auto tile_w = size_t(header.tile_size_x), tile_h = size_t(header.tile_size_y);
   for (int t = 0; t < image.num_tiles; ++t) {
     const EXRTile& tile = image.tiles[t];
     const auto* p = reinterpret_cast<const float*>(tile.images[c]);
     for (int y = 0; y < tile.height; ++y)
       for (int x = 0; x < tile.width; ++x) {
-        const size_t gx = size_t(tile.offset_x) * size_t(tile.width) + size_t(x);
-        const size_t gy = size_t(tile.offset_y) * size_t(tile.height) + size_t(y);
+        const size_t gx = size_t(tile.offset_x) * tile_w + size_t(x);
+        const size_t gy = size_t(tile.offset_y) * tile_h + size_t(y);
         if (gx < size_t(image.width) && gy < size_t(image.height))
-          v[gy * size_t(image.width) + gx] = p[size_t(y) * size_t(tile.width) + size_t(x)];
+          v[gy * size_t(image.width) + gx] = p[size_t(y) * tile_w + size_t(x)];
       }
   }
   return v;
@@ -150,18 +153,14 @@ ExrImage decode_exr(const std::string& bytes, const std::string& source) {
                 parts.image.height, parts.header.num_channels);
   ExrImage out{parts.image.width, parts.image.height, {}};
   for (int c = 0; c < parts.header.num_channels; ++c)
-    out.channels.push_back({parts.header.channels[c].name, channel_values(parts.image, c)});
+    out.channels.push_back(
+        {parts.header.channels[c].name, channel_values(parts.image, parts.header, c)});
   return out;
 }
 
-ExrImage read_exr(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) input_error("{}: cannot open the EXR file", path);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) input_error("{}: cannot read the EXR file", path);
-  return decode_exr(bytes.str(), path);
-}
+// Read as the point readers read (core/point_cloud_io.hpp, read_file): a device or a FIFO is
+// read up to their limit for a stream without a size, not until memory runs out.
+ExrImage read_exr(const std::string& path) { return decode_exr(read_file(path), path); }
 
 std::vector<FloatChannel> rgb_channels(const Image& image) {
   std::vector<FloatChannel> rgb = {{"R", {}}, {"G", {}}, {"B", {}}};

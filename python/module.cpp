@@ -59,7 +59,13 @@ FloatRows rows3(const py::handle& obj, const char* name) {
   if (py::isinstance<py::array>(obj)) {
     const auto given = py::reinterpret_borrow<py::array>(obj);
     if (given.ndim() != 2 || given.shape(1) != 3)
-      input_error("{}: expected an array of shape (n, 3), got {} dimensions", name, given.ndim());
+      input_error("{}: expected an array of shape (n, 3), got shape {}", name,
+                  py::str(obj.attr("shape")).cast<std::string>());
+    // Numbers only: numpy would cast complex to real and refuses text and objects as memory.
+    const char kind = given.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
+      input_error("{}: an array of {} values, not numbers", name,
+                  py::str(given.dtype()).cast<std::string>());
   }
   FloatRows a = FloatRows::ensure(obj);
   if (!a && py::isinstance<py::array>(obj))
@@ -157,6 +163,12 @@ std::shared_ptr<PointCloud> cloud_from_arrays(const py::handle& positions,
     if (!r || r.ndim() != 1) input_error("radii: expected an array of shape (n,)");
     c->radii.assign(r.data(), r.data() + r.shape(0));
   }
+  // An empty array given is not "none given" (which the cloud's empty vectors would say).
+  for (const auto& [given, rows, what] :
+       {std::tuple{!normals.is_none(), c->normals.size(), "normals"},
+        std::tuple{!radii.is_none(), c->radii.size(), "radii"}})
+    if (given && rows != c->positions.size())
+      input_error("{}: {} rows for {} points", what, rows, c->positions.size());
   c->validate();
   return c;
 }
@@ -311,22 +323,41 @@ void bind_errors(py::module_& m) {
   });
 }
 
+// The T a bound member is called on, checked: an object whose __init__ never ran
+// (Scene.__new__(Scene), Cloud.__new__(Cloud)) has no C++ object behind it, and pybind11 would
+// read garbage through it.
+template <class T>
+T& held(const py::handle& self, const char* type, const char* make) {
+  if (!py::isinstance<T>(self))
+    throw py::type_error(fmt::format("{} method called on another type", type));
+  auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
+  const py::detail::value_and_holder vh =
+      inst->get_value_and_holder(py::detail::get_type_info(typeid(T)));
+  if (!vh.holder_constructed() || !vh.value_ptr())
+    throw py::type_error(fmt::format("{} is not initialised: make it with {}", type, make));
+  return *vh.value_ptr<T>();
+}
+
+const PointCloud& cloud_of(const py::handle& self) {
+  return held<PointCloud>(self, "pcrt.Cloud", "pcrt.load(...) or pcrt.from_arrays(...)");
+}
+
 // pcrt.Cloud: the cloud's own arrays as read-only numpy views.
 void bind_cloud(py::module_& m) {
   py::class_<PointCloud, std::shared_ptr<PointCloud>>(m, "Cloud")
-      .def_property_readonly("name", [](const PointCloud& c) { return c.name; })
-      .def("__len__", &PointCloud::size)
+      .def_property_readonly("name", [](py::handle self) { return cloud_of(self).name; })
+      .def("__len__", [](py::handle self) { return cloud_of(self).size(); })
       .def_property_readonly(
           "positions",
           [](py::object self) {
-            const auto& c = self.cast<const PointCloud&>();
+            const PointCloud& c = cloud_of(self);
             return view(c.positions.data()->data(), c.size(), 3, sizeof(Vec3), self);
           },
           "(n, 3) float32, read-only, no copy")
       .def_property_readonly(
           "normals",
           [](py::object self) -> py::object {
-            const auto& c = self.cast<const PointCloud&>();
+            const PointCloud& c = cloud_of(self);
             if (!c.has_normals()) return py::none();
             return view(c.normals.data()->data(), c.size(), 3, sizeof(Vec3), self);
           },
@@ -334,7 +365,7 @@ void bind_cloud(py::module_& m) {
       .def_property_readonly(
           "radii",
           [](py::object self) -> py::object {
-            const auto& c = self.cast<const PointCloud&>();
+            const PointCloud& c = cloud_of(self);
             if (!c.has_radii()) return py::none();
             return view(c.radii.data(), c.size(), 1, sizeof(float), self);
           },
@@ -342,25 +373,27 @@ void bind_cloud(py::module_& m) {
       .def_property_readonly(
           "colours",
           [](py::object self) -> py::object {
-            const auto& c = self.cast<const PointCloud&>();
+            const PointCloud& c = cloud_of(self);
             if (!c.has_colours()) return py::none();
             return view(&c.colours.data()->r, c.size(), 3, sizeof(Rgb8), self);
           },
           "(n, 3) uint8, read-only, or None")
       .def_property_readonly("bounds",
-                             [](const PointCloud& c) {
-                               const Aabb b = c.bounds();
+                             [](py::handle self) {
+                               const Aabb b = cloud_of(self).bounds();
                                return py::make_tuple(py::make_tuple(b.lo.x(), b.lo.y(), b.lo.z()),
                                                      py::make_tuple(b.hi.x(), b.hi.y(), b.hi.z()));
                              })
       .def_property_readonly(
           "origin",
-          [](const PointCloud& c) {
-            return py::make_tuple(c.origin.x(), c.origin.y(), c.origin.z());
+          [](py::handle self) {
+            const Vec3d& o = cloud_of(self).origin;
+            return py::make_tuple(o.x(), o.y(), o.z());
           },
           "where positions' zero lies in the file's coordinates (a georeferenced file's local "
           "origin; (0, 0, 0) otherwise): positions, rays and hits are relative to it")
-      .def("__repr__", [](const PointCloud& c) {
+      .def("__repr__", [](py::handle self) {
+        const PointCloud& c = cloud_of(self);
         return fmt::format("<pcrt.Cloud {} points from {}>", c.size(), c.name);
       });
 }
@@ -369,18 +402,8 @@ void bind_cloud(py::module_& m) {
 
 namespace {
 
-// The Scene a bound member is called on, checked: an object whose __init__ never ran
-// (Scene.__new__(Scene)) has no C++ Scene behind it, and pybind11 would call through garbage.
 Scene& initialised(const py::handle& self) {
-  if (!py::isinstance<Scene>(self))
-    throw py::type_error("pcrt.Scene method called on another type");
-  auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
-  const py::detail::value_and_holder vh =
-      inst->get_value_and_holder(py::detail::get_type_info(typeid(Scene)));
-  if (!vh.holder_constructed() || !vh.value_ptr())
-    throw py::type_error(
-        "pcrt.Scene is not initialised: make it with pcrt.Scene(cloud, method=...)");
-  return *vh.value_ptr<Scene>();
+  return held<Scene>(self, "pcrt.Scene", "pcrt.Scene(cloud, method=...)");
 }
 
 template <typename R, typename... A>

@@ -291,3 +291,59 @@ def test_read_exr_gives_the_frame_the_command_line_wrote(tmp_path):
     (tmp_path / "cut.exr").write_bytes(frame.read_bytes()[:50])
     with pytest.raises(pcrt.Error, match="cut.exr"):
         pcrt.read_exr(str(tmp_path / "cut.exr"))
+
+
+def tiled_exr(path, width, height, tile):
+    """An uncompressed tiled EXR of one float channel R = 100 y + x, written by hand: tiles at the
+    right and bottom edges are cut to the image, as OpenEXR writes them."""
+    import struct
+
+    def attr(name, kind, data):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(data)) + data
+    header = b"\x76\x2f\x31\x01" + struct.pack("<I", 2 | 0x200)
+    header += attr("channels", "chlist", b"R\0" + struct.pack("<iB3xii", 2, 0, 1, 1) + b"\0")
+    header += attr("compression", "compression", b"\0")
+    box = struct.pack("<4i", 0, 0, width - 1, height - 1)
+    header += attr("dataWindow", "box2i", box) + attr("displayWindow", "box2i", box)
+    header += attr("lineOrder", "lineOrder", b"\0") + attr("pixelAspectRatio", "float", struct.pack("<f", 1))
+    header += attr("screenWindowCenter", "v2f", struct.pack("<2f", 0, 0))
+    header += attr("screenWindowWidth", "float", struct.pack("<f", 1))
+    header += attr("tiles", "tiledesc", struct.pack("<IIB", tile, tile, 0)) + b"\0"
+    chunks = []
+    for ty in range(-(-height // tile)):
+        for tx in range(-(-width // tile)):
+            w, h = min(tile, width - tx * tile), min(tile, height - ty * tile)
+            data = b"".join(struct.pack("<f", (ty * tile + y) * 100 + tx * tile + x)
+                            for y in range(h) for x in range(w))
+            chunks.append(struct.pack("<5i", tx, ty, 0, 0, len(data)) + data)
+    offset, table, body = len(header) + 8 * len(chunks), b"", b""
+    for c in chunks:
+        table += struct.pack("<Q", offset + len(body))
+        body += c
+    path.write_bytes(header + table + body)
+
+
+@pytest.mark.parametrize("width,height", [(8, 8), (5, 3), (6, 6)])
+def test_a_tiled_exr_reads_its_edge_tiles_in_place(tmp_path, width, height):
+    path = tmp_path / "tiled.exr"
+    tiled_exr(path, width, height, 4)
+    want = np.add.outer(100 * np.arange(height), np.arange(width)).astype(np.float32)
+    assert np.array_equal(pcrt.read_exr(str(path))["R"], want)
+
+
+def test_hostile_arrays_and_objects_are_errors():
+    c = pcrt.Cloud.__new__(pcrt.Cloud)  # no C++ cloud behind it
+    for use in (len, repr, lambda c: c.positions, lambda c: c.bounds, lambda c: c.name):
+        with pytest.raises(TypeError, match="pcrt.Cloud is not initialised"):
+            use(c)
+    p = np.random.default_rng(1).random((10, 3))
+    with pytest.raises(pcrt.Error, match="radii: 0 rows for 10 points"):
+        pcrt.from_arrays(p, radii=np.ones(0))
+    with pytest.raises(pcrt.Error, match="normals: 0 rows for 10 points"):
+        pcrt.from_arrays(p, normals=np.zeros((0, 3)))
+    with pytest.raises(pcrt.Error, match=r"positions: an array of <U1 values, not numbers"):
+        pcrt.from_arrays(np.array([["a", "b", "c"]]))
+    with pytest.raises(pcrt.Error, match=r"got shape \(5, 4\)"):
+        pcrt.from_arrays(np.zeros((5, 4)))
+    with pytest.raises(pcrt.Error, match="from a stream without a size"):
+        pcrt.read_exr("/dev/zero")
