@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "core/point_cloud_io.hpp"
 
 namespace pcrt {
@@ -128,6 +129,31 @@ std::vector<float> channel_values(const EXRImage& image, const EXRHeader& header
   return v;
 }
 
+// A header's promises checked before tinyexr allocates for them: its chunk offset table (one 8-byte
+// offset per chunk of the first level; a scanline chunk holds at most 256 rows) must lie within
+// the file, and its pixels, as floats, once in tinyexr's planes and once in ours, must fit.
+void check_exr_size(const EXRHeader& header, size_t file_bytes, const std::string& source) {
+  const EXRBox2i& box = header.data_window;
+  const int64_t w = int64_t(box.max_x) - box.min_x + 1, h = int64_t(box.max_y) - box.min_y + 1;
+  if (w <= 0 || h <= 0 || header.num_channels <= 0)
+    input_error("{}: an EXR image of {}x{} pixels and {} channels", source, w, h,
+                header.num_channels);
+  auto blocks = [](int64_t n, int64_t per) { return (n + per - 1) / per; };
+  const bool tiled = header.tiled && header.tile_size_x > 0 && header.tile_size_y > 0;
+  const double chunks =
+      tiled ? double(blocks(w, header.tile_size_x)) * double(blocks(h, header.tile_size_y))
+            : double(blocks(h, 256));
+  if (chunks * 8 > double(file_bytes))
+    input_error(
+        "{}: truncated EXR file: its header promises {:.0f} chunks of {}x{} pixels, whose "
+        "offsets alone take more than its {} bytes",
+        source, chunks, w, h, file_bytes);
+  const double pixel_bytes = double(w) * double(h) * double(header.num_channels) * sizeof(float);
+  const double bytes = 2 * pixel_bytes + chunks * 64 + double(file_bytes);
+  require_memory(bytes >= 1e19 ? size_t(-1) : size_t(bytes),
+                 fmt::format("{} ({}x{} pixels, {} channels)", source, w, h, header.num_channels));
+}
+
 }  // namespace
 
 ExrImage decode_exr(const std::string& bytes, const std::string& source) {
@@ -142,6 +168,7 @@ ExrImage decode_exr(const std::string& bytes, const std::string& source) {
   if (ParseEXRHeaderFromMemory(&parts.header, &version, data, bytes.size(), &err) !=
       TINYEXR_SUCCESS)
     exr_refused(source, err);
+  check_exr_size(parts.header, bytes.size(), source);
   for (int c = 0; c < parts.header.num_channels; ++c)
     parts.header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
   if (LoadEXRImageFromMemory(&parts.image, &parts.header, data, bytes.size(), &err) !=

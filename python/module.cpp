@@ -181,7 +181,8 @@ class Scene {
         const std::string& structure, const py::kwargs& params)
       : cloud_(std::move(cloud)) {
     if (!cloud_) input_error("Scene: cloud is None (give a cloud from pcrt.load or from_arrays)");
-    SceneOptions options{text_arg(method, "method"), text_arg(structure, "structure"), {}};
+    SceneOptions options{
+        text_arg(method, "method"), text_arg(structure, "structure"), {}, "Scene keyword"};
     for (const auto& [k, v] : params) {
       const std::string name = text_arg(py::cast<std::string>(k), "parameter name");
       try {

@@ -42,8 +42,9 @@ void PointScene::resolve(const SceneOptions& options) {
       std::string known;
       for (const auto& s : method_info_->params) known += (known.empty() ? "" : ", ") + s.name;
       for (const auto& s : sinfo.params) known += (known.empty() ? "" : ", ") + s.name;
-      input_error("--set {}: not a parameter of method '{}' or structure '{}' (known: {})", name,
-                  method_info_->id, structure_id_, known.empty() ? "none" : known);
+      input_error("{} {}: not a parameter of method '{}' or structure '{}' (known: {})",
+                  options.set_source, name, method_info_->id, structure_id_,
+                  known.empty() ? "none" : known);
     }
   }
   method_params_ = resolve_params(method_info_->params, for_method, "method " + method_info_->id);

@@ -39,6 +39,8 @@ struct SceneOptions {
   std::string method;
   std::string structure;  // empty: the method's paper's structure
   ParamValues set;        // --set values; each name must belong to the method or the structure
+  // How a user gave `set`, for the error naming an unknown one ("--set", "keyword").
+  std::string set_source = "--set";
 };
 
 class PointScene final : public SceneIntersector {

@@ -171,7 +171,7 @@ def test_errors_are_the_command_lines_one_line_errors():
     cloud = pcrt.load("sphere:n=500")
     with pytest.raises(pcrt.Error, match="unknown method 'nope'"):
         pcrt.Scene(cloud, method="nope")
-    with pytest.raises(pcrt.Error, match="leaf_siz"):
+    with pytest.raises(pcrt.Error, match="^Scene keyword leaf_siz: not a parameter"):
         pcrt.Scene(cloud, method="reference_splat", leaf_siz=4)
     with pytest.raises(pcrt.Error, match="parameter leaf_size: expected a number, got big"):
         pcrt.Scene(cloud, method="reference_splat", structure="kd_tree", leaf_size="big")
@@ -293,9 +293,10 @@ def test_read_exr_gives_the_frame_the_command_line_wrote(tmp_path):
         pcrt.read_exr(str(tmp_path / "cut.exr"))
 
 
-def tiled_exr(path, width, height, tile):
+def tiled_exr(path, width, height, tile, header_only=False):
     """An uncompressed tiled EXR of one float channel R = 100 y + x, written by hand: tiles at the
-    right and bottom edges are cut to the image, as OpenEXR writes them."""
+    right and bottom edges are cut to the image, as OpenEXR writes them. `header_only`: the header
+    and 64 zero bytes, as a cut or forged file."""
     import struct
 
     def attr(name, kind, data):
@@ -309,6 +310,9 @@ def tiled_exr(path, width, height, tile):
     header += attr("screenWindowCenter", "v2f", struct.pack("<2f", 0, 0))
     header += attr("screenWindowWidth", "float", struct.pack("<f", 1))
     header += attr("tiles", "tiledesc", struct.pack("<IIB", tile, tile, 0)) + b"\0"
+    if header_only:
+        path.write_bytes(header + bytes(64))
+        return
     chunks = []
     for ty in range(-(-height // tile)):
         for tx in range(-(-width // tile)):
@@ -329,6 +333,18 @@ def test_a_tiled_exr_reads_its_edge_tiles_in_place(tmp_path, width, height):
     tiled_exr(path, width, height, 4)
     want = np.add.outer(100 * np.arange(height), np.arange(width)).astype(np.float32)
     assert np.array_equal(pcrt.read_exr(str(path))["R"], want)
+
+
+def test_an_exr_header_promising_more_than_its_file_or_memory_is_refused(tmp_path):
+    # Before: tinyexr allocated for the header's promise and the process was killed for memory.
+    path = tmp_path / "forged.exr"
+    tiled_exr(path, 100000, 100000, 1, header_only=True)
+    with pytest.raises(pcrt.Error, match="forged.exr: truncated EXR file: its header promises "
+                                         "10000000000 chunks"):
+        pcrt.read_exr(str(path))
+    tiled_exr(path, 400000, 400000, 400000, header_only=True)
+    with pytest.raises(pcrt.Error, match=r"out of memory: .*forged.exr \(400000x400000 pixels"):
+        pcrt.read_exr(str(path))
 
 
 def test_hostile_arrays_and_objects_are_errors():
