@@ -94,6 +94,7 @@ json fit_json(const GroupFit& fit) {
               {"metric", fit.metric},
               {"runs", fit.runs},
               {"failed_runs", fit.failed_runs},
+              {"missing_runs", fit.missing_runs},
               {"verdict", verdict_name(fit.verdict)}};
   if (fit.claimed)
     out.update({{"claimed", fit.claimed->complexity},

@@ -258,6 +258,7 @@ void write_fits(const std::string& dir, const std::vector<json>& fits) {
                                          "leave_one_out",
                                          "source",
                                          "failed_runs",
+                                         "missing_runs",
                                          "error"};
   write_csv(dir + "/fits.csv", cols, fits);
 }

@@ -11,16 +11,16 @@ using namespace pcrt;
 
 namespace {
 
-SweepConfig config(const json& fit) {
-  const json raw = {
-      {"name", "t"},
-      {"experiments",
-       {{{"name", "e"},
-         {"kind", "render"},
-         {"methods", {"hubo_2006"}},
-         {"datasets", {"sphere"}},
-         {"grid", {{"N", {1000, 2000, 4000, 8000, 16000, 32000}}, {"M", {64}}, {"B", {0}}}},
-         {"fits", {fit}}}}}};
+SweepConfig config(const json& fit,
+                   const json& n_grid = json{1000, 2000, 4000, 8000, 16000, 32000}) {
+  const json raw = {{"name", "t"},
+                    {"experiments",
+                     {{{"name", "e"},
+                       {"kind", "render"},
+                       {"methods", {"hubo_2006"}},
+                       {"datasets", {"sphere"}},
+                       {"grid", {{"N", n_grid}, {"M", {64}}, {"B", {0}}}},
+                       {"fits", {fit}}}}}};
   return parse_sweep_config(raw, "test");
 }
 
@@ -276,4 +276,62 @@ TEST_CASE("an optional key of the wrong type is an InputError naming it", "[swee
     bad["experiments"][0]["fits"][0][key] = json::object();
     REQUIRE_THAT(message(bad), Catch::Contains("fits[0]") && Catch::Contains(key));
   }
+}
+
+namespace {
+
+// Results for every run the config expands to, in its own specs, N as loaded where given:
+// frames whose node visits grow as log N, at 8 items per leaf.
+std::vector<RunResult> runs_of(const SweepConfig& c, bool loaded_n) {
+  std::vector<RunResult> runs;
+  for (const RunSpec& s : c.runs) {
+    const double n = *s.N;
+    RunResult r;
+    r.spec = s;
+    if (loaded_n) r.points = uint64_t(n), r.pixels = int64_t(*s.M);
+    r.counters = {{"nodes_visited", uint64_t(std::llround(1000 * std::log(n)))},
+                  {"items_visited", 800},
+                  {"leaves_visited", 100}};
+    runs.push_back(r);
+  }
+  return runs;
+}
+
+}  // namespace
+
+// A run that failed has no N as loaded: grouped by it, it once formed a group of its own and its
+// group's fit held without it.
+TEST_CASE("fit_runs: a failed or missing run keeps its group from holding", "[sweep][fit]") {
+  const SweepConfig c = config(
+      {{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "ops_nodes_visited"}},
+      {1000, 3000, 9000, 27000, 81000, 243000, 729000});
+  std::vector<RunResult> runs = runs_of(c, true);
+  const json all = fits_json(fit_runs(c, runs));
+  REQUIRE(all.size() == 1);
+  REQUIRE(all[0]["missing_runs"] == 0);
+  REQUIRE(all[0]["failed_runs"] == 0);
+  INFO(all[0].dump());
+  REQUIRE(all[0]["verdict"] == "holds");
+
+  std::vector<RunResult> with_failed = runs;
+  with_failed.back() = failed_run(runs.back().spec, RunStatus::kTimeout, "timed out");
+  const json failed = fits_json(fit_runs(c, with_failed));
+  REQUIRE(failed.size() == 1);
+  REQUIRE(failed[0]["failed_runs"] == 1);
+  REQUIRE(failed[0]["verdict"] == "inconclusive");
+
+  std::vector<RunResult> with_missing = runs;
+  with_missing.pop_back();
+  const json missing = fits_json(fit_runs(c, with_missing));
+  REQUIRE(missing.size() == 1);
+  INFO(missing[0].dump());
+  REQUIRE(missing[0]["missing_runs"] == 1);
+  REQUIRE(missing[0]["verdict"] == "inconclusive");
+  REQUIRE(missing[0]["reason"].get<std::string>().find("1 of its runs is missing") !=
+          std::string::npos);
+
+  const json none = fits_json(fit_runs(c, {}));
+  REQUIRE(none.size() == 1);
+  REQUIRE(none[0]["verdict"] == "error");
+  REQUIRE(none[0]["missing_runs"] == 7);
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -121,6 +122,16 @@ std::string drift_of(const std::vector<FitPoint>& pts, const FitSpec& f, const C
   return {};
 }
 
+// "2 of its runs failed or timed out, 1 is missing from runs.jsonl": the runs a group lacks.
+std::string lacking(const GroupFit& fit) {
+  std::string out;
+  if (fit.failed_runs > 0) out = fmt::format("{} of its runs failed or timed out", fit.failed_runs);
+  if (fit.missing_runs > 0)
+    out += fmt::format("{}{} of its runs {} missing from runs.jsonl", out.empty() ? "" : ", ",
+                       fit.missing_runs, fit.missing_runs == 1 ? "is" : "are");
+  return out;
+}
+
 ClaimVerdict fit_threshold(const FitSpec& f, const std::vector<FitPoint>& pts, GroupFit& fit) {
   ThresholdResult& result = fit.threshold.emplace();
   result.bound = f.max >= 0 ? fmt::format("<= {}", f.max) : fmt::format(">= {}", f.min);
@@ -131,12 +142,9 @@ ClaimVerdict fit_threshold(const FitSpec& f, const std::vector<FitPoint>& pts, G
           "a run has no value for {} (null or not finite): no verdict without data", fit.metric);
       return ClaimVerdict::kError;
     }
-  if (pts.empty() || fit.failed_runs > 0) {
+  if (pts.empty() || fit.failed_runs + fit.missing_runs > 0) {
     fit.error = pts.empty() ? "no successful run"
-                            : fmt::format(
-                                  "{} of its runs failed or timed out: no verdict "
-                                  "without their data",
-                                  fit.failed_runs);
+                            : fmt::format("{}: no verdict without their data", lacking(fit));
     return ClaimVerdict::kError;
   }
   double worst = f.max >= 0 ? 0 : std::numeric_limits<double>::infinity();
@@ -183,11 +191,10 @@ ClaimVerdict fit_growth_group(const FitSpec& f, const Claim& claim, std::vector<
   growth.short_range = f.short_range;
   growth.expected = expected_growth(claim.complexity, variable);
   GrowthFit g = fit_growth(growth.x, growth.y, *growth.expected, fit.claim, rules);
-  if (g.verdict == ClaimVerdict::kHolds && fit.failed_runs > 0) {  // not over missing data
-    g.verdict = ClaimVerdict::kInconclusive;
+  if (g.verdict == ClaimVerdict::kHolds && fit.failed_runs + fit.missing_runs > 0) {
+    g.verdict = ClaimVerdict::kInconclusive;  // not over missing data
     g.tightness = Tightness::kNotTested;
-    g.reason = fmt::format("it would hold ({}), but {} of its runs failed or timed out", g.reason,
-                           fit.failed_runs);
+    g.reason = fmt::format("it would hold ({}), but {}", g.reason, lacking(fit));
   }
   fit.reason = g.reason;
   growth.fit = std::move(g);
@@ -240,9 +247,10 @@ ClaimVerdict judge_group(const FitSpec& f, const std::vector<FitPoint>& pts, Gro
 }
 
 GroupFit fit_group(const FitSpec& f, const GroupIdentity& group,
-                   const std::vector<const RunResult*>& runs) {
+                   const std::vector<const RunResult*>& runs, size_t missing) {
   GroupFit fit;
-  fit.names = run_names(runs.front()->spec);
+  fit.missing_runs = missing;
+  fit.names = group.names;
   fit.claim = fill_claim(f.claim, fit.names);
   fit.experiment = f.experiment;
   fit.variable = f.variable;
@@ -252,6 +260,10 @@ GroupFit fit_group(const FitSpec& f, const GroupIdentity& group,
   fit.metric = metric_description(terms, f.per);
   const std::vector<FitPoint> pts = fit_points(f, terms, runs, fit.failed_runs);
   fit.runs = runs.size();
+  if (runs.empty()) {  // every run of the group is missing
+    fit.error = fmt::format("{}: no verdict without their data", lacking(fit));
+    return fit;
+  }
   try {
     fit.verdict = judge_group(f, pts, fit);
   } catch (const InputError& e) {
@@ -270,6 +282,7 @@ bool group_keeps(const FitSpec& f, const RunQuantity& column) {
   return !contains(f.swept, column) || contains(f.by, column);
 }
 
+// N and M as loaded and rendered where the run has them (what fits.json shows), else the grid's.
 std::optional<GridValue> grid_value(const RunResult& r, Variable v) {
   if (v == Variable::N && r.points) return GridValue{double(*r.points), true};
   if (v == Variable::M && r.pixels) return GridValue{double(*r.pixels), true};
@@ -277,14 +290,57 @@ std::optional<GridValue> grid_value(const RunResult& r, Variable v) {
   return std::isnan(value) ? std::nullopt : std::optional<GridValue>(GridValue{value, false});
 }
 
-GroupIdentity group_of(const FitSpec& f, const RunResult& r) {
+// The grid's own value, which a failed run has as well as an ok one.
+std::optional<GridValue> spec_value(const RunSpec& s, Variable v) {
+  const std::optional<double>& value = v == Variable::N   ? s.N
+                                       : v == Variable::M ? s.M
+                                       : v == Variable::S ? s.S
+                                                          : s.B;
+  return value ? std::optional<GridValue>(GridValue{*value, false}) : std::nullopt;
+}
+
+// With `measured`: the group as fits.json shows it (N and M as that run loaded and rendered
+// them); without, the group as the config made it, which is what runs are grouped by: a run that
+// failed has no N as loaded, and grouped by it would leave its group's fit without knowing of it.
+GroupIdentity group_of(const FitSpec& f, const RunSpec& spec, const RunResult* measured) {
   GroupIdentity group;
-  group.names = run_names(r.spec);
+  group.names = run_names(spec);
   for (Variable v : {Variable::N, Variable::M, Variable::S, Variable::B})
-    if (group_keeps(f, RunQuantity::of(v))) group.grid[v] = grid_value(r, v);
-  for (const auto& [name, value] : r.spec.set)
+    if (group_keeps(f, RunQuantity::of(v)))
+      group.grid[v] = measured ? grid_value(*measured, v) : spec_value(spec, v);
+  for (const auto& [name, value] : spec.set)
     if (group_keeps(f, RunQuantity::parameter(name))) group.parameters[name] = value;
   return group;
+}
+
+struct RunGroup {
+  GroupIdentity shown;
+  bool shown_from_ok_run = false;
+  std::vector<const RunResult*> runs;
+  size_t missing = 0;
+};
+
+// The runs of one FitSpec by group, and the config's runs of each group runs.jsonl lacks.
+std::map<std::string, RunGroup> groups_of(const FitSpec& f, const SweepConfig& config,
+                                          const std::vector<RunResult>& results) {
+  std::map<std::string, RunGroup> groups;  // by the group's JSON text: fits.json's order
+  std::set<std::string> present;
+  for (const RunResult& r : results) {
+    if (r.spec.experiment != f.experiment) continue;
+    present.insert(run_key(r));
+    RunGroup& g = groups[group_json(group_of(f, r.spec, nullptr)).dump()];
+    if (g.runs.empty() || (!g.shown_from_ok_run && r.ok()))
+      g.shown = group_of(f, r.spec, &r), g.shown_from_ok_run = r.ok();
+    g.runs.push_back(&r);
+  }
+  for (const RunSpec& s : config.runs)
+    if (s.experiment == f.experiment && !present.count(run_key(s))) {
+      const GroupIdentity group = group_of(f, s, nullptr);
+      RunGroup& g = groups[group_json(group).dump()];
+      if (g.runs.empty() && g.missing == 0) g.shown = group;
+      ++g.missing;
+    }
+  return groups;
 }
 
 }  // namespace
@@ -292,17 +348,8 @@ GroupIdentity group_of(const FitSpec& f, const RunResult& r) {
 std::vector<GroupFit> fit_runs(const SweepConfig& config, const std::vector<RunResult>& results) {
   std::vector<GroupFit> fits;
   for (const FitSpec& f : config.fits) {
-    // By the group's JSON text: the order fits.json has always listed a fit's groups in.
-    std::map<std::string, std::pair<GroupIdentity, std::vector<const RunResult*>>> groups;
-    for (const RunResult& r : results)
-      if (r.spec.experiment == f.experiment) {
-        GroupIdentity group = group_of(f, r);
-        auto& [identity, runs] = groups[group_json(group).dump()];
-        identity = std::move(group);
-        runs.push_back(&r);
-      }
-    for (const auto& [text, group] : groups)
-      fits.push_back(fit_group(f, group.first, group.second));
+    for (const auto& [text, g] : groups_of(f, config, results))
+      fits.push_back(fit_group(f, g.shown, g.runs, g.missing));
   }
   return fits;
 }

@@ -61,6 +61,9 @@ struct GroupFit {
   RunNames names;      // of the group's first run
   std::string metric;  // the columns summed, e.g. "ops_nodes_visited+ops_items_visited per ..."
   size_t runs = 0, failed_runs = 0;
+  // Runs the config expands to for this group that runs.jsonl does not hold (a partial merge, a
+  // shard): missing data, as a failed run is.
+  size_t missing_runs = 0;
   const Claim* claimed = nullptr;  // none: the claim is unknown (an error)
   ClaimVerdict verdict = ClaimVerdict::kError;
   std::optional<ClaimVerdict> verdict_if_fixed;  // a drifted group's verdict had it held still
