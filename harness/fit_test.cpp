@@ -140,6 +140,20 @@ TEST_CASE("design rules: range, leave-one-out, lack of fit, loop checks", "[fit]
     for (double v : x) y.push_back(v * (100 + 2 * std::log(v)));
     REQUIRE(fit_growth(x, y, Growth::kLinear, "S").verdict == ClaimVerdict::kLoopCheck);
   }
+  SECTION("replicates scattering about the same work per sample are still a loop check") {
+    // Three clouds (seeds) whose work per sample differs by up to 15%, each exactly linear: the
+    // scatter is between clouds, not a movement of y / x with x (judged point by point it was a
+    // "holds").
+    std::vector<double> x, y;
+    for (double v : {1, 2, 4, 8, 16, 32})
+      for (double per_sample : {100.0, 108.0, 115.0}) x.push_back(v), y.push_back(v * per_sample);
+    REQUIRE(fit_growth(x, y, Growth::kLinear, "S").verdict == ClaimVerdict::kLoopCheck);
+  }
+  SECTION("y / x that moves beyond the flatness is judged, not a loop check") {
+    std::vector<double> x = {1, 2, 4, 8, 16, 32}, y;
+    for (double v : x) y.push_back(v * (100 + 10 * std::log(v)));
+    REQUIRE(fit_growth(x, y, Growth::kLinear, "S").verdict != ClaimVerdict::kLoopCheck);
+  }
 }
 
 namespace {

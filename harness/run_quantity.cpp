@@ -218,6 +218,12 @@ std::optional<double> k_of(const RunResult& r) {
   return std::nullopt;
 }
 
+std::optional<double> held_k_of(const RunResult& r) {
+  if (count(r.counters, "leaves_visited") > 0)
+    return count(r.counters, "items_visited") / count(r.counters, "leaves_visited");
+  return k_of(r);
+}
+
 std::optional<double> iterations_per_run(const RunResult& r) {
   if (!MethodRegistry::instance().contains(r.spec.method)) return std::nullopt;
   const IterationCounters& it = MethodRegistry::instance().get(r.spec.method, "method").iterations;

@@ -81,6 +81,11 @@ double run_value(const RunResult& r, const RunQuantity& q);
 // K as runs.csv has it: the method's K when it has one (given, or its default), else the
 // measured mean items per visited leaf; none without either.
 std::optional<double> k_of(const RunResult& r);
+// K as a fit holds it fixed (or fits it as a covariate): the measured mean items per visited
+// leaf where the run visited leaves, whatever the method's K says (a method's K of 8 neighbours
+// does not stop the structure's leaves filling up as N grows, and the work counts their items),
+// else k_of.
+std::optional<double> held_k_of(const RunResult& r);
 // I as measured (I_run): the method's declared iteration steps per iterative run
 // (MethodInfo::iterations), whatever the cap; none for a method without an iterative kernel.
 std::optional<double> iterations_per_run(const RunResult& r);

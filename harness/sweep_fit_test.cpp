@@ -112,6 +112,20 @@ TEST_CASE("fit_runs: a threshold without its measure is an error, never a pass",
   REQUIRE(f["error"].get<std::string>().find("no value") != std::string::npos);
 }
 
+// A bound on I that the method's own cap on its iterations keeps cannot fail: it is tallied as
+// a check of the loops, not as a claim met.
+TEST_CASE("fit_runs: a bound on I that max_iterations keeps is a loop check", "[sweep][fit]") {
+  const SweepConfig c = config({{"claim", "{method}/iterations"}, {"metric", "I_run"}, {"max", 3}});
+  std::vector<RunResult> runs;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000})
+    runs.push_back(result(n, {{"newton_runs", 100}, {"newton_steps", 250}}));
+  REQUIRE(fits_json(fit_runs(c, runs))[0]["verdict"] == "meets");  // the cap is hubo_2006's own
+  for (RunResult& r : runs) r.spec.set["max_iterations"] = 3;
+  const json capped = fits_json(fit_runs(c, runs))[0];
+  REQUIRE(capped["verdict"] == "loop_check");
+  REQUIRE(capped["reason"].get<std::string>().find("by construction") != std::string::npos);
+}
+
 TEST_CASE("fit_runs: y proportional to x by construction is a loop check", "[sweep][fit]") {
   const SweepConfig c = config({{"claim", "{method}/leaf"},
                                 {"variable", "I"},
@@ -334,4 +348,22 @@ TEST_CASE("fit_runs: a failed or missing run keeps its group from holding", "[sw
   REQUIRE(none.size() == 1);
   REQUIRE(none[0]["verdict"] == "error");
   REQUIRE(none[0]["missing_runs"] == 7);
+}
+
+// With one run per x the run farthest from the median is that x's only witness: leaving it out
+// once hid a K that jumped at the largest N.
+TEST_CASE("fit_runs: a held K that jumps at one x without replicates is drifted", "[sweep][fit]") {
+  const SweepConfig c =
+      config({{"claim", "{method}/frame_reduced"}, {"variable", "N"}, {"metric", "work"}});
+  std::vector<RunResult> runs;
+  for (double n : {1000, 2000, 4000, 8000, 16000, 32000}) {
+    const double k = n == 32000 ? 20 : 8;
+    runs.push_back(result(n, {{"nodes_visited", 100 * std::log(n)},
+                              {"items_visited", 100 * k},
+                              {"leaves_visited", 100}}));
+  }
+  const json f = fits_json(fit_runs(c, runs))[0];
+  INFO(f.dump());
+  REQUIRE(f["verdict"] == "drifted");
+  REQUIRE(f["reason"].get<std::string>().find("K moved from 8 to 20 (+150%)") != std::string::npos);
 }

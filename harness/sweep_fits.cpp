@@ -12,6 +12,7 @@
 #include "harness/claims.hpp"
 #include "harness/fit.hpp"
 #include "harness/sweep_datasets.hpp"
+#include "methods/method.hpp"
 
 namespace pcrt {
 
@@ -54,8 +55,8 @@ std::string metric_description(const std::vector<RunQuantity>& terms,
   return fmt::format("{}{}", fmt::join(names, "+"), per ? " per " + run_quantity_name(*per) : "");
 }
 
-// The variables a run must hold while another is swept: K, k and I as measured (I_run), and the
-// hits per ray H of the methods that declare hits.
+// The variables a run must hold while another is swept: K (held_k_of: the items per visited
+// leaf), k and I as measured (I_run), and the hits per ray H of the methods that declare hits.
 const std::array<RunQuantity, 4>& held_quantities() {
   static const std::array<RunQuantity, 4> kHeld = {
       RunQuantity::of(Variable::K), RunQuantity::of(Variable::k),
@@ -89,16 +90,29 @@ bool must_stay_put(const FitSpec& f, const Claim& claim, const RunQuantity& held
   return is_iterations || !renders_only;
 }
 
-// The spread of a held variable, robust to one outlier: the value farthest from the median is
-// left out before the range is taken.
-std::pair<double, double> robust_range(std::vector<double> v) {
+// The spread of a held variable over (x, value) points, robust to one outlying run: with 4 or more
+// runs the value farthest from the median is left out, but only where another run at its x
+// remains (a replicate); with one run per x a value that jumps at one x is that x's only witness.
+struct HeldRange {
+  double lo, hi;
+  bool left_out;
+};
+HeldRange robust_range(std::vector<std::pair<double, double>> runs) {
+  std::vector<double> v;
+  for (const auto& [x, value] : runs) v.push_back(value);
   std::sort(v.begin(), v.end());
   const double median = v[v.size() / 2];
   if (v.size() >= 4) {
-    const bool low_is_farther = median - v.front() > v.back() - median;
-    v.erase(low_is_farther ? v.begin() : v.end() - 1);
+    const double far = median - v.front() > v.back() - median ? v.front() : v.back();
+    const auto at =
+        std::find_if(runs.begin(), runs.end(), [&](auto& p) { return p.second == far; });
+    const double x = at->first;
+    if (std::count_if(runs.begin(), runs.end(), [&](auto& p) { return p.first == x; }) >= 2) {
+      v.erase(far == v.front() ? v.begin() : v.end() - 1);
+      return {v.front(), v.back(), true};
+    }
   }
-  return {v.front(), v.back()};
+  return {v.front(), v.back(), false};
 }
 
 // Variables that the claim does not sweep must stay put: K (the method's K or the measured
@@ -107,17 +121,17 @@ std::string drift_of(const std::vector<FitPoint>& pts, const FitSpec& f, const C
   for (size_t i = 0; i < held_quantities().size(); ++i) {
     const RunQuantity& held = held_quantities()[i];
     if (!must_stay_put(f, claim, held)) continue;
-    std::vector<double> values;
+    std::vector<std::pair<double, double>> values;
     for (const FitPoint& p : pts)
-      if (std::isfinite(p.held[i])) values.push_back(p.held[i]);
+      if (std::isfinite(p.held[i])) values.emplace_back(p.x, p.held[i]);
     if (values.size() < 2) continue;
-    const auto [lo, hi] = robust_range(values);
+    const auto [lo, hi, left_out] = robust_range(values);
     if (hi > 0 && lo < hi && (hi - lo) > 0.2 * lo)
       return fmt::format("{} moved from {:.3g} to {:.3g} (+{:.0f}%{}) while it should be fixed",
                          held.source == Source::kIterationsPerRun ? "I (iterations per run)"
                                                                   : run_quantity_name(held),
                          lo, hi, 100 * (hi - lo) / lo,
-                         values.size() >= 4 ? ", the run farthest from the median left out" : "");
+                         left_out ? ", the run farthest from the median left out" : "");
   }
   return {};
 }
@@ -223,6 +237,7 @@ std::vector<FitPoint> fit_points(const FitSpec& f, const std::vector<RunQuantity
     if (f.per) y /= run_value(*r, *f.per);
     std::array<double, 4> held{};
     for (size_t i = 0; i < held.size(); ++i) held[i] = run_value(*r, held_quantities()[i]);
+    held[0] = held_k_of(*r).value_or(std::nan(""));  // K: as the leaves held it
     pts.push_back({f.x ? run_value(*r, *f.x) : 0.0, y, held});
   }
   return pts;
@@ -246,6 +261,25 @@ ClaimVerdict judge_group(const FitSpec& f, const std::vector<FitPoint>& pts, Gro
   return ClaimVerdict::kDrifted;
 }
 
+// The cap on a run's iterations: its method's max_iterations, given or by default; none without.
+std::optional<double> iteration_cap(const RunSpec& s) {
+  if (const auto given = s.set.find("max_iterations"); given != s.set.end()) return given->second;
+  if (!MethodRegistry::instance().contains(s.method)) return std::nullopt;
+  for (const ParamSpec& p : MethodRegistry::instance().get(s.method, "method").params)
+    if (p.name == "max_iterations") return p.default_value;
+  return std::nullopt;
+}
+
+// A bound on I that every run's cap on its iterations already keeps: met by construction.
+bool capped_by_construction(const FitSpec& f, const Claim& claim,
+                            const std::vector<const RunResult*>& runs) {
+  if (f.max < 0 || claim.complexity.rfind("I <=", 0) != 0) return false;
+  return std::all_of(runs.begin(), runs.end(), [&](const RunResult* r) {
+    const std::optional<double> cap = iteration_cap(r->spec);
+    return cap && *cap <= f.max;
+  });
+}
+
 GroupFit fit_group(const FitSpec& f, const GroupIdentity& group,
                    const std::vector<const RunResult*>& runs, size_t missing) {
   GroupFit fit;
@@ -266,6 +300,13 @@ GroupFit fit_group(const FitSpec& f, const GroupIdentity& group,
   }
   try {
     fit.verdict = judge_group(f, pts, fit);
+    if (fit.verdict == ClaimVerdict::kMeets && capped_by_construction(f, *fit.claimed, runs)) {
+      fit.verdict = ClaimVerdict::kLoopCheck;
+      fit.reason = fmt::format(
+          "every run's max_iterations keeps I {}: met by construction (a check of the loops, "
+          "not a test of the claim)",
+          fit.threshold->bound);
+    }
   } catch (const InputError& e) {
     fit.verdict = ClaimVerdict::kError;
     fit.error = e.what();

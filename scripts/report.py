@@ -135,14 +135,15 @@ def main():
         "the same model plus a faster term c h: one class up, g x^0.25 between classes, and two classes "
         "up, and gives the share of y at the largest x that the faster term could carry. **holds**: "
         "every such share's 95% upper bound is under the tolerance (25%), the claimed model fits its "
-        "replicates, x spans 2 decades in N and M (1 in K, k, S, B) and no single x changes the "
-        "verdict; the column 'faster growth could carry' is how much a holds could be hiding. "
+        "replicates, x spans 2 decades in N and M (1 in K, k, S, B, I and H), no failed or missing run, "
+        "and, with 6 or more distinct x, no single x changes the verdict; the column 'faster growth could carry' is how much a holds could be hiding. "
         "**exceeds**: a faster term's share is above 0 at 99% (with and without the lower-order term) "
         "and the exponent's CI lies above the claimed model's own. **inconclusive**: otherwise, naming "
         "the term it could not exclude. *tight*: the claimed class is needed on top of the class below. "
         "Threshold claims **meet** or **miss**; a missing measure is an **error**. Outside the tallies: "
-        "**loop_check** (y/x constant, or within 10% over 30x of a linear claim: the loops, not the "
-        "claim), **drifted** (K, k or I moved by more than 20% while held), **not_judged** (the input "
+        "**loop_check** (y/x constant, or its mean at each x within 10% over 30x of a linear claim, or "
+        "a bound on I the cap keeps: the loops, not the claim), **drifted** (K as items per visited "
+        "leaf, k, I or H moved by more than 20% while held), **not_judged** (the input "
         "misses the claim's precondition). Claims about pcrt's own scaffolding are tallied apart "
         "(about = pcrt). docs/verdicts.md has the rules and their measured power. Operation counts are "
         "exact and machine independent; times are medians over the repetitions on this machine.\n")
@@ -153,8 +154,9 @@ def main():
     idents = [f for f in fits if f["verdict"] == "loop_check"]
     if idents:
         out.append("\n## Loop checks (not tallied as confirmations)\n")
-        out.append("The metric divided by x is the same at every x (or within 10% over at least 30x of a "
-                   "linear claim): the loop does the same work per unit of x. This confirms the loop "
+        out.append("The metric divided by x is the same at every x (or its mean at each x within 10% over "
+                   "at least 30x of a linear claim): the loop does the same work per unit of x; or a "
+                   "bound on I that the method's max_iterations keeps. This confirms the loop "
                    "structure; it cannot test the claim.\n")
         out.append("| claim | data | metric | x | y / x | reason |")
         out.append("|---|---|---|---|---|---|")
@@ -165,7 +167,9 @@ def main():
     if drifted:
         out.append("\n## Drifted groups (not judged)\n")
         out.append("A variable the experiment should hold fixed moved by more than 20% (one outlier left "
-                   "out; only variables the claim names, and not a declared covariate), so the growth "
+                   "out where a replicate at its x remains; K as items per visited leaf, k and H, and "
+                   "I only for claims that name it; not a declared covariate, nor K, k where M, S "
+                   "or B is swept), so the growth "
                    "cannot be attributed to the swept variable. The verdict the fit would have had is "
                    "shown for reference only.\n")
         out.append("| claim | data | variable | exponent [95% CI] | would be | why not judged |")
