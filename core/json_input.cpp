@@ -1,6 +1,9 @@
 #include "core/json_input.hpp"
 
 #include <algorithm>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/point_cloud_io.hpp"
@@ -44,8 +47,21 @@ void check_shape(std::string_view text, const std::string& source) {
 
 nlohmann::json parse_json_text(std::string_view text, const std::string& source) {
   check_shape(text, source);
+  // nlohmann keeps the last of two equal keys in one object; a config or scene whose "grid"
+  // appears twice would run what the reader did not see. Keys seen per open object:
+  std::vector<std::set<std::string>> keys;
+  const auto refuse_duplicates = [&](int, nlohmann::json::parse_event_t event,
+                                     nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if (event == E::object_start) keys.emplace_back();
+    if (event == E::object_end) keys.pop_back();
+    if (event == E::key && !keys.back().insert(parsed.get<std::string>()).second)
+      input_error("{}: key \"{}\" appears twice in one object (JSON keeps only one of them)",
+                  source, parsed.get<std::string>());
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text.begin(), text.end());
+    return nlohmann::json::parse(text.begin(), text.end(), refuse_duplicates);
   } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers beyond double
     // nlohmann's message names the place: "[json.exception.parse_error.101] parse error at line
     // 3, column 5: ..."; its tag is dropped.

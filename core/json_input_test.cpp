@@ -28,3 +28,13 @@ TEST_CASE("JSON input: a number beyond double is an error naming the file", "[js
   REQUIRE_THROWS_WITH(parse_json_text("{\"a\": 3e5353}", "big.json"),
                       Contains("big.json: not valid JSON: number overflow parsing '3e5353'"));
 }
+
+TEST_CASE("JSON input: a key twice in one object is an error naming it", "[json][errors]") {
+  REQUIRE_THROWS_WITH(
+      parse_json_text(R"({"grid": {"N": [100]}, "grid": {"N": [200]}})", "twice.json"),
+      Contains("twice.json: key \"grid\" appears twice in one object"));
+  REQUIRE_THROWS_WITH(parse_json_text(R"([{"a": 1}, {"b": {"c": 1, "c": 2}}])", "deep.json"),
+                      Contains("key \"c\" appears twice"));
+  // The same key in different objects, or nested under itself, is fine.
+  REQUIRE(parse_json_text(R"([{"a": 1}, {"a": 2}, {"a": {"a": 3}}])", "ok.json").is_array());
+}

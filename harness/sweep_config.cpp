@@ -161,6 +161,16 @@ void check_point_values(const GridPoint& p, RunKind kind, const std::string& whe
   // A reconstruction (and a crossover's) triangulates in 3D: fewer than 4 points fail every run.
   whole("N", kind == RunKind::kReconstruct || kind == RunKind::kCrossover ? 4 : 1, 2e8);
   whole("M", 1, 16384.0 * 16384.0);
+  // A render is sqrt(M) pixels square: any other M would run as the nearest square, unsaid.
+  if (const std::optional<double> m = p.get("M")) {
+    const double side = std::round(std::sqrt(*m));
+    if (side * side != *m)
+      input_error(
+          "{}: M = {} is not a square number of pixels (a run renders sqrt(M) x sqrt(M): "
+          "{} or {})",
+          where, *m, std::floor(std::sqrt(*m)) * std::floor(std::sqrt(*m)),
+          std::ceil(std::sqrt(*m)) * std::ceil(std::sqrt(*m)));
+  }
   whole("S", 1, 65536);
   whole("B", 0, 64);
   if (kind != RunKind::kWorkload && kind != RunKind::kReconstruct && !p.get("N"))
@@ -628,6 +638,11 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin, Datas
   SweepConfig c;
   c.raw = raw;
   c.name = optional_string(raw, "name", fs::path(origin).stem().string(), origin);
+  // The name is the folder under results/ a sweep writes to by default: one plain name.
+  if (c.name.empty() || c.name == "." || c.name == ".." ||
+      c.name.find_first_of("/\\") != std::string::npos)
+    input_error("{}: name \"{}\" must be a plain folder name (no '/', not '', '.' or '..')", origin,
+                c.name);
   const RunDefaults defaults = parse_defaults(raw, origin);
   c.time_limit_s = defaults.time_limit_s;
   if (!raw.contains("experiments") || !raw["experiments"].is_array() || raw["experiments"].empty())

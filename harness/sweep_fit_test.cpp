@@ -367,3 +367,21 @@ TEST_CASE("fit_runs: a held K that jumps at one x without replicates is drifted"
   REQUIRE(f["verdict"] == "drifted");
   REQUIRE(f["reason"].get<std::string>().find("K moved from 8 to 20 (+150%)") != std::string::npos);
 }
+
+TEST_CASE("a config's M is a square and its name a plain folder name", "[sweep][config]") {
+  const auto parse = [](const json& name, const json& m) {
+    json raw = {{"experiments",
+                 {{{"kind", "render"},
+                   {"methods", {"reference_splat"}},
+                   {"datasets", {"sphere"}},
+                   {"grid", {{"N", {100}}, {"M", m}, {"B", {1}}}}}}}};
+    if (!name.is_null()) raw["name"] = name;
+    return parse_sweep_config(raw, "c.json");
+  };
+  REQUIRE(parse(nullptr, {16, 1024}).name == "c");
+  REQUIRE_THROWS_WITH(
+      parse(nullptr, {17}),
+      Catch::Contains("M = 17 is not a square number of pixels") && Catch::Contains("16 or 25"));
+  for (const char* bad : {"", ".", "..", "../victim", "a/b"})
+    REQUIRE_THROWS_WITH(parse(bad, {16}), Catch::Contains("must be a plain folder name"));
+}
