@@ -86,6 +86,7 @@ ShardIndex parse_shard(const std::string& text) {
   const double n = parse_number(text.substr(slash + 1), "--shard");
   if (!(n >= 1 && i >= 0 && i < n && i == std::floor(i) && n == std::floor(n)))
     input_error("--shard {}: needs whole numbers 0 <= i < n", text);
+  if (n > double(kMaxShards)) input_error("--shard {}: n is outside [1, {}]", text, kMaxShards);
   return {size_t(i), size_t(n)};
 }
 
@@ -394,7 +395,8 @@ void bind(CLI::App& c, ClusterSubmitOptions& o) {
   c.add_option("CONFIG", o.target, "sweep configuration (with --resume: the cluster DIR)")
       ->required();
   text(c, "--out", o.out, "DIR", "output directory: scripts in DIR/slurm, shards in DIR/shards");
-  integer(c, "--shards", o.shards, "N", "array tasks, balanced on estimated run time", 1, 100000);
+  integer(c, "--shards", o.shards, "N", "array tasks, balanced on estimated run time", 1,
+          kMaxShards);
   text(c, "--partition", o.partition, "P", "sbatch --partition");
   text(c, "--time", o.time, "HH:MM:SS", "sbatch --time, per shard and for the merge");
   text(c, "--cpus-per-task", o.cpus_per_task, "C", "sbatch --cpus-per-task")

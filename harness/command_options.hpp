@@ -157,6 +157,10 @@ struct ShardIndex {
   size_t index = 0, count = 1;
 };
 
+// The most shards a sweep is split into: pcrt cluster submit --shards, pcrt sweep --shard i/n and
+// a plan file's "shards".
+constexpr size_t kMaxShards = 100000;
+
 struct SweepOptions {
   static constexpr const char* usage =
       "pcrt sweep CONFIG.json [--out DIR] [--resume | --overwrite] [--shard i/n [--costs DIR | "

@@ -257,6 +257,10 @@ if "$pcrt" info "$dir/tiny.xyz" >/dev/null 2>"$dir/err"; then echo "ok: pcrt inf
 # Sweep and check outputs and inputs of the wrong kind.
 config="$(dirname "$0")/../configs/ci.json"
 expect_error "--out $dir/keep.png: is a file, not a directory" sweep "$config" --out "$dir/keep.png"
+# A shard count past cluster submit's bound is refused, not allocated (1e9) or overflowed (1e30).
+expect_error "--shard 0/1e30: n is outside [1, 100000]" sweep "$config" --out "$dir/shard_out" --shard 0/1e30
+expect_error "--shard 0/1e9: n is outside [1, 100000]" sweep "$config" --out "$dir/shard_out" --shard 0/1e9
+expect_error "--shard 3/3: needs whole numbers 0 <= i < n" sweep "$config" --out "$dir/shard_out" --shard 3/3
 expect_error "$dir/statsdir: is a directory, not a file" check --config "$dir/statsdir" --baseline "$dir/b.json"
 expect_error "$dir/statsdir: is a directory, not a file" check --config "$config" --baseline "$dir/statsdir"
 expect_error "--baseline $dir/statsdir: is a directory" check --config "$config" --baseline "$dir/statsdir" --update
