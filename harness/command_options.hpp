@@ -47,6 +47,7 @@ struct RenderOptions {
   RenderSettings settings;  // --width ... --ray-epsilon, with the renderer's own defaults
   std::optional<std::string> depth, normals, stats;
   bool stream = false;  // --stream: the generator's points go straight into the method
+  bool view_given = false, up_given = false;  // refused with a scene file that has a camera
 };
 
 struct TraceOptions {

@@ -187,7 +187,29 @@ expect_error "--ray-epsilon must be <= 1e+12" furnace --method embree_oriented_d
 # A direction of huge components is a direction: normalised, not squared to infinity.
 scene s_big_up '{"objects": [{"quad": {"size": 1}, "transform": {"rotate": {"axis": [1e30,1e30,1e30], "degrees": 30}}}], "lights": [{"type": "sky"}], "camera": {"eye": [0,-3,1], "target": [0,0,0], "up": [0,0,1e30]}}'
 if "$pcrt" "${sr[@]}" "$dir/s_big_up.json" >/dev/null 2>"$dir/err"; then echo "ok: a scene with an up and an axis of 1e30"; else echo "FAIL: up or axis of 1e30: $(cat "$dir/err")"; fails=$((fails + 1)); fi
+# The same on the command line: --view and --up of huge components frame as their unit vectors.
+same_frame() {  # same_frame "what" args-a -- args-b: the two renders write the same image
+  local what=$1; shift
+  local a=() b=(); while [ "$1" != -- ]; do a+=("$1"); shift; done; shift; b=("$@")
+  local r=(render --method reference_splat --data sphere:n=200 --width 16 --height 16)
+  if "$pcrt" "${r[@]}" "${a[@]}" --out "$dir/frame_a.png" >/dev/null 2>"$dir/err" &&
+    "$pcrt" "${r[@]}" "${b[@]}" --out "$dir/frame_b.png" >/dev/null 2>>"$dir/err" &&
+    cmp -s "$dir/frame_a.png" "$dir/frame_b.png"; then
+    echo "ok: $what"
+  else
+    echo "FAIL: $what: $(cat "$dir/err")"; fails=$((fails + 1))
+  fi
+}
+same_frame "--view 1e39,1e39,0 frames as --view 1,1,0" --view 1e39,1e39,0 -- --view 1,1,0
+same_frame "--view 1e20,1e20,1e20 frames as --view 1,1,1" --view 1e20,1e20,1e20 -- --view 1,1,1
+same_frame "--up 0,0,1e20 frames as --up 0,0,1" --up 0,0,1e20 -- --up 0,0,1
+same_frame "--view 1e-200,-1e-200,0 frames as --view 1,-1,0" --view 1e-200,-1e-200,0 -- --view 1,-1,0
+expect_error "--view: '0,0,0' is the zero vector" "${render[@]}" --out "$dir/a.png" --view 0,0,0
+expect_error "--up: 'inf' is not finite" "${render[@]}" --out "$dir/a.png" --up 0,0,inf
 expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" --method reference_splat
+# A scene file's camera fixes the view as its objects fix the method.
+expect_error "--view does not apply to --scene $dir/s_big_up.json" "${sr[@]}" "$dir/s_big_up.json" --view 1,0,0
+expect_error "--up does not apply to --scene $dir/s_big_up.json" "${sr[@]}" "$dir/s_big_up.json" --up 0,1,0
 expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
 expect_error "--exact traces a generator's own surface: give --data only" furnace --exact --method reference_splat --data sphere:n=100
 expect_error "tri.off: no exact surface (a file, or a generator without one); --exact needs a generator with an exact surface" furnace --exact --data "$dir/tri.off"
