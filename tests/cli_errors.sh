@@ -170,6 +170,17 @@ expect_error "objects[0].transform.scale must lie in" "${sr[@]}" "$dir/s_nan.jso
 expect_error "lights must be a non-empty array" "${sr[@]}" "$dir/s_no_lights.json"
 expect_error "'laser' is not a light" "${sr[@]}" "$dir/s_light.json"
 expect_error "(sphere) needs \"radius\"" "${sr[@]}" "$dir/s_radius.json"
+# A sphere light's radius squares in float: bounded by the coordinate range, and one near the
+# largest allowed, a light around the whole scene, still lights it (finite, not black).
+scene s_huge_light '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "sphere", "position": [0,0,0], "radius": 1e20, "radiance": 1}]}'
+expect_error "s_huge_light.json: lights[0].radius must lie in [1e-09, 1e+12]" "${sr[@]}" "$dir/s_huge_light.json"
+scene s_big_light '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "sphere", "position": [0,0,0], "radius": 5e11, "radiance": 1}], "camera": {"eye": [0,-3,1], "target": [0,0,0]}}'
+if "$pcrt" "${sr[@]}" "$dir/s_big_light.json" --stats "$dir/big_light.json" >/dev/null 2>"$dir/err" &&
+  python3 -c 'import json, math, sys; m = json.load(open(sys.argv[1]))["image_mean"]; sys.exit(not all(v is not None and math.isfinite(v) and v > 0 for v in m))' "$dir/big_light.json"; then
+  echo "ok: a sphere light of radius 5e11 around the scene lights it"
+else
+  echo "FAIL: a sphere light of radius 5e11: $(cat "$dir/err") $(cat "$dir/big_light.json" 2>/dev/null | head -c 300)"; fails=$((fails + 1))
+fi
 expect_error "s_method.json: objects[0] (unknown method 'nope'" "${sr[@]}" "$dir/s_method.json"
 expect_error "missing.exr" "${sr[@]}" "$dir/s_env.json"
 expect_error "camera eye and target must differ" "${sr[@]}" "$dir/s_camera.json"
