@@ -2,7 +2,7 @@
 
     import pcrt
     cloud = pcrt.load("sphere:n=100000")        # or a .ply/.xyz/.pwn/.off file
-    scene = pcrt.Scene(cloud, method="goradia_2010", structure="octree", K=8)
+    scene = pcrt.Scene(cloud, method="goradia_2010", structure="octree", leaf_size=16)
     hits = scene.trace(origins, directions)     # numpy arrays: hit, t, position, normal, primitive
     image = scene.render(width=256, height=256) # (256, 256, 3) float32, linear
     runs = pcrt.read_sweep("results/thesis")    # pandas DataFrame (list of dicts without pandas)
