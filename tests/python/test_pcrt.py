@@ -218,6 +218,14 @@ def test_read_sweep(tmp_path):
         pcrt.read_sweep(str(tmp_path))
 
 
+@pytest.mark.parametrize("content", [b"", b"N,M\n1,2\n3,4,5,6\n", b"N,M\n\xff\xfe1,2\n",
+                                     b'N,M\n"1,2\n'])
+def test_read_sweep_of_a_damaged_runs_csv_is_an_error_naming_it(tmp_path, content):
+    (tmp_path / "runs.csv").write_bytes(content)
+    with pytest.raises(pcrt.Error, match="runs.csv: .*not a runs.csv pcrt wrote"):
+        pcrt.read_sweep(str(tmp_path))
+
+
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 
 
