@@ -62,23 +62,26 @@ CLI::Validator number_in(const std::string& option, double lo, double hi) {
           ""};
 }
 
-// "x,y,z" -> a non-zero vector.
-Vec3 parse_vector(const std::string& text, const std::string& option) {
-  std::vector<float> v;
+// "x,y,z" -> a unit vector, read and normalised in double (in float a component of 1e20 squares
+// to infinity, and one of 1e39 is infinite), as a scene file's directions.
+Vec3 parse_direction(const std::string& text, const std::string& option) {
+  std::vector<double> v;
   size_t pos = 0;
   while (pos <= text.size()) {
     size_t comma = text.find(',', pos);
     if (comma == std::string::npos) comma = text.size();
-    v.push_back(float(parse_number(text.substr(pos, comma - pos), option)));
+    v.push_back(parse_number(text.substr(pos, comma - pos), option));
     pos = comma + 1;
   }
   if (v.size() != 3) input_error("{}: '{}' is not x,y,z", option, text);
-  const Vec3 r(v[0], v[1], v[2]);
-  if (!(r.norm() > 0)) input_error("{}: '{}' is the zero vector", option, text);
-  return r;
+  const Vec3d r(v[0], v[1], v[2]);
+  const double scale = r.cwiseAbs().maxCoeff();  // finite: parse_number refuses the rest
+  if (!(scale > 0)) input_error("{}: '{}' is the zero vector", option, text);
+  const Vec3d unit = (r / scale).normalized();  // scaled first: 1e-200 squares to 0 in double
+  return unit.cast<float>();
 }
 
-// "i/n" -> shard i of n, 0 <= i < n.
+// "i/n" -> shard i of n, 0 <= i < n <= kMaxShards (as cluster submit --shards).
 ShardIndex parse_shard(const std::string& text) {
   const size_t slash = text.find('/');
   if (slash == std::string::npos) input_error("--shard {}: expected i/n", text);
@@ -86,6 +89,7 @@ ShardIndex parse_shard(const std::string& text) {
   const double n = parse_number(text.substr(slash + 1), "--shard");
   if (!(n >= 1 && i >= 0 && i < n && i == std::floor(i) && n == std::floor(n)))
     input_error("--shard {}: needs whole numbers 0 <= i < n", text);
+  if (n > double(kMaxShards)) input_error("--shard {}: n is outside [1, {}]", text, kMaxShards);
   return {size_t(i), size_t(n)};
 }
 
@@ -163,9 +167,15 @@ CLI::Option* assignments(CLI::App& c, const std::string& name, ParamValues& fiel
 
 std::string vector_text(const Vec3& v) { return fmt::format("{},{},{}", v.x(), v.y(), v.z()); }
 
-CLI::Option* direction(CLI::App& c, const std::string& name, Vec3& field, const std::string& help) {
+// `given`, if any, says the option was given (a default direction is a direction too).
+CLI::Option* direction(CLI::App& c, const std::string& name, Vec3& field, const std::string& help,
+                       bool* given = nullptr) {
   return once(c.add_option_function<std::string>(
-                  name, [&field, name](const std::string& v) { field = parse_vector(v, name); },
+                  name,
+                  [&field, name, given](const std::string& v) {
+                    field = parse_direction(v, name);
+                    if (given) *given = true;
+                  },
                   help),
               "X,Y,Z")
       ->default_str(vector_text(field));
@@ -219,8 +229,9 @@ void bind(CLI::App& c, RenderOptions& o) {
        "no point light: sky illumination only")
       ->multi_option_policy(CLI::MultiOptionPolicy::Throw)
       ->disable_flag_override();
-  direction(c, "--view", o.settings.view, "direction from the cloud's centre to the camera");
-  direction(c, "--up", o.settings.up, "camera up vector");
+  direction(c, "--view", o.settings.view, "direction from the cloud's centre to the camera",
+            &o.view_given);
+  direction(c, "--up", o.settings.up, "camera up vector", &o.up_given);
   number(c, "--ray-epsilon", o.settings.ray_epsilon, "E",
          "offset of secondary ray origins (0: 1e-3 x scene diagonal)", 0.0, kMaxRayEpsilon);
   text(c, "--depth", o.depth, "FILE.png|.exr",
@@ -394,7 +405,8 @@ void bind(CLI::App& c, ClusterSubmitOptions& o) {
   c.add_option("CONFIG", o.target, "sweep configuration (with --resume: the cluster DIR)")
       ->required();
   text(c, "--out", o.out, "DIR", "output directory: scripts in DIR/slurm, shards in DIR/shards");
-  integer(c, "--shards", o.shards, "N", "array tasks, balanced on estimated run time", 1, 100000);
+  integer(c, "--shards", o.shards, "N", "array tasks, balanced on estimated run time", 1,
+          kMaxShards);
   text(c, "--partition", o.partition, "P", "sbatch --partition");
   text(c, "--time", o.time, "HH:MM:SS", "sbatch --time, per shard and for the merge");
   text(c, "--cpus-per-task", o.cpus_per_task, "C", "sbatch --cpus-per-task")

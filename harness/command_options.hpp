@@ -47,6 +47,7 @@ struct RenderOptions {
   RenderSettings settings;  // --width ... --ray-epsilon, with the renderer's own defaults
   std::optional<std::string> depth, normals, stats;
   bool stream = false;  // --stream: the generator's points go straight into the method
+  bool view_given = false, up_given = false;  // refused with a scene file that has a camera
 };
 
 struct TraceOptions {
@@ -156,6 +157,10 @@ struct ConvertOptions {
 struct ShardIndex {
   size_t index = 0, count = 1;
 };
+
+// The most shards a sweep is split into: pcrt cluster submit --shards, pcrt sweep --shard i/n and
+// a plan file's "shards".
+constexpr size_t kMaxShards = 100000;
 
 struct SweepOptions {
   static constexpr const char* usage =

@@ -301,6 +301,12 @@ int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   std::vector<NamedPath> read;  // the files the scene names, checked now that they are known
   for (const std::string& f : file->files) read.emplace_back(f, *o.scene_file);
   check_outputs(render_outputs(o), read);
+  if (file->camera)  // the file's camera fixes the view, as it fixes the method
+    for (const auto& [given, option] :
+         {std::pair{o.view_given, "view"}, std::pair{o.up_given, "up"}})
+      if (given)
+        input_error("pcrt render: --{} does not apply to --scene {} (its camera says it)", option,
+                    *o.scene_file);
   apply_scene_camera(*file, rs);
   RenderResult r = render(file->scene, rs);
   file->timings["render"] = r.seconds;

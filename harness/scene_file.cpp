@@ -157,7 +157,9 @@ Light parse_light(const json& j, const Where& w, const std::filesystem::path& di
   } else if (type == "sphere") {
     l.kind = LightKind::kSphere;
     l.position = position(need("position"), w / "position", origin);
-    l.radius = number(need("radius"), w / "radius", 1e-9f, kBig);
+    // Within the coordinate range: a radius past about 1.8e19 squares to infinity in float, and
+    // the light's sampling and pdf square it (and distances as large).
+    l.radius = number(need("radius"), w / "radius", 1e-9f, kMaxCoordinate);
     l.power = vec3(need("radiance"), w / "radiance", 0, kBig);
   } else if (type == "environment") {
     l.kind = LightKind::kEnvironment;

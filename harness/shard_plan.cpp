@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "harness/command_options.hpp"
 #include "methods/method.hpp"
 
 namespace pcrt {
@@ -133,9 +134,6 @@ json plan_json(const ShardPlan& plan, const std::vector<RunSpec>& runs, const st
 }
 
 namespace {
-
-// pcrt cluster submit --shards' bound.
-constexpr size_t kMaxShards = 100000;
 
 // One shard of a plan file: its estimated seconds (if given) and its runs' keys.
 std::vector<std::string> read_planned_shard(const json& shard, const std::string& where) {

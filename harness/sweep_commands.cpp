@@ -152,6 +152,25 @@ void claim_folder(const std::string& dir, bool resume, bool overwrite) {
   move_aside(dir);
 }
 
+// A folder resumes the sweep that made it: another config's runs would join its runs.jsonl
+// unnoticed, as merge refuses shards of two configs. Where the datasets lie (dataset_dir, written
+// absolute) may move with a checkout.
+void check_resumed_config(const std::string& dir, const SweepConfig& config) {
+  const std::string path = dir + "/context.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return;
+  const json old = read_json_file(path);
+  if (!old.is_object()) input_error("{}: not an object", path);
+  json was = old.value("config", json()), now = config.raw;
+  if (was.is_object()) was.erase("dataset_dir");
+  if (now.is_object()) now.erase("dataset_dir");
+  if (was != now)
+    input_error(
+        "--out {}: its config differs from {}'s (context.json); --resume continues only the "
+        "sweep that made it (--overwrite starts again)",
+        dir, config.name);
+}
+
 // Where the runs already in DIR were made, kept when --resume rewrites context.json: the earlier
 // contexts' commits, machines and run counts, oldest first, each without its config.
 json earlier_runs_context(const std::string& dir, size_t runs_done) {
@@ -186,6 +205,7 @@ std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& d
   claim_folder(dir, resume, overwrite);
   const std::string jsonl = dir + "/runs.jsonl";
   const bool resuming = resume && fs::exists(jsonl);
+  if (resuming) check_resumed_config(dir, config);
   const std::set<std::string> done = resuming ? resume_from(jsonl) : std::set<std::string>{};
   if (!shard_record.is_null()) context["shard"] = shard_record;
   if (resuming) context["earlier"] = earlier_runs_context(dir, done.size());

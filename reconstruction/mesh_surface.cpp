@@ -109,14 +109,16 @@ float MeshSurface::normal_spread_deg(const Vec3& x, float radius) const {
 Vec3 MeshSurface::smooth_normal(const Vec3& x) const {
   const TriangleDistanceTree::Closest c = closest(x);
   const auto& t = mesh_.triangles[c.triangle];
-  const Vec3 a = mesh_.vertices[t[0]], b = mesh_.vertices[t[1]], d = mesh_.vertices[t[2]];
-  // Barycentric coordinates of the closest point, by sub-triangle areas.
-  const Vec3 full = (b - a).cross(d - a);
-  const float inv = 1.0f / std::max(full.squaredNorm(), 1e-30f);
-  const float wb = (c.point - a).cross(d - a).dot(full) * inv;
-  const float wd = (b - a).cross(c.point - a).dot(full) * inv;
-  const Vec3 n = (1 - wb - wd) * vertex_normals_[t[0]] + wb * vertex_normals_[t[1]] +
-                 wd * vertex_normals_[t[2]];
+  const Vec3d a = mesh_.vertices[t[0]].cast<double>(), b = mesh_.vertices[t[1]].cast<double>(),
+              d = mesh_.vertices[t[2]].cast<double>(), p = c.point.cast<double>();
+  // Barycentric coordinates of the closest point, by sub-triangle areas; in double, where the
+  // areas' squares of a triangle with edges of 1e9 stay finite.
+  const Vec3d full = (b - a).cross(d - a);
+  const double area2 = full.squaredNorm();
+  const double wb = area2 > 0 ? (p - a).cross(d - a).dot(full) / area2 : 0;
+  const double wd = area2 > 0 ? (b - a).cross(p - a).dot(full) / area2 : 0;
+  const Vec3 n = float(1 - wb - wd) * vertex_normals_[t[0]] + float(wb) * vertex_normals_[t[1]] +
+                 float(wd) * vertex_normals_[t[2]];
   return n.norm() > 0 ? Vec3(n.normalized()) : mesh_.normal(c.triangle);
 }
 

@@ -169,6 +169,31 @@ TEST_CASE("Huge mesh vertices: scenes refuse them, the BVH survives them", "[rec
   REQUIRE(hit.prim == 20);
 }
 
+TEST_CASE("Huge and tiny triangles keep their normals on every engine", "[reconstruction]") {
+  // Edges of 1e10: the float cross product squares to infinity and the normal came out zero.
+  TriangleMesh mesh;
+  mesh.vertices = {Vec3(0, 0, 0), Vec3(1e10f, 0, 0), Vec3(0, 1e10f, 1e10f)};
+  mesh.triangles = {{0, 1, 2}};
+  const Vec3 expected = Vec3(0, -1, 1).normalized();
+  REQUIRE((mesh.normal(0) - expected).norm() < 1e-6f);
+  OpCounters counters;
+  Timings timings;
+  for (const char* engine : {"bvh", "cgal_aabb", "embree"}) {
+    CAPTURE(engine);
+    const MeshScene scene(mesh, engine, counters, timings);
+    Hit hit;
+    const Ray ray{Vec3(1e9f, 1e9f, 5e10f), Vec3(0, 0, -1)};
+    REQUIRE(scene.closest_hit(ray, hit, counters));
+    CHECK(hit.n.allFinite());
+    CHECK((hit.n - expected).norm() < 1e-5f);
+  }
+  // Edges of 1e-20: the float cross product (1e-40) squares to zero, and the normal was +z.
+  TriangleMesh tiny;
+  tiny.vertices = {Vec3(0, 0, 0), Vec3(1e-20f, 0, 0), Vec3(0, 0, 1e-20f)};
+  tiny.triangles = {{0, 1, 2}};
+  REQUIRE((tiny.normal(0) - Vec3(0, -1, 0)).norm() < 1e-6f);
+}
+
 TEST_CASE("The triangle BVH returns exactly brute force's closest triangle", "[reconstruction]") {
   const Dataset d = load_dataset("sphere:n=3000");
   const ReconstructionReport r = reconstruction("afsr").run(d.cloud);

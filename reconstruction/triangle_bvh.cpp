@@ -223,8 +223,7 @@ class TriangleBvh final : public MeshEngine {
   // indices and vertices (four cache misses per hit on a large mesh).
   static Vec3 block_normal(const TriangleBlock& b, uint32_t k) {
     const Vec3 e1(b.e1[0][k], b.e1[1][k], b.e1[2][k]), e2(b.e2[0][k], b.e2[1][k], b.e2[2][k]);
-    const Vec3 n = e1.cross(e2);
-    return n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
+    return triangle_normal(e1, e2);
   }
 
   // The leaf's triangles against [ray.tmin, t_max]; narrows t_max and hit.t, hit.prim. Four at

@@ -51,8 +51,7 @@ size_t TriangleMesh::boundary_edges() const {
 
 Vec3 TriangleMesh::normal(uint32_t i) const {
   const auto& t = triangles[i];
-  const Vec3 n = (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]);
-  return n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
+  return triangle_normal(vertices[t[1]] - vertices[t[0]], vertices[t[2]] - vertices[t[0]]);
 }
 
 TriangleMesh read_mesh(const std::string& path) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -10,6 +11,15 @@
 #include "core/geometry.hpp"
 
 namespace pcrt {
+
+// The unit normal e1 x e2 of a triangle with edges e1 and e2 from one vertex; +z if degenerate.
+// In double: in float the cross product of edges of 5e9 squares to infinity (and of 1e-20 to
+// zero), and the normal came out zero.
+inline Vec3 triangle_normal(const Vec3& e1, const Vec3& e2) {
+  const Vec3d n = e1.cast<double>().cross(e2.cast<double>());
+  const double len = n.norm();
+  return len > 0 && std::isfinite(len) ? Vec3((n / len).cast<float>()) : Vec3(Vec3::UnitZ());
+}
 
 struct TriangleMesh {
   std::vector<Vec3> vertices;

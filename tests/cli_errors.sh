@@ -170,6 +170,17 @@ expect_error "objects[0].transform.scale must lie in" "${sr[@]}" "$dir/s_nan.jso
 expect_error "lights must be a non-empty array" "${sr[@]}" "$dir/s_no_lights.json"
 expect_error "'laser' is not a light" "${sr[@]}" "$dir/s_light.json"
 expect_error "(sphere) needs \"radius\"" "${sr[@]}" "$dir/s_radius.json"
+# A sphere light's radius squares in float: bounded by the coordinate range, and one near the
+# largest allowed, a light around the whole scene, still lights it (finite, not black).
+scene s_huge_light '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "sphere", "position": [0,0,0], "radius": 1e20, "radiance": 1}]}'
+expect_error "s_huge_light.json: lights[0].radius must lie in [1e-09, 1e+12]" "${sr[@]}" "$dir/s_huge_light.json"
+scene s_big_light '{"objects": [{"quad": {"size": 1}}], "lights": [{"type": "sphere", "position": [0,0,0], "radius": 5e11, "radiance": 1}], "camera": {"eye": [0,-3,1], "target": [0,0,0]}}'
+if "$pcrt" "${sr[@]}" "$dir/s_big_light.json" --stats "$dir/big_light.json" >/dev/null 2>"$dir/err" &&
+  python3 -c 'import json, math, sys; m = json.load(open(sys.argv[1]))["image_mean"]; sys.exit(not all(v is not None and math.isfinite(v) and v > 0 for v in m))' "$dir/big_light.json"; then
+  echo "ok: a sphere light of radius 5e11 around the scene lights it"
+else
+  echo "FAIL: a sphere light of radius 5e11: $(cat "$dir/err") $(cat "$dir/big_light.json" 2>/dev/null | head -c 300)"; fails=$((fails + 1))
+fi
 expect_error "s_method.json: objects[0] (unknown method 'nope'" "${sr[@]}" "$dir/s_method.json"
 expect_error "missing.exr" "${sr[@]}" "$dir/s_env.json"
 expect_error "camera eye and target must differ" "${sr[@]}" "$dir/s_camera.json"
@@ -187,7 +198,29 @@ expect_error "--ray-epsilon must be <= 1e+12" furnace --method embree_oriented_d
 # A direction of huge components is a direction: normalised, not squared to infinity.
 scene s_big_up '{"objects": [{"quad": {"size": 1}, "transform": {"rotate": {"axis": [1e30,1e30,1e30], "degrees": 30}}}], "lights": [{"type": "sky"}], "camera": {"eye": [0,-3,1], "target": [0,0,0], "up": [0,0,1e30]}}'
 if "$pcrt" "${sr[@]}" "$dir/s_big_up.json" >/dev/null 2>"$dir/err"; then echo "ok: a scene with an up and an axis of 1e30"; else echo "FAIL: up or axis of 1e30: $(cat "$dir/err")"; fails=$((fails + 1)); fi
+# The same on the command line: --view and --up of huge components frame as their unit vectors.
+same_frame() {  # same_frame "what" args-a -- args-b: the two renders write the same image
+  local what=$1; shift
+  local a=() b=(); while [ "$1" != -- ]; do a+=("$1"); shift; done; shift; b=("$@")
+  local r=(render --method reference_splat --data sphere:n=200 --width 16 --height 16)
+  if "$pcrt" "${r[@]}" "${a[@]}" --out "$dir/frame_a.png" >/dev/null 2>"$dir/err" &&
+    "$pcrt" "${r[@]}" "${b[@]}" --out "$dir/frame_b.png" >/dev/null 2>>"$dir/err" &&
+    cmp -s "$dir/frame_a.png" "$dir/frame_b.png"; then
+    echo "ok: $what"
+  else
+    echo "FAIL: $what: $(cat "$dir/err")"; fails=$((fails + 1))
+  fi
+}
+same_frame "--view 1e39,1e39,0 frames as --view 1,1,0" --view 1e39,1e39,0 -- --view 1,1,0
+same_frame "--view 1e20,1e20,1e20 frames as --view 1,1,1" --view 1e20,1e20,1e20 -- --view 1,1,1
+same_frame "--up 0,0,1e20 frames as --up 0,0,1" --up 0,0,1e20 -- --up 0,0,1
+same_frame "--view 1e-200,-1e-200,0 frames as --view 1,-1,0" --view 1e-200,-1e-200,0 -- --view 1,-1,0
+expect_error "--view: '0,0,0' is the zero vector" "${render[@]}" --out "$dir/a.png" --view 0,0,0
+expect_error "--up: 'inf' is not finite" "${render[@]}" --out "$dir/a.png" --up 0,0,inf
 expect_error "--method does not apply to --scene" "${sr[@]}" "$dir/s_keys.json" --method reference_splat
+# A scene file's camera fixes the view as its objects fix the method.
+expect_error "--view does not apply to --scene $dir/s_big_up.json" "${sr[@]}" "$dir/s_big_up.json" --view 1,0,0
+expect_error "--up does not apply to --scene $dir/s_big_up.json" "${sr[@]}" "$dir/s_big_up.json" --up 0,1,0
 expect_error "give --data, --mesh or --truth" furnace --method reference_splat --data sphere:n=100 --truth "$dir/tri.off"
 expect_error "--exact traces a generator's own surface: give --data only" furnace --exact --method reference_splat --data sphere:n=100
 expect_error "tri.off: no exact surface (a file, or a generator without one); --exact needs a generator with an exact surface" furnace --exact --data "$dir/tri.off"
@@ -257,6 +290,10 @@ if "$pcrt" info "$dir/tiny.xyz" >/dev/null 2>"$dir/err"; then echo "ok: pcrt inf
 # Sweep and check outputs and inputs of the wrong kind.
 config="$(dirname "$0")/../configs/ci.json"
 expect_error "--out $dir/keep.png: is a file, not a directory" sweep "$config" --out "$dir/keep.png"
+# A shard count past cluster submit's bound is refused, not allocated (1e9) or overflowed (1e30).
+expect_error "--shard 0/1e30: n is outside [1, 100000]" sweep "$config" --out "$dir/shard_out" --shard 0/1e30
+expect_error "--shard 0/1e9: n is outside [1, 100000]" sweep "$config" --out "$dir/shard_out" --shard 0/1e9
+expect_error "--shard 3/3: needs whole numbers 0 <= i < n" sweep "$config" --out "$dir/shard_out" --shard 3/3
 expect_error "$dir/statsdir: is a directory, not a file" check --config "$dir/statsdir" --baseline "$dir/b.json"
 expect_error "$dir/statsdir: is a directory, not a file" check --config "$config" --baseline "$dir/statsdir"
 expect_error "--baseline $dir/statsdir: is a directory" check --config "$config" --baseline "$dir/statsdir" --update

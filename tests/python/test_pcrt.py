@@ -218,6 +218,29 @@ def test_read_sweep(tmp_path):
         pcrt.read_sweep(str(tmp_path))
 
 
+@pytest.mark.parametrize("content", [b"", b"N,M\n1,2\n3,4,5,6\n", b"N,M\n\xff\xfe1,2\n",
+                                     b'N,M\n"1,2\n'])
+def test_read_sweep_of_a_damaged_runs_csv_is_an_error_naming_it(tmp_path, content):
+    (tmp_path / "runs.csv").write_bytes(content)
+    with pytest.raises(pcrt.Error, match="runs.csv: .*not a runs.csv pcrt wrote"):
+        pcrt.read_sweep(str(tmp_path))
+
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+
+
+@pytest.mark.parametrize("doc", ["README.md", "docs/python.md", "the module's docstring"])
+def test_the_documented_scene_example_runs(doc):
+    """The example's Scene line, as written, on a small cloud: its keywords are parameters."""
+    text = pcrt.__doc__ if doc.startswith("the") else open(os.path.join(ROOT, doc)).read()
+    lines = [l.split("#")[0].strip() for l in text.splitlines() if "scene = pcrt.Scene(" in l]
+    assert lines, doc
+    for line in lines:
+        names = {"pcrt": pcrt, "cloud": pcrt.load("sphere:n=2000")}
+        exec(line, names)
+        assert names["scene"].render(width=8, height=8).shape == (8, 8, 3)
+
+
 def test_half_made_objects_raise_instead_of_crashing():
     with pytest.raises(pcrt.Error, match="cloud is None"):
         pcrt.Scene(None, method="reference_splat")
