@@ -641,7 +641,7 @@ SweepConfig parse_sweep_config(const json& raw, const std::string& origin, Datas
   // The name is the folder under results/ a sweep writes to by default: one plain name.
   if (c.name.empty() || c.name == "." || c.name == ".." ||
       c.name.find_first_of("/\\") != std::string::npos)
-    input_error("{}: name \"{}\" must be a plain folder name (no '/', not '', '.' or '..')", origin,
+    input_error("{}: name '{}' must be a plain folder name (no '/', not '', '.' or '..')", origin,
                 c.name);
   const RunDefaults defaults = parse_defaults(raw, origin);
   c.time_limit_s = defaults.time_limit_s;
