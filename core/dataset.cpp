@@ -204,28 +204,28 @@ PointCloud generate_volume(const std::string& name, const ParamValues& p, const 
 const std::vector<GeneratorInfo>& generators() {
   static const std::vector<GeneratorInfo> list = {
       {"sphere", "uniform random points on a sphere at the origin",
-       with_common({{"radius", 1, 1e-30, 1e30, "sphere radius"}})},
+       with_common({{"radius", 1, 1e-6, 1e12, "sphere radius"}})},
       {"fibonacci_sphere",
        "Fibonacci-spiral points on a sphere at the origin (near-uniform, seed only affects noise)",
-       with_common({{"radius", 1, 1e-30, 1e30, "sphere radius"}})},
+       with_common({{"radius", 1, 1e-6, 1e12, "sphere radius"}})},
       {"plane", "uniform random points on the square z=0, |x|,|y| <= size/2",
-       with_common({{"size", 2, 1e-30, 1e30, "side of the square"}})},
+       with_common({{"size", 2, 1e-6, 1e12, "side of the square"}})},
       {"torus", "uniform (by area) random points on a torus around the z axis at the origin",
        with_common(
-           {{"R", 1, 1e-30, 1e30, "major radius"}, {"r", 0.25, 1e-30, 1e30, "minor radius"}})},
+           {{"R", 1, 1e-6, 1e12, "major radius"}, {"r", 0.25, 1e-6, 1e12, "minor radius"}})},
       {"bumpy_sphere",
        "uniform (by area) points on a sphere displaced by a*sin(f x)sin(f y)sin(f z)",
-       with_common({{"radius", 1, 1e-30, 1e30, "base radius"},
+       with_common({{"radius", 1, 1e-6, 1e12, "base radius"},
                     {"amplitude", 0.05, 0, 0.5, "relative displacement"},
                     {"frequency", 6, 0, 100, "angular frequency f"}})},
       {"ball", "uniform random points inside a ball at the origin (no surface: Delaunay tests)",
-       with_common({{"size", 2, 1e-30, 1e30, "diameter"}})},
+       with_common({{"size", 2, 1e-6, 1e12, "diameter"}})},
       {"cube", "uniform random points inside a cube at the origin (no surface: Delaunay tests)",
-       with_common({{"size", 2, 1e-30, 1e30, "side"}})},
+       with_common({{"size", 2, 1e-6, 1e12, "side"}})},
       {"skew_lines",
        "N/2 random points on each of two skew lines (x axis at z=-size/2, y axis at z=+size/2): "
        "the Delaunay worst case, (N/2-1)^2 cells",
-       with_common({{"size", 2, 1e-30, 1e30, "length of each segment and distance between them"}})},
+       with_common({{"size", 2, 1e-6, 1e12, "length of each segment and distance between them"}})},
   };
   return list;
 }

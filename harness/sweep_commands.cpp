@@ -138,15 +138,33 @@ void move_aside(const std::string& dir) {
   std::printf("%s: the earlier sweep's files are now in %s\n", dir.c_str(), aside.c_str());
 }
 
-// Without --resume a folder holding an earlier sweep's runs is never emptied: refused, or moved
-// aside with --overwrite.
-void claim_folder(const std::string& dir, bool resume, bool overwrite) {
-  const std::string jsonl = dir + "/runs.jsonl";
+// The files a sweep (and a fit and report of it) writes in its folder.
+constexpr std::array<const char*, 7> kSweepFiles = {"runs.jsonl", "runs.csv", "context.json",
+                                                    "fits.json",  "fits.csv", "fit_context.json",
+                                                    "report.md"};
+
+// Whether DIR holds a file a sweep would write, other than an empty runs.jsonl (what a sweep
+// killed before its first run leaves, with its context.json).
+bool holds_sweep_files(const std::string& dir) {
   std::error_code ec;
-  if (resume || !fs::exists(jsonl, ec) || fs::file_size(jsonl, ec) == 0) return;
+  const std::string jsonl = dir + "/runs.jsonl";
+  if (fs::exists(jsonl, ec) && fs::file_size(jsonl, ec) > 0) return true;
+  const bool started = fs::exists(jsonl, ec);
+  for (const char* name : kSweepFiles)
+    if (std::string(name) != "runs.jsonl" && !(started && std::string(name) == "context.json") &&
+        fs::exists(dir + "/" + name, ec))
+      return true;
+  return false;
+}
+
+// Without --resume a folder holding an earlier sweep's runs (or files of a sweep's names) is
+// never overwritten: refused, or moved aside with --overwrite.
+void claim_folder(const std::string& dir, bool resume, bool overwrite) {
+  if (resume || !holds_sweep_files(dir)) return;
   if (!overwrite)
     input_error(
-        "--out {} holds the runs of an earlier sweep: give --resume to continue it, or "
+        "--out {} holds the runs of an earlier sweep (or files of its names): give --resume to "
+        "continue it, or "
         "--overwrite to start again (its files are moved to {}/previous.N)",
         dir, dir);
   move_aside(dir);
@@ -189,6 +207,14 @@ json earlier_runs_context(const std::string& dir, size_t runs_done) {
   old["runs"] = runs_done - std::min(counted, runs_done);
   if (old["runs"] != 0) earlier.push_back(old);  // a resume that ran nothing made no run
   return earlier;
+}
+
+// A sweep's files in DIR must not be one of its inputs (the config, a baseline, a plan).
+void check_sweep_outputs(const std::string& dir, const std::vector<NamedPath>& inputs) {
+  make_output_directory(dir, "--out");  // as the sweep would: its files' folder must exist
+  std::vector<NamedPath> outputs;
+  for (const char* name : kSweepFiles) outputs.push_back({dir + "/" + name, "--out"});
+  check_outputs(outputs, inputs);
 }
 
 // Runs the `selected` runs of `config` not yet in DIR/runs.jsonl (with --resume); returns all
@@ -467,6 +493,9 @@ void announce_sweep(const SweepConfig& config, const std::vector<size_t>& select
 int command_sweep(const SweepOptions& o) {
   const SweepConfig config = load_sweep_config(o.config);
   const std::string dir = o.out.value_or("results/" + config.name);
+  std::vector<NamedPath> inputs = {{o.config, "CONFIG"}};
+  if (o.plan) inputs.push_back({*o.plan, "--plan"});
+  check_sweep_outputs(dir, inputs);
   const std::vector<size_t> selected = shard_runs(config, o);
   announce_sweep(config, selected, o);
   const json shard = o.shard ? shard_record(*o.shard, config, selected) : json();
@@ -762,10 +791,16 @@ int command_check(const CheckOptions& o) {
   if (o.update) check_outputs({{o.baseline, "--baseline"}}, {{o.config, "--config"}});
   const json base = o.update ? json() : read_baseline(o.baseline);
   const std::string dir = sweep_dir(o.out, "check");
+  check_sweep_outputs(dir, {{o.config, "--config"}, {o.baseline, "--baseline"}});
   const std::vector<RunResult> results =
       run_sweep(config, dir, false, true, all_runs(config), true);
   const json now = gate_record(results, fits_json(fit_runs(config, results)));
   if (!o.out) fs::remove_all(dir);
+  // A gate that compares no measurement passes nothing: every run failing in the baseline too
+  // would read "0 differences".
+  if (std::none_of(results.begin(), results.end(), [](const RunResult& r) { return r.ok(); }))
+    input_error("{}: every one of its {} runs failed or timed out: nothing to compare", o.config,
+                results.size());
   if (o.update) {
     write_json(o.baseline, now);
     std::printf("%s: baseline written (%zu runs, %zu verdicts)\n", o.baseline.c_str(),

@@ -170,6 +170,9 @@ std::shared_ptr<PointCloud> cloud_from_arrays(const py::handle& positions,
     if (given && rows != c->positions.size())
       input_error("{}: {} rows for {} points", what, rows, c->positions.size());
   c->validate();
+  // As a loaded file's: exact duplicates would make every neighbour search among them quadratic.
+  if (const size_t dropped = c->remove_duplicates())
+    note("pcrt: {}: dropped {} exact duplicate points ({} remain)", c->name, dropped, c->size());
   return c;
 }
 

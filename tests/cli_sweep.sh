@@ -212,7 +212,17 @@ fi
 grep -q "sbatch was not found" "$dir/err" && test "$(wc -l <"$dir/err")" -eq 1
 # A runs.jsonl without end (a link to /dev/zero) is read up to a bound (issue 14).
 mkdir -p "$dir/zero" && ln -s /dev/zero "$dir/zero/runs.jsonl"
-expect_error "runs.jsonl: more than 268435456 bytes" sweep "$dir/tiny.json" --out "$dir/zero" --resume
+cp "$dir/a/context.json" "$dir/zero/"
+expect_error "runs.jsonl: more than 268435456 bytes" fit "$dir/zero"
+# Appended to by --resume, it is an output: a device is refused before anything is read.
+expect_error "is a device, FIFO or socket" sweep "$dir/tiny.json" --out "$dir/zero" --resume
+# A sweep's files never overwrite its config or a file of its names it did not write.
+mkdir -p "$dir/own" && cp "$dir/tiny.json" "$dir/own/fits.json"
+expect_error "is also the input CONFIG" sweep "$dir/own/fits.json" --out "$dir/own" --fit
+cmp -s "$dir/own/fits.json" "$dir/tiny.json" || { echo "FAIL: the config was overwritten"; exit 1; }
+mkdir -p "$dir/theirs" && echo precious >"$dir/theirs/runs.csv"
+expect_error "holds the runs of an earlier sweep" sweep "$dir/tiny.json" --out "$dir/theirs"
+grep -q precious "$dir/theirs/runs.csv" || { echo "FAIL: runs.csv was overwritten"; exit 1; }
 # A results folder is owned: without --resume an earlier sweep's runs are refused, not emptied;
 # --overwrite moves them to previous.N first; a folder another sweep holds (its flock) is refused.
 cp "$dir/a/runs.jsonl" "$dir/a_runs.before"
@@ -242,4 +252,9 @@ expect_error "another sweep (pid 4242" sweep "$dir/tiny.json" --out "$dir/held" 
 kill "$holder" 2>/dev/null || true
 wait "$holder" 2>/dev/null || true
 test ! -e "$dir/a/.lock"  # released and removed when the sweep ends
+# A gate with no successful run compares nothing: refused, not "0 differences".
+printf '{"experiments": [{"kind": "render", "methods": ["reference_splat"], "datasets": ["sphere"], "grid": {"N": [100], "M": [16], "B": [1]}}]}' >"$dir/one.json"
+"$pcrt" check --config "$dir/one.json" --baseline "$dir/one_base.json" --update >/dev/null
+sed 's/^{/{"time_limit_s": 1e-300, /' "$dir/one.json" >"$dir/none_ok.json"
+expect_error "every one of its 1 runs failed or timed out" check --config "$dir/none_ok.json" --baseline "$dir/one_base.json"
 echo "sweep harness ok"

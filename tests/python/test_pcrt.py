@@ -70,6 +70,8 @@ def test_from_arrays_validates_like_a_file():
     cloud = pcrt.load("sphere:n=500")
     copy = pcrt.from_arrays(cloud.positions, normals=cloud.normals, name="mine")
     assert np.array_equal(copy.positions, cloud.positions) and copy.name == "mine"
+    twice = pcrt.from_arrays(np.concatenate([cloud.positions, cloud.positions[:10]]), name="twice")
+    assert len(twice) == 500  # exact duplicates dropped, as a file's are
     bad = np.array(cloud.positions)
     bad[7, 1] = np.nan
     with pytest.raises(pcrt.Error, match="mine"):
