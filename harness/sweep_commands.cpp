@@ -211,7 +211,8 @@ json earlier_runs_context(const std::string& dir, size_t runs_done) {
 
 // A sweep's files in DIR must not be one of its inputs (the config, a baseline, a plan).
 void check_sweep_outputs(const std::string& dir, const std::vector<NamedPath>& inputs) {
-  make_output_directory(dir, "--out");  // as the sweep would: its files' folder must exist
+  std::error_code ec;  // a folder not made yet holds no input (and a refused sweep makes none)
+  if (!fs::is_directory(dir, ec)) return;
   std::vector<NamedPath> outputs;
   for (const char* name : kSweepFiles) outputs.push_back({dir + "/" + name, "--out"});
   check_outputs(outputs, inputs);
