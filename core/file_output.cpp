@@ -1,9 +1,11 @@
 #include "core/file_output.hpp"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -12,6 +14,7 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "core/point_cloud_io.hpp"
 
 namespace pcrt {
 
@@ -63,6 +66,14 @@ void make_output_directory(const std::string& dir, const std::string& option) {
     input_error("{} {}: is a file, not a directory", option, dir);
   fs::create_directories(dir, ec);
   if (ec) input_error("{} {}: cannot create: {}", option, dir, ec.message());
+}
+
+void require_extension(const std::string& path, const std::string& option,
+                       const std::vector<std::string>& extensions) {
+  const std::string ext = lowercase_extension(path);
+  if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) return;
+  input_error("{} {}: writes {} files; give a name ending in {}", option, path,
+              fmt::join(extensions, " or "), fmt::join(extensions, " or "));
 }
 
 void check_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {

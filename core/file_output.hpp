@@ -34,6 +34,12 @@ using NamedPath = std::pair<std::string, std::string>;
 // the same file, which would keep only the last one written (`--out a.png --stats a.png`).
 void check_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
+// An output whose name says another format than the one written is refused (`convert --out
+// x.xyz` once wrote a PLY that pcrt then could not read back as XYZ): `extensions` are the ones
+// the command writes, lower case with the dot (".png", ".exr").
+void require_extension(const std::string& path, const std::string& option,
+                       const std::vector<std::string>& extensions);
+
 // Creates the output directory `dir` (and its parents) or throws InputError naming `option`.
 void make_output_directory(const std::string& dir, const std::string& option);
 

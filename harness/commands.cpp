@@ -295,12 +295,21 @@ std::vector<NamedPath> render_outputs(const RenderOptions& o) {
   return out;
 }
 
+// check_outputs of a frame's files, and the images named as what they are written as.
+void check_render_outputs(const RenderOptions& o, const std::vector<NamedPath>& inputs) {
+  check_outputs(render_outputs(o), inputs);
+  const std::vector<std::string> images = {".png", ".exr"};
+  require_extension(o.out, "--out", images);
+  if (o.depth) require_extension(*o.depth, "--depth", images);
+  if (o.normals) require_extension(*o.normals, "--normals", images);
+}
+
 int render_scene_file(const RenderOptions& o, RenderSettings rs) {
   check_scene_file_args(o);
   const auto file = load_scene_file(*o.scene_file);
   std::vector<NamedPath> read;  // the files the scene names, checked now that they are known
   for (const std::string& f : file->files) read.emplace_back(f, *o.scene_file);
-  check_outputs(render_outputs(o), read);
+  check_render_outputs(o, read);
   if (file->camera)  // the file's camera fixes the view, as it fixes the method
     for (const auto& [given, option] :
          {std::pair{o.view_given, "view"}, std::pair{o.up_given, "up"}})
@@ -338,8 +347,9 @@ int command_render(const RenderOptions& o) {
   check_outputs(render_outputs(o), inputs);
   if (o.scene_file) {
     if (o.stream) input_error("pcrt render: --stream does not apply to --scene");
-    return render_scene_file(o, rs);
+    return render_scene_file(o, rs);  // its outputs checked again with the files it reads
   }
+  check_render_outputs(o, inputs);
   const auto loaded =
       o.stream ? load_streamed_scene(o.scene) : load_scene(o.scene, "render", RenderOptions::usage);
   const double setup_cpu = process_cpu_seconds();  // load, prepare and build, every thread
@@ -892,6 +902,7 @@ int command_list(const ListOptions& o) {
 
 int command_convert(const ConvertOptions& o) {
   check_outputs({{o.out, "--out"}}, {{o.data, "DATA"}});
+  require_extension(o.out, "--out", {".ply"});
   const Dataset d = load_dataset_in_input_order(o.data);  // a file keeps its order
   write_ply(o.out, d.cloud, o.ascii ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian);
   std::printf("%s: %zu points (%s)\n", o.out.c_str(), d.cloud.size(),

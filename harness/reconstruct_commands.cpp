@@ -22,6 +22,7 @@ int command_reconstruct(const ReconstructOptions& o) {
   const ReconstructionInfo& info =
       ReconstructionRegistry::instance().get(o.method, "reconstruction");
   if (o.out) check_outputs({{*o.out, "--out"}}, {{o.data, "--data"}});
+  if (o.out) require_extension(*o.out, "--out", {".ply"});
   const Dataset d = load_dataset(o.data);
   const ReconstructionReport r = info.run(d.cloud);
   if (o.out) {

@@ -254,6 +254,12 @@ expect_error "c_scene.json: experiments[0]: scene: $dir/s_unswept.json: objects 
 # link is written through to its target and stays a link; an output that is an input is refused.
 mkfifo "$dir/fifo"
 expect_error "--out $dir/fifo: is a device, FIFO or socket" "${render[@]}" --out "$dir/fifo"
+# An output named as another format than the one written is refused (convert --out x.xyz once
+# wrote a PLY that pcrt could not read back).
+expect_error "--out $dir/x.jpg: writes .png or .exr files" "${render[@]}" --out "$dir/x.jpg"
+expect_error "--depth $dir/d.tif: writes .png or .exr files" "${render[@]}" --out "$dir/x.png" --depth "$dir/d.tif"
+expect_error "--out $dir/x.xyz: writes .ply files" convert sphere:n=10 --out "$dir/x.xyz"
+expect_error "--out $dir/m.off: writes .ply files" reconstruct --method delaunay --data sphere:n=100 --out "$dir/m.off"
 [ -p "$dir/fifo" ] || { echo "FAIL: the FIFO was replaced"; fails=$((fails + 1)); }
 expect_error "--stats /dev/null: is a device, FIFO or socket" "${render[@]}" --out "$dir/dev.png" --stats /dev/null
 [ -c /dev/null ] || { echo "FAIL: /dev/null is no longer a device"; fails=$((fails + 1)); }
