@@ -190,7 +190,11 @@ TEST_CASE("hostile inputs: huge coordinates, property-less elements, endless str
     REQUIRE_INPUT_ERROR(
         read_point_cloud(write_text("far.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 0 -3e38\n")),
         "far.off: line 5: vertex 2 has a coordinate beyond");
-    REQUIRE_INPUT_ERROR(load_dataset("sphere:n=10,radius=1e20"), "radius=1e20: point 0");
+    // A generator's sizes are bounded where its points would be: the spec is named.
+    REQUIRE_INPUT_ERROR(load_dataset("sphere:n=10,radius=1e20"),
+                        "'sphere:n=10,radius=1e20': radius=1e+20 is outside its range");
+    REQUIRE_INPUT_ERROR(load_dataset("sphere:n=10,radius=1e-25"),
+                        "'sphere:n=10,radius=1e-25': radius=1e-25 is outside its range");
     // The largest accepted magnitude still loads.
     REQUIRE(read_point_cloud(write_text("edge.xyz", "0 0 0\n1e12 -1e12 1e12\n")).size() == 2);
   }
