@@ -699,6 +699,7 @@ int command_furnace(const FurnaceOptions& o) {
     check_outputs({{*o.out, "--out"}}, {{o.scene.data.value_or(""), "--data"},
                                         {o.scene.mesh.value_or(""), "--mesh"},
                                         {o.truth.mesh.value_or(""), "--truth"}});
+  if (o.out) require_extension(*o.out, "--out", {".png", ".exr"});
   const auto loaded = furnace_scene(o);
   std::optional<FurnaceTruth> truth;
   if (loaded->data.truth) {
@@ -797,6 +798,7 @@ void check_compare_options(const CompareOptions& o) {
     for (const char* side : {".method.png", ".truth.png"})
       outputs.emplace_back(*o.images + side, "--images");
   check_outputs(outputs, {{*o.truth.mesh, "--truth"}});
+  require_extension(o.out, "--out", {".png"});
 }
 
 RenderSettings compare_settings(const CompareOptions& o) {

@@ -170,23 +170,19 @@ void claim_folder(const std::string& dir, bool resume, bool overwrite) {
   move_aside(dir);
 }
 
-// A folder resumes the sweep that made it: another config's runs would join its runs.jsonl
-// unnoticed, as merge refuses shards of two configs. Where the datasets lie (dataset_dir, written
-// absolute) may move with a checkout.
-void check_resumed_config(const std::string& dir, const SweepConfig& config) {
-  const std::string path = dir + "/context.json";
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return;
-  const json old = read_json_file(path);
-  if (!old.is_object()) input_error("{}: not an object", path);
-  json was = old.value("config", json()), now = config.raw;
-  if (was.is_object()) was.erase("dataset_dir");
-  if (now.is_object()) now.erase("dataset_dir");
-  if (was != now)
-    input_error(
-        "--out {}: its config differs from {}'s (context.json); --resume continues only the "
-        "sweep that made it (--overwrite starts again)",
-        dir, config.name);
+// A folder resumes the sweep that made it, or one that extends it: every run already done must
+// be one this config plans (another config's runs would join runs.jsonl unnoticed, as merge
+// refuses shards of two configs), while new experiments and fit specs may be added.
+void check_resumed_runs(const std::string& dir, const SweepConfig& config,
+                        const std::set<std::string>& done) {
+  std::set<std::string> planned;
+  for (const RunSpec& s : config.runs) planned.insert(run_key(s));
+  for (const std::string& key : done)
+    if (!planned.count(key))
+      input_error(
+          "--out {}: holds a run {} does not plan ({}); --resume continues or extends only the "
+          "sweep that made it (--overwrite starts again)",
+          dir, config.name, key.substr(0, 160));
 }
 
 // Where the runs already in DIR were made, kept when --resume rewrites context.json: the earlier
@@ -232,8 +228,8 @@ std::vector<RunResult> run_sweep(const SweepConfig& config, const std::string& d
   claim_folder(dir, resume, overwrite);
   const std::string jsonl = dir + "/runs.jsonl";
   const bool resuming = resume && fs::exists(jsonl);
-  if (resuming) check_resumed_config(dir, config);
   const std::set<std::string> done = resuming ? resume_from(jsonl) : std::set<std::string>{};
+  if (resuming) check_resumed_runs(dir, config, done);
   if (!shard_record.is_null()) context["shard"] = shard_record;
   if (resuming) context["earlier"] = earlier_runs_context(dir, done.size());
   // Written first: on a read-only or full file system this is the one-line error, before the

@@ -456,8 +456,8 @@ void check_set_values(const Experiment& x) {
       input_error("{}: {} must be a number", x.where, k);
 }
 
-// A generator's values within their ranges can still make an impossible cloud (a radius of 1e13
-// puts points beyond kMaxCoordinate): a few of its points are made now, so that every run does
+// A generator's values within their ranges can still make an impossible cloud (a torus of
+// R = r = 1e12 puts points beyond kMaxCoordinate): a few of its points are made now, so that every run does
 // not fail on it later.
 void probe_generator(const Experiment& x, const std::string& spec) {
   double n = 1024;

@@ -310,6 +310,7 @@ GroupFit fit_group(const FitSpec& f, const GroupIdentity& group,
   } catch (const InputError& e) {
     fit.verdict = ClaimVerdict::kError;
     fit.error = e.what();
+    if (fit.failed_runs + fit.missing_runs > 0) *fit.error += fmt::format(" ({})", lacking(fit));
   }
   return fit;
 }

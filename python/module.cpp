@@ -458,7 +458,8 @@ PYBIND11_MODULE(_pcrt, m) {
       py::arg("data"), "A file (.ply .xyz .pwn .off) or a generator spec such as 'sphere:n=1e5'");
   m.def("from_arrays", &cloud_from_arrays, py::arg("positions"), py::arg("normals") = py::none(),
         py::arg("radii") = py::none(), py::arg("name") = "arrays",
-        "A cloud copied from numpy arrays (validated as a loaded file is)");
+        "A cloud copied from numpy arrays (validated as a loaded file is; exact duplicate points "
+        "dropped as a file's are, so hits index the cloud's own positions)");
 
   py::class_<Scene>(m, "Scene")
       .def(py::init<std::shared_ptr<const PointCloud>, const std::string&, const std::string&,

@@ -260,6 +260,8 @@ expect_error "--out $dir/x.jpg: writes .png or .exr files" "${render[@]}" --out 
 expect_error "--depth $dir/d.tif: writes .png or .exr files" "${render[@]}" --out "$dir/x.png" --depth "$dir/d.tif"
 expect_error "--out $dir/x.xyz: writes .ply files" convert sphere:n=10 --out "$dir/x.xyz"
 expect_error "--out $dir/m.off: writes .ply files" reconstruct --method delaunay --data sphere:n=100 --out "$dir/m.off"
+expect_error "--out $dir/f.jpg: writes .png or .exr files" furnace --method reference_splat --data sphere:n=100 --width 8 --height 8 --out "$dir/f.jpg"
+expect_error "--out $dir/c.exr: writes .png files" compare --method hubo_2006 --truth "$dir/tri.off" --width 8 --height 8 --out "$dir/c.exr"
 [ -p "$dir/fifo" ] || { echo "FAIL: the FIFO was replaced"; fails=$((fails + 1)); }
 expect_error "--stats /dev/null: is a device, FIFO or socket" "${render[@]}" --out "$dir/dev.png" --stats /dev/null
 [ -c /dev/null ] || { echo "FAIL: /dev/null is no longer a device"; fails=$((fails + 1)); }

@@ -238,12 +238,17 @@ test "$(wc -l <"$dir/a/runs.jsonl")" -eq 18
 assert [x["runs"] for x in e] == [18] and "config" not in e[0], e' "$dir/a/context.json" ||
   { echo "FAIL: --resume lost the earlier runs' context"; exit 1; }
 expect_error "--resume" sweep "$dir/tiny.json" --out "$dir/a" --resume --overwrite
-# --resume continues the sweep that made the folder: another config's runs are refused, as
-# merge refuses them, and the folder is left as it was.
+# --resume continues or extends the sweep that made the folder: a config that does not plan its
+# runs is refused, as merge refuses another config's shards, and the folder is left as it was.
 sed 's/"M": \[64\]/"M": [256]/' "$dir/tiny.json" >"$dir/tiny_m.json"
 cp "$dir/a/runs.jsonl" "$dir/a_runs.before"
-expect_error "--out $dir/a: its config differs from tiny's" sweep "$dir/tiny_m.json" --out "$dir/a" --resume
+expect_error "--out $dir/a: holds a run tiny does not plan" sweep "$dir/tiny_m.json" --out "$dir/a" --resume
 cmp -s "$dir/a/runs.jsonl" "$dir/a_runs.before" || { echo "FAIL: a refused --resume changed runs.jsonl"; exit 1; }
+# An experiment added to the config is run into the folder, the runs done are kept.
+cp -r "$dir/a" "$dir/ext"
+python3 -c 'import json, sys; c = json.load(open(sys.argv[1])); e = dict(c["experiments"][0]); e["name"] = "added"; c["experiments"].append(e); json.dump(c, open(sys.argv[2], "w"))' "$dir/tiny.json" "$dir/tiny_ext.json"
+"$pcrt" sweep "$dir/tiny_ext.json" --out "$dir/ext" --resume | grep -q "10 runs done (18 already done" ||
+  { echo "FAIL: an extended config was not resumed"; exit 1; }
 mkdir -p "$dir/held"
 (flock -x 9; echo 4242 >&9; sleep 30) 9>"$dir/held/.lock" &
 holder=$!
