@@ -113,15 +113,21 @@ double variable_value(const RunResult& r, Variable v) {
 // that failed has no time.
 double time_of(const RunResult& r) { return r.ok() ? r.time_median_s() : kMissing; }
 
-// The default of a method's own K parameter (MLS neighbours, fan size, ...), if it declares one.
-std::optional<double> method_k_parameter(const std::string& method) {
-  if (!MethodRegistry::instance().contains(method)) return std::nullopt;
-  for (const ParamSpec& p : MethodRegistry::instance().get(method, "method").params)
-    if (p.name == "K") return p.default_value;
-  return std::nullopt;
+// The mean items per visited leaf, where the run visited leaves.
+std::optional<double> items_per_leaf(const RunResult& r) {
+  if (!(count(r.counters, "leaves_visited") > 0)) return std::nullopt;
+  return count(r.counters, "items_visited") / count(r.counters, "leaves_visited");
 }
 
 }  // namespace
+
+std::optional<double> method_parameter(const RunSpec& spec, const std::string& name) {
+  if (const std::optional<double> given = parameter(spec, name)) return given;
+  if (!MethodRegistry::instance().contains(spec.method)) return std::nullopt;
+  for (const ParamSpec& p : MethodRegistry::instance().get(spec.method, "method").params)
+    if (p.name == name) return p.default_value;
+  return std::nullopt;
+}
 
 const char* variable_name(Variable v) {
   constexpr const char* kNames[] = {"N", "M", "S", "B", "K", "k", "I", "H"};
@@ -211,16 +217,12 @@ double run_value(const RunResult& r, const RunQuantity& q) {
 }
 
 std::optional<double> k_of(const RunResult& r) {
-  if (const std::optional<double> given = parameter(r.spec, "K")) return given;
-  if (const std::optional<double> method_k = method_k_parameter(r.spec.method)) return method_k;
-  if (count(r.counters, "leaves_visited") > 0)
-    return count(r.counters, "items_visited") / count(r.counters, "leaves_visited");
-  return std::nullopt;
+  if (const std::optional<double> method_k = method_parameter(r.spec, "K")) return method_k;
+  return items_per_leaf(r);
 }
 
 std::optional<double> held_k_of(const RunResult& r) {
-  if (count(r.counters, "leaves_visited") > 0)
-    return count(r.counters, "items_visited") / count(r.counters, "leaves_visited");
+  if (const std::optional<double> measured = items_per_leaf(r)) return measured;
   return k_of(r);
 }
 

@@ -78,6 +78,9 @@ std::vector<RunQuantity> work_counters(const std::string& method);
 // a zero one), except that a counter the run never touched is zero.
 double run_value(const RunResult& r, const RunQuantity& q);
 
+// A method parameter of the run: given (--set), else the method's default; none where the method
+// has no such parameter.
+std::optional<double> method_parameter(const RunSpec& spec, const std::string& name);
 // K as runs.csv has it: the method's K when it has one (given, or its default), else the
 // measured mean items per visited leaf; none without either.
 std::optional<double> k_of(const RunResult& r);

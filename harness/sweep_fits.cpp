@@ -12,7 +12,6 @@
 #include "harness/claims.hpp"
 #include "harness/fit.hpp"
 #include "harness/sweep_datasets.hpp"
-#include "methods/method.hpp"
 
 namespace pcrt {
 
@@ -115,8 +114,8 @@ HeldRange robust_range(std::vector<std::pair<double, double>> runs) {
   return {v.front(), v.back(), false};
 }
 
-// Variables that the claim does not sweep must stay put: K (the method's K or the measured
-// items per leaf), k, I (the measured iterations per run) and H, unless free or a covariate.
+// Variables that the claim does not sweep must stay put: K (the measured items per visited leaf,
+// else the method's K), k, I (the measured iterations per run) and H, unless free or a covariate.
 std::string drift_of(const std::vector<FitPoint>& pts, const FitSpec& f, const Claim& claim) {
   for (size_t i = 0; i < held_quantities().size(); ++i) {
     const RunQuantity& held = held_quantities()[i];
@@ -261,21 +260,12 @@ ClaimVerdict judge_group(const FitSpec& f, const std::vector<FitPoint>& pts, Gro
   return ClaimVerdict::kDrifted;
 }
 
-// The cap on a run's iterations: its method's max_iterations, given or by default; none without.
-std::optional<double> iteration_cap(const RunSpec& s) {
-  if (const auto given = s.set.find("max_iterations"); given != s.set.end()) return given->second;
-  if (!MethodRegistry::instance().contains(s.method)) return std::nullopt;
-  for (const ParamSpec& p : MethodRegistry::instance().get(s.method, "method").params)
-    if (p.name == "max_iterations") return p.default_value;
-  return std::nullopt;
-}
-
 // A bound on I that every run's cap on its iterations already keeps: met by construction.
 bool capped_by_construction(const FitSpec& f, const Claim& claim,
                             const std::vector<const RunResult*>& runs) {
   if (f.max < 0 || claim.complexity.rfind("I <=", 0) != 0) return false;
   return std::all_of(runs.begin(), runs.end(), [&](const RunResult* r) {
-    const std::optional<double> cap = iteration_cap(r->spec);
+    const std::optional<double> cap = method_parameter(r->spec, "max_iterations");
     return cap && *cap <= f.max;
   });
 }
