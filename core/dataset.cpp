@@ -348,6 +348,7 @@ const Aabb& PointStream::bounds() const {
   });
   if (count != size()) input_error("{}: delivered {} points, announced {}", name(), count, size());
   if (count == 0) input_error("{}: no points", name());
+  require_extent(box, name());
   return bounds_.emplace(box);
 }
 

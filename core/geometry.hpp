@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -46,6 +47,14 @@ inline void orthonormal_basis(const Vec3& n, Vec3& u, Vec3& v) {
   const float b = n.x() * n.y() * a;
   u = Vec3(1.0f + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
   v = Vec3(b, sign + n.y() * n.y() * a, -n.y());
+}
+
+// The power of two nearest below `length` (1 for zero, NaN or inf): a unit a computation divides
+// its lengths by, exactly, so that products of several lengths neither overflow nor underflow
+// however large or small the cloud, and give the same floats as before wherever they did not.
+inline float length_unit(float length) {
+  if (!(length > 0) || !std::isfinite(length)) return 1.0f;
+  return std::ldexp(1.0f, std::ilogb(length));
 }
 
 }  // namespace pcrt

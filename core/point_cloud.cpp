@@ -14,6 +14,13 @@ Aabb PointCloud::bounds() const {
   return b;
 }
 
+void require_extent(const Aabb& box, const std::string& name) {
+  const float extent = box.empty() ? 0.0f : box.diagonal();
+  if (extent > 0 && extent < kMinExtent)
+    input_error("{}: the cloud spans {:.3g} units across, less than the {:g} pcrt takes (scale it)",
+                name, extent, kMinExtent);
+}
+
 std::vector<std::string> PointCloud::attributes() const {
   std::vector<std::string> a{"position"};
   if (has_normals()) a.emplace_back("normal");
@@ -47,6 +54,7 @@ void PointCloud::validate() const {
       input_error("{}: point {} has radius {}, not a value in [0, {:g}]", name, i, radii[i],
                   kMaxCoordinate);
   }
+  require_extent(bounds(), name);
 }
 
 void PointCloud::validate_gaussians() const {

@@ -21,6 +21,16 @@ namespace pcrt {
 // or area overflows to infinity and NaN reaches index arithmetic.
 inline constexpr float kMaxCoordinate = 1e12f;
 
+// The smallest extent (bounding-box diagonal) of a cloud of distinct points pcrt takes, as the
+// generators' smallest size: the camera's framing and the lift of secondary rays keep it as a
+// floor (a single point is framed at it), so a smaller cloud would be drawn as a speck and its
+// rays lifted far off its surface. Every method finds the same hits at every scale from below it
+// to kMaxCoordinate (render/scale_test.cpp).
+inline constexpr float kMinExtent = 1e-6f;
+
+// InputError naming `name` for a box of positive diagonal below kMinExtent.
+void require_extent(const Aabb& box, const std::string& name);
+
 inline bool within_coordinate_range(const Vec3& p) {
   return p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxCoordinate;
 }
@@ -91,7 +101,8 @@ struct PointCloud {
   // Throws InputError naming `name` if the cloud is empty, an attribute array has the wrong
   // length, or any value is NaN/inf, a coordinate (positions + origin) lies beyond kMaxCoordinate
   // or a normal is not unit length, or a Gaussian particle has a scale that is not positive and
-  // finite, an opacity outside [0, 1] or a rotation that is not a unit quaternion.
+  // finite, an opacity outside [0, 1] or a rotation that is not a unit quaternion, or distinct
+  // points span less than kMinExtent.
   void validate() const;
   void validate_gaussians() const;
   // Drops exact duplicate positions (keeping the first), returns how many were dropped.

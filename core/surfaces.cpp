@@ -25,7 +25,8 @@ bool Surface::intersect(const Ray& ray, float& t, Vec3& n) const {
   box.extend(box.lo - Vec3::Constant(1e-3f * box.diagonal()));
   box.extend(box.hi + Vec3::Constant(1e-3f * box.diagonal()));
   if (!box.intersect(ray, inv_d, t0, t1)) return false;
-  const float eps = 1e-6f * std::max(1.0f, box.diagonal());
+  // Relative to the shape's size: a floor of 10^-6 units was the whole of a shape that small.
+  const float eps = 1e-6f * box.diagonal();
   const float inv_l = 1.0f / lipschitz();
   float tc = t0;
   const float start_side = signed_distance(ray.at(tc)) >= 0 ? 1.0f : -1.0f;

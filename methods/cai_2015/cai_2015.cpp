@@ -51,6 +51,7 @@ class Cai2015 final : public Method {
     positions_ = cloud.positions;
     reach_ = params_.reach * h;
     min_step_ = params_.min_step * h;
+    inv_unit_ = 1.0f / length_unit(reach_);
     k_ = params_.K;
     max_steps_ = params_.max_steps;
     radii_.assign(cloud.size(), reach_);
@@ -128,10 +129,11 @@ class Cai2015 final : public Method {
       fan[m++] = {std::atan2(d.dot(v), d.dot(u)), ids[j]};
     }
     std::sort(fan.begin(), fan.begin() + long(m));
+    // The edges in a unit near the reach: the sum's squared norm is a fourth power of a length.
     Vec3 sum = Vec3::Zero();
     for (size_t a = 0; a < m; ++a) {
-      const Vec3 e0 = positions_[fan[a].second] - positions_[p];
-      const Vec3 e1 = positions_[fan[(a + 1) % m].second] - positions_[p];
+      const Vec3 e0 = (positions_[fan[a].second] - positions_[p]) * inv_unit_;
+      const Vec3 e1 = (positions_[fan[(a + 1) % m].second] - positions_[p]) * inv_unit_;
       const Vec3 c = e0.cross(e1);
       sum += c.dot(plane_n) >= 0 ? c : Vec3(-c);
     }
@@ -142,7 +144,7 @@ class Cai2015 final : public Method {
   Cai2015Params params_;
   std::span<const Vec3> positions_;
   std::vector<float> radii_;
-  float reach_ = 0, min_step_ = 0;
+  float reach_ = 0, min_step_ = 0, inv_unit_ = 1;
   size_t k_ = 8;
   int max_steps_ = 256;
 };

@@ -83,7 +83,9 @@ float MlsSurface::intersect(const LocalPolynomial& f, const Ray& ray, float t0, 
   const double qc =
       c[0] + c[1] * x0 + c[2] * y0 + c[3] * x0 * x0 + c[4] * x0 * y0 + c[5] * y0 * y0 - z0;
   double r0 = kInfinity, r1 = kInfinity;
-  if (std::abs(qa) <= 1e-12 * std::abs(qb)) {
+  // qa is per unit of length (x and y are in units of H), qb a pure number: the test of a flat
+  // F compares qa H with qb, so that it asks the same at every scale of the cloud.
+  if (std::abs(qa) * f.scale <= 1e-12 * std::abs(qb)) {
     if (qb != 0) r0 = -qc / qb;
   } else {
     const double disc = qb * qb - 4 * qa * qc;

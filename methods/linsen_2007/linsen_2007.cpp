@@ -31,10 +31,16 @@ NormalField fit_normal_field(std::span<const Vec3> positions, std::span<const Ve
                              uint32_t i, std::span<const uint32_t> nbrs) {
   Vec3 u, v;
   orthonormal_basis(normals[i], u, v);
+  // The offsets in a unit of the neighbourhood's size: a's determinant is a fourth power of a
+  // length, which overflows float at 10^10 and underflows at 10^-10.
+  float reach = 0;
+  for (uint32_t j : nbrs)
+    reach = std::max(reach, (positions[j] - positions[i]).cwiseAbs().maxCoeff());
+  const float inv_unit = 1.0f / length_unit(reach);
   Eigen::Matrix2f a = Eigen::Matrix2f::Zero();
   Eigen::Matrix<float, 3, 2> b = Eigen::Matrix<float, 3, 2>::Zero();
   for (uint32_t j : nbrs) {
-    const Vec3 d = positions[j] - positions[i];
+    const Vec3 d = (positions[j] - positions[i]) * inv_unit;
     const Eigen::Vector2f q(d.dot(u), d.dot(v));
     const Vec3 nj = normals[j].dot(normals[i]) < 0 ? Vec3(-normals[j]) : normals[j];
     a += q * q.transpose();
@@ -42,7 +48,7 @@ NormalField fit_normal_field(std::span<const Vec3> positions, std::span<const Ve
   }
   NormalField f;
   if (std::abs(a.determinant()) <= 1e-12f * a.squaredNorm()) return f;  // collinear neighbours
-  const Eigen::Matrix<float, 3, 2> g = b * a.inverse();                 // dn per unit (u, v)
+  const Eigen::Matrix<float, 3, 2> g = b * a.inverse() * inv_unit;      // dn per unit (u, v)
   Eigen::Matrix<float, 3, 2> uv;
   uv << u, v;
   f.m = g * uv.transpose();
