@@ -26,6 +26,8 @@ printf 'ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n' >"$dir/rays.csv"
 
 expect_error "trunc.ply: truncated" info "$dir/trunc.ply"
 expect_error "nan.xyz: line 2" info "$dir/nan.xyz"
+printf 'ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n' >"$dir/faces_first.ply"
+expect_error "faces_first.ply: the face element comes before the vertex element" render --mesh "$dir/faces_first.ply" --out "$dir/a.png"
 printf '0 0 0\n1e-7 0 0\n0 1e-7 0\n' >"$dir/speck.xyz"
 expect_error "speck.xyz: the cloud spans 1.41e-07 units across" render --method reference_splat --data "$dir/speck.xyz" --out "$dir/a.png"
 printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n1e-8 0 0 0 0 1\n' >"$dir/speck.ply"
