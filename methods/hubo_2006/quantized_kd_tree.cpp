@@ -123,9 +123,9 @@ struct QuantizedKdTree::StreamInput {
     uint32_t g[3];
     for (int a = 0; a < 3; ++a) {
       const double u = (double(p[a]) - bounds.lo[a]) / (double(bounds.hi[a]) - bounds.lo[a]);
-      g[a] = bounds.hi[a] > bounds.lo[a] ? uint32_t(std::clamp(std::round(u * kGridMax), 0.0,
-                                                                double(kGridMax)))
-                                         : 0;
+      g[a] = bounds.hi[a] > bounds.lo[a]
+                 ? uint32_t(std::clamp(std::round(u * kGridMax), 0.0, double(kGridMax)))
+                 : 0;
     }
     return {uint64_t(g[0]) | uint64_t(g[1]) << 24 | uint64_t(g[2] & 0xffff) << 48,
             uint64_t(g[2] >> 16) | encode_normal(n) << 8 | uint64_t(id) << 32};
@@ -166,9 +166,9 @@ template <typename T>
 class ReleasableArray {
  public:
   explicit ReleasableArray(size_t n, const std::string& what) : n_(n), bytes_(n * sizeof(T)) {
-    void* p = bytes_ ? mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
-                            -1, 0)
-                     : nullptr;
+    void* p =
+        bytes_ ? mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0)
+               : nullptr;
     if (p == MAP_FAILED)
       input_error("out of memory: {} needs {:.2f} GiB of records it could not map", what,
                   double(bytes_) / double(1ull << 30));
@@ -185,8 +185,8 @@ class ReleasableArray {
   void release_before(size_t end) {
     const size_t page = size_t(sysconf(_SC_PAGESIZE));
     const size_t upto = end * sizeof(T) / page * page;
-    if (upto > released_) madvise(reinterpret_cast<char*>(data_) + released_, upto - released_,
-                                  MADV_DONTNEED);
+    if (upto > released_)
+      madvise(reinterpret_cast<char*>(data_) + released_, upto - released_, MADV_DONTNEED);
     released_ = std::max(released_, upto);
   }
 
@@ -351,15 +351,17 @@ Aabb QuantizedKdTree::leaf_box(uint32_t leaf) const {
   return n.box;
 }
 
-double QuantizedKdTree::nearest_other(size_t k, OpCounters& counters) const {
-  const auto leaf = uint32_t(std::upper_bound(leaf_begin_.begin(), leaf_begin_.end(), k) -
-                             leaf_begin_.begin() - 1);
-  const Aabb box = leaf_box(leaf);
+Vec3 QuantizedKdTree::decoded_position(size_t k, const Aabb& leaf) const {
   Vec3 p;
   for (int a = 0; a < 3; ++a)
-    p[a] = position(box.lo[a], box.hi[a], uint32_t(records_[k] >> (12 * a)) & kPosMax);
+    p[a] = position(leaf.lo[a], leaf.hi[a], uint32_t(records_[k] >> (12 * a)) & kPosMax);
+  return p;
+}
+
+double QuantizedKdTree::nearest_other(size_t k, const Aabb& leaf, const Vec3& p,
+                                      OpCounters& counters) const {
   // Grown until the nearest point found lies within the searched box's inscribed ball.
-  float w = std::max(box.extent().maxCoeff(), 1e-6f * root_.diagonal());
+  float w = std::max(leaf.extent().maxCoeff(), 1e-6f * root_.diagonal());
   std::vector<PackedSplat> near;
   for (;;) {
     near.clear();
@@ -378,7 +380,18 @@ double QuantizedKdTree::sampled_mean_spacing(size_t samples, OpCounters& counter
   if (n < 2) return 0;
   samples = std::clamp<size_t>(samples, 1, n);
   double sum = 0;
-  for (size_t j = 0; j < samples; ++j) sum += nearest_other(j * n / samples, counters);
+  Vec3 previous = Vec3::Constant(kInfinity);
+  for (size_t j = 0; j < samples; ++j) {
+    const size_t k = j * n / samples;
+    const auto leaf = uint32_t(std::upper_bound(leaf_begin_.begin(), leaf_begin_.end(), k) -
+                               leaf_begin_.begin() - 1);
+    const Aabb box = leaf_box(leaf);
+    const Vec3 p = decoded_position(k, box);
+    // Two samples decoded at one place are each other's nearest point, at 0: found without a
+    // gather, which in a run of identical points (a stream keeps duplicates) decodes them all.
+    if (p != previous) sum += nearest_other(k, box, p, counters);
+    previous = p;
+  }
   return sum / double(samples);
 }
 

@@ -84,15 +84,19 @@ class QuantizedKdTree {
   // Builds node's subtree over the items [begin, end) of `in` (CloudInput or StreamInput in the
   // .cpp), partitioning them in place.
   template <typename In>
-  void build_node(uint32_t node, const Aabb& cell, typename In::Item* begin,
-                  typename In::Item* end, const In& in);
+  void build_node(uint32_t node, const Aabb& cell, typename In::Item* begin, typename In::Item* end,
+                  const In& in);
   template <typename In>
   void encode_points(const Aabb& box, typename In::Item* begin, typename In::Item* end,
                      const In& in);
   // The point box of a leaf, decoded from the root down.
   [[nodiscard]] Aabb leaf_box(uint32_t leaf) const;
-  // The distance from record k to the nearest other decoded point.
-  [[nodiscard]] double nearest_other(size_t k, OpCounters& counters) const;
+  // Record k's decoded position in its leaf's point box.
+  [[nodiscard]] Vec3 decoded_position(size_t k, const Aabb& leaf) const;
+  // The distance from record k, decoded at p in its leaf's point box, to the nearest other
+  // decoded point.
+  [[nodiscard]] double nearest_other(size_t k, const Aabb& leaf, const Vec3& p,
+                                     OpCounters& counters) const;
 
   Aabb root_;
   uint32_t first_leaf_ = 0;           // 2^depth - 1: nodes below are internal (heap order)

@@ -138,6 +138,25 @@ TEST_CASE("quantized kd-tree: a streamed build holds every streamed point", "[qu
   CHECK(std::abs(tree.sampled_mean_spacing(2000, c) / h - 1) < 0.03);
 }
 
+// A stream keeps exact duplicates (it cannot drop them without holding the cloud): the spacing
+// sample must not decode a run of identical points once per sample (50 000 of them took 30 s).
+TEST_CASE("quantized kd-tree: sampling the spacing of identical points is linear",
+          "[quantized_kd_tree]") {
+  const size_t n = 20000;
+  std::vector<Vec3> positions(n, Vec3(0.5f, 0.25f, 1.0f)), normals(n, Vec3::UnitZ());
+  positions[0] = Vec3(0, 0, 0), positions[1] = Vec3(1, 0, 0);
+  QuantizedKdTree tree;
+  OpCounters c;
+  tree.build(positions, normals, 8, c);
+  OpCounters sampling;
+  // Two of the samples are the distinct points (at 0.5 or more from the rest), the rest 0.
+  const double h = tree.sampled_mean_spacing(n, sampling);
+  CHECK(h > 0);
+  CHECK(h < 2.5 / double(n));
+  INFO(sampling.get(kQkdPointsDecoded) << " points decoded for " << n << " samples");
+  CHECK(sampling.get(kQkdPointsDecoded) < 10 * n);
+}
+
 // hubo_2006 quantized prepared twice from `spec`: from the whole cloud and from its stream.
 struct QuantizedBothWays {
   explicit QuantizedBothWays(const std::string& spec)
