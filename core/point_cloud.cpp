@@ -14,11 +14,11 @@ Aabb PointCloud::bounds() const {
   return b;
 }
 
-void require_extent(const Aabb& box, const std::string& name) {
+void require_extent(const Aabb& box, const std::string& name, const char* what) {
   const float extent = box.empty() ? 0.0f : box.diagonal();
   if (extent > 0 && extent < kMinExtent)
-    input_error("{}: the cloud spans {:.3g} units across, less than the {:g} pcrt takes (scale it)",
-                name, extent, kMinExtent);
+    input_error("{}: the {} spans {:.3g} units across, less than the {:g} pcrt takes (scale it)",
+                name, what, extent, kMinExtent);
 }
 
 std::vector<std::string> PointCloud::attributes() const {

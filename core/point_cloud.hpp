@@ -28,8 +28,9 @@ inline constexpr float kMaxCoordinate = 1e12f;
 // to kMaxCoordinate (render/scale_test.cpp).
 inline constexpr float kMinExtent = 1e-6f;
 
-// InputError naming `name` for a box of positive diagonal below kMinExtent.
-void require_extent(const Aabb& box, const std::string& name);
+// InputError naming `name` for a box of positive diagonal below kMinExtent (`what`: a cloud's
+// or a mesh's).
+void require_extent(const Aabb& box, const std::string& name, const char* what = "cloud");
 
 inline bool within_coordinate_range(const Vec3& p) {
   return p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxCoordinate;

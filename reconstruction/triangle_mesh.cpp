@@ -67,6 +67,7 @@ TriangleMesh read_mesh(const std::string& path) {
   else
     input_error("{}: a mesh must be .ply or .off", path);
   if (mesh.triangles.empty()) input_error("{}: the mesh has no faces", path);
+  require_extent(cloud.bounds(), path, "mesh");
   mesh.vertices = std::move(cloud.positions);
   mesh.origin = cloud.origin;
   return mesh;
