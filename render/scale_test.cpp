@@ -12,6 +12,7 @@
 #include "core/dataset.hpp"
 #include "preprocess/point_attributes.hpp"
 #include "render/accuracy.hpp"
+#include "render/renderer.hpp"
 #include "render/scene.hpp"
 #include "structures/structure.hpp"
 
@@ -91,6 +92,32 @@ TEST_CASE("every structure finds the same hits on a cloud scaled by a power of t
   for (const float s : kScales)
     for (const StructureInfo& st : StructureRegistry::instance().all())
       cloud.require_same_hits({"reference_splat", st.id, {}}, s);
+}
+
+// What a user runs: a frame (camera framing, secondary rays lifted, the point light placed from
+// the bounds) of every method is the same image with the same counters at another scale.
+TEST_CASE("every method renders the same frame of a cloud scaled by a power of two",
+          "[methods][scale][renderer]") {
+  const Dataset d = load_dataset("torus:n=5000,seed=9");
+  for (const float s : {0x1p-16f, 0x1p36f, 0x1p39f}) {
+    const PointCloud big = scaled(d.cloud, s);
+    for (const MethodInfo& m : MethodRegistry::instance().all()) {
+      INFO(m.id << " at scale " << s);
+      const SceneOptions options{m.id, m.structure == "brute_force" ? "kd_tree" : "", {}};
+      OpCounters prep_a, prep_b;
+      Timings t;
+      const PointScene a(d.cloud, options, prep_a, t), b(big, options, prep_b, t);
+      RenderSettings rs;
+      rs.width = 24;
+      rs.height = 16;
+      rs.bounces = 1;
+      const RenderResult fa = render(a, d.cloud, rs), fb = render(b, big, rs);
+      CHECK(fa.counters.to_map() == fb.counters.to_map());
+      CHECK(prep_a.to_map() == prep_b.to_map());
+      CHECK(fa.image.pixels() == fb.image.pixels());
+      CHECK(fa.counters.get(kRayHits) > 0);
+    }
+  }
 }
 
 }  // namespace pcrt
