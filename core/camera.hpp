@@ -27,7 +27,7 @@ class Camera {
                         const Vec3& view_dir = Vec3(0.55f, -0.75f, 0.4f),
                         const Vec3& up = Vec3::UnitZ(), float vfov = 35.0f) {
     const Vec3 c = bounds.center();
-    const float r = std::max(0.5f * bounds.diagonal(), 1e-6f);
+    const float r = positive_or(0.5f * bounds.diagonal(), 1e-6f);
     const float dist = 1.05f * r / std::sin(0.5f * vfov * 3.14159265358979f / 180.0f);
     return Camera(c + dist * view_dir.normalized(), c, up, vfov, width, height);
   }

@@ -49,12 +49,16 @@ inline void orthonormal_basis(const Vec3& n, Vec3& u, Vec3& v) {
   v = Vec3(b, sign + n.y() * n.y() * a, -n.y());
 }
 
-// The power of two nearest below `length` (1 for zero, NaN or inf): a unit a computation divides
-// its lengths by, exactly, so that products of several lengths neither overflow nor underflow
-// however large or small the cloud, and give the same floats as before wherever they did not.
+// The largest power of two not above `length` (1 for zero, NaN or inf): a unit a computation
+// divides its lengths by, exactly, so that products of several lengths neither overflow nor
+// underflow however large or small the cloud (and are the same floats, scaled, where they did not).
 inline float length_unit(float length) {
   if (!(length > 0) || !std::isfinite(length)) return 1.0f;
   return std::ldexp(1.0f, std::ilogb(length));
 }
+
+// A size for what has none: `size` where positive, else `fallback` (a single point's bounds, which
+// a camera frames and a ray lift needs a scale for). A floor would frame a small cloud as a speck.
+inline float positive_or(float size, float fallback) { return size > 0 ? size : fallback; }
 
 }  // namespace pcrt

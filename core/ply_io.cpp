@@ -563,11 +563,11 @@ PointCloud parse_ply(const std::string& text, const std::string& path,
                    [](const PlyElement& e) { return e.name == "vertex"; }))
     input_error("{}: PLY file has no vertex element", path);
   // Faces index the vertices read so far: a mesh's face element must follow its vertex element.
-  const auto is_named = [&](const char* name) {
+  const auto element_named = [&](const char* name) {
     return std::find_if(h.elements.begin(), h.elements.end(),
                         [&](const PlyElement& e) { return e.name == name; });
   };
-  if (triangles && is_named("face") < is_named("vertex"))
+  if (triangles && element_named("face") < element_named("vertex"))
     input_error("{}: the face element comes before the vertex element (a mesh's vertices first)",
                 path);
   PointCloud cloud;

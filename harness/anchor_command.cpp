@@ -232,7 +232,7 @@ json alternated(const std::vector<const Tracer*>& scenes, const RaySet& set, int
 // off the surface, a cosine-sampled bounce and a ray to the renderer's point light.
 void secondary_rays(const SceneIntersector& reference, const std::vector<Ray>& primary,
                     const Aabb& bounds, RaySet& bounce, RaySet& shadow) {
-  const float diag = std::max(bounds.diagonal(), 1e-6f);
+  const float diag = positive_or(bounds.diagonal(), 1e-6f);
   const RenderSettings rs;
   const Vec3 up = rs.up.normalized(), view = rs.view.normalized();
   const Vec3 side = view.cross(up).normalized();

@@ -115,7 +115,7 @@ SpreadBands empty_spread_bands() {
 
 std::vector<Ray> accuracy_rays(const Surface& truth, double h, size_t count, uint64_t seed) {
   const Aabb b = truth.bounds();
-  const float radius = std::max(0.5f * b.diagonal(), 1e-6f);
+  const float radius = positive_or(0.5f * b.diagonal(), 1e-6f);
   std::vector<Ray> rays(count);
   for (size_t i = 0; i < count; ++i) {
     Rng rng(seed, i);
@@ -344,7 +344,8 @@ void count_secondary(SecondaryVerdict v, SecondaryReport::Side& side) {
 SecondaryReport evaluate_secondary(const SceneIntersector& scene, const Surface& truth, double h,
                                    size_t count, uint64_t seed, OpCounters& counters) {
   const auto hf = float(h);
-  const float epsilon = 1e-3f * std::max(truth.bounds().diagonal(), 1e-6f);  // render()'s default
+  const float epsilon =
+      1e-3f * positive_or(truth.bounds().diagonal(), 1e-6f);  // render()'s default
   std::vector<SecondaryVerdict> out(count);
   tbb::combinable<OpCounters> per_thread;
   tbb::parallel_for(size_t(0), count, [&](size_t i) {

@@ -177,7 +177,7 @@ struct CausticMap::Heap {
 CausticMap::CausticMap(const RenderScene& scene, const CausticMapSettings& s, OpCounters& counters)
     : k_(std::clamp(s.spec.k, 1, kMaxK)) {
   const auto start = std::chrono::steady_clock::now();
-  const float diag = std::max(scene.bounds().diagonal(), 1e-6f);
+  const float diag = positive_or(scene.bounds().diagonal(), 1e-6f);
   max_radius_ = s.spec.max_radius > 0 ? s.spec.max_radius * diag : kInfinity;
   const float epsilon = s.epsilon > 0 ? s.epsilon : 1e-3f * diag;
   const std::vector<Emitter> lights = emitters(scene);

@@ -90,7 +90,7 @@ RenderScene single_object_scene(const SceneIntersector& scene, const Aabb& bound
   if (point_light) {
     // Above and to the left of the camera, in the frame the camera's up vector defines; its
     // intensity gives a white surface facing it at the scene's distance irradiance pi * 0.8.
-    const float diag = std::max(bounds.diagonal(), 1e-6f);
+    const float diag = positive_or(bounds.diagonal(), 1e-6f);
     const Vec3 up = up_dir.normalized();
     const Vec3 side = view.normalized().cross(up).normalized();
     Light light;

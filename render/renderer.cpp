@@ -312,7 +312,7 @@ RenderResult render(const RenderScene& scene, const RenderSettings& s) {
   const auto start = std::chrono::steady_clock::now();
   OpCounters frame_counters;
   const std::unique_ptr<PrimaryPass> primary = scene_primary_pass(scene, camera, frame_counters);
-  const float diag = std::max(bounds.diagonal(), 1e-6f);
+  const float diag = positive_or(bounds.diagonal(), 1e-6f);
   const float epsilon = s.ray_epsilon > 0 ? s.ray_epsilon : 1e-3f * diag;
   const std::unique_ptr<CausticMap> csm = frame_caustic_map(scene, s, epsilon, frame_counters);
   if (csm) out.csm_seconds = csm->stats().seconds;

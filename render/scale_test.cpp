@@ -4,8 +4,10 @@
 // underflow of a product of lengths can tell the scales apart. Before this test, the MLS methods'
 // test of a flat polynomial compared numbers of different units (adamson_alexa_2003, tejada_2006
 // and tejada_2007 lost 76 of 1844 hits at 2^36), and fourth powers of lengths overflowed
-// (cai_2015's fan normal: every hit lost at 2^39; linsen_2007's normal field at 2^36) or
-// underflowed (ever_2024's ellipsoids at 2^-40).
+// (cai_2015's fan normal: every hit lost at 2^39; linsen_2007's normal field at 2^36, and
+// underflowed at 2^-40), and ever_2024's ellipsoids at 2^-40 inverted a matrix of inverse lengths
+// whose determinant, their cube, overflowed. The camera, the ray lift and the point light kept a
+// floor of 10^-6 on the cloud's size, which framed a cloud smaller than that as a speck.
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -72,8 +74,8 @@ struct ScaledCloud {
   }
 };
 
-// From a radius of about 10^-12 (below the smallest cloud pcrt takes, 10^-6 across) to 5.5 10^11
-// (the largest under kMaxCoordinate).
+// From a radius of about 10^-12 (a cloud 3 10^-12 across, below the smallest pcrt takes, 10^-9)
+// to 5.5 10^11 (the largest under kMaxCoordinate).
 constexpr float kScales[] = {0x1p-40f, 0x1p-20f, 0x1p20f, 0x1p30f, 0x1p36f, 0x1p39f};
 
 }  // namespace
@@ -99,7 +101,7 @@ TEST_CASE("every structure finds the same hits on a cloud scaled by a power of t
 TEST_CASE("every method renders the same frame of a cloud scaled by a power of two",
           "[methods][scale][renderer]") {
   const Dataset d = load_dataset("torus:n=5000,seed=9");
-  for (const float s : {0x1p-16f, 0x1p36f, 0x1p39f}) {
+  for (const float s : {0x1p-30f, 0x1p-16f, 0x1p36f, 0x1p39f}) {
     const PointCloud big = scaled(d.cloud, s);
     for (const MethodInfo& m : MethodRegistry::instance().all()) {
       INFO(m.id << " at scale " << s);

@@ -234,9 +234,10 @@ std::vector<float> constant_density_ellipsoids(ParticleSet& g) {
     const Mat3& m = g.to_canonical[i];
     const float s_min = 1.0f / m.rowwise().norm().maxCoeff();
     g.reach[i] = kHalfMaximumRadius;
-    // Inverted in a unit near its entries (1 / length): the determinant is the cube of them.
+    // Inverted in a unit near its entries (1 / length): the determinant is the cube of them, and
+    // overflows for a cloud 10^-12 across. The same half-extents as m.inverse() gave.
     const float c = 1.0f / length_unit(m.cwiseAbs().maxCoeff());
-    const Mat3 world = (c * m).inverse() * c;  // R S, the same floats as m.inverse()
+    const Mat3 world = (c * m).inverse() * c;  // R S
     g.half_extents[i] = kHalfMaximumRadius * world.rowwise().norm();
     g.bound_radii[i] = g.half_extents[i].norm();
     // An opacity of 1 would be an infinite density: a particle lets at least 10^-6 through.
