@@ -43,25 +43,53 @@ void check_shape(std::string_view text, const std::string& source) {
   }
 }
 
+// nlohmann keeps the last of two equal keys in one object; a config or scene whose "grid"
+// appears twice would run what the reader did not see. A SAX pass that only tracks the keys of
+// each open object finds them. (nlohmann's callback parser could, but its end_object scans the
+// enclosing array for discarded values: a list of 10^5 objects took 12 s, quadratically.)
+class DuplicateKeys {
+ public:
+  using json = nlohmann::json;
+  explicit DuplicateKeys(const std::string& source) : source_(source) {}
+  bool null() { return true; }
+  bool boolean(bool) { return true; }
+  bool number_integer(json::number_integer_t) { return true; }
+  bool number_unsigned(json::number_unsigned_t) { return true; }
+  bool number_float(json::number_float_t, const json::string_t&) { return true; }
+  bool string(json::string_t&) { return true; }
+  bool binary(json::binary_t&) { return true; }
+  bool start_object(size_t) {
+    open_.emplace_back();
+    return true;
+  }
+  bool key(json::string_t& k) {
+    if (!open_.back().insert(k).second)
+      input_error("{}: key \"{}\" appears twice in one object (JSON keeps only one of them)",
+                  source_, k);
+    return true;
+  }
+  bool end_object() {
+    open_.pop_back();
+    return true;
+  }
+  bool start_array(size_t) { return true; }
+  bool end_array() { return true; }
+  // The DOM parse that follows reports it, with nlohmann's place of the error.
+  bool parse_error(size_t, const std::string&, const json::exception&) { return false; }
+
+ private:
+  const std::string& source_;
+  std::vector<std::set<std::string>> open_;  // keys seen, per open object
+};
+
 }  // namespace
 
 nlohmann::json parse_json_text(std::string_view text, const std::string& source) {
   check_shape(text, source);
-  // nlohmann keeps the last of two equal keys in one object; a config or scene whose "grid"
-  // appears twice would run what the reader did not see. Keys seen per open object:
-  std::vector<std::set<std::string>> keys;
-  const auto refuse_duplicates = [&](int, nlohmann::json::parse_event_t event,
-                                     nlohmann::json& parsed) {
-    using E = nlohmann::json::parse_event_t;
-    if (event == E::object_start) keys.emplace_back();
-    if (event == E::object_end) keys.pop_back();
-    if (event == E::key && !keys.back().insert(parsed.get<std::string>()).second)
-      input_error("{}: key \"{}\" appears twice in one object (JSON keeps only one of them)",
-                  source, parsed.get<std::string>());
-    return true;
-  };
+  DuplicateKeys duplicates(source);
+  nlohmann::json::sax_parse(text.begin(), text.end(), &duplicates);
   try {
-    return nlohmann::json::parse(text.begin(), text.end(), refuse_duplicates);
+    return nlohmann::json::parse(text.begin(), text.end());
   } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers beyond double
     // nlohmann's message names the place: "[json.exception.parse_error.101] parse error at line
     // 3, column 5: ..."; its tag is dropped.

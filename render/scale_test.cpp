@@ -75,25 +75,40 @@ struct ScaledCloud {
 };
 
 // From a radius of about 10^-12 (a cloud 3 10^-12 across, below the smallest pcrt takes, 10^-9)
-// to 5.5 10^11 (the largest under kMaxCoordinate).
-constexpr float kScales[] = {0x1p-40f, 0x1p-20f, 0x1p20f, 0x1p30f, 0x1p36f, 0x1p39f};
+// to 5.5 10^11 (the largest under kMaxCoordinate). Every failure found so far showed at the two
+// extremes; the scales between are [slow] (skipped under the sanitizers, run in release).
+constexpr float kExtremeScales[] = {0x1p-40f, 0x1p39f};
+constexpr float kMiddleScales[] = {0x1p-20f, 0x1p20f, 0x1p30f, 0x1p36f};
+
+void require_every_method(const ScaledCloud& cloud, const float s) {
+  for (const MethodInfo& m : MethodRegistry::instance().all())
+    cloud.require_same_hits({m.id, m.structure == "brute_force" ? "kd_tree" : "", {}}, s);
+}
+
+void require_every_structure(const ScaledCloud& cloud, const float s) {
+  for (const StructureInfo& st : StructureRegistry::instance().all())
+    cloud.require_same_hits({"reference_splat", st.id, {}}, s);
+}
 
 }  // namespace
 
 TEST_CASE("every method finds the same hits on a cloud scaled by a power of two",
           "[methods][scale]") {
   const ScaledCloud cloud;
-  for (const float s : kScales)
-    for (const MethodInfo& m : MethodRegistry::instance().all())
-      cloud.require_same_hits({m.id, m.structure == "brute_force" ? "kd_tree" : "", {}}, s);
+  for (const float s : kExtremeScales) require_every_method(cloud, s);
+}
+
+TEST_CASE("every method finds the same hits on a cloud scaled between the extremes",
+          "[methods][scale][slow]") {
+  const ScaledCloud cloud;
+  for (const float s : kMiddleScales) require_every_method(cloud, s);
 }
 
 TEST_CASE("every structure finds the same hits on a cloud scaled by a power of two",
           "[structures][scale]") {
   const ScaledCloud cloud;
-  for (const float s : kScales)
-    for (const StructureInfo& st : StructureRegistry::instance().all())
-      cloud.require_same_hits({"reference_splat", st.id, {}}, s);
+  for (const float s : kExtremeScales) require_every_structure(cloud, s);
+  for (const float s : kMiddleScales) require_every_structure(cloud, s);
 }
 
 // What a user runs: a frame (camera framing, secondary rays lifted, the point light placed from
