@@ -46,7 +46,8 @@ struct RaySet {
   std::vector<Ray> rays;
 };
 
-// What a pass times: one of our scenes ray by ray, or Embree's discs in packets.
+// What a pass times: one of our scenes ray by ray (shadow rays sixteen at a time, as a frame traces
+// them: SceneIntersector::any_hits), or Embree's discs in packets.
 class Tracer {
  public:
   virtual ~Tracer() = default;
@@ -61,6 +62,11 @@ class RayByRay final : public Tracer {
   explicit RayByRay(const SceneIntersector& scene) : scene_(scene) {}
   void trace(const RaySet& set, size_t begin, size_t end, char* found, Hit* hits,
              OpCounters& counters) const override {
+    if (set.query == Query::kAny) {  // as a frame traces its shadow rays: 16 at a time
+      for (size_t i = begin; i < end; i += kShadowPacket)
+        scene_.any_hits(&set.rays[i], int(std::min(kShadowPacket, end - i)), found + i, counters);
+      return;
+    }
     for (size_t i = begin; i != end; ++i) {
       const Ray& r = set.rays[i];
       Hit local;

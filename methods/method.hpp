@@ -67,6 +67,12 @@ class Method : public LeafIntersector {
                                OpCounters& counters) const {
     return structure.any_hit(ray, *this, counters);
   }
+  // n <= 16 occlusion queries at once, as any_hit_through answers each (Structure::any_hits).
+  // A method overriding any_hit_through overrides this too.
+  virtual void any_hits_through(const Structure& structure, const Ray* rays, int n, char* blocked,
+                                OpCounters& counters) const {
+    structure.any_hits(rays, n, *this, blocked, counters);
+  }
   // For methods that trace whole rays through an acceleration of their own (MethodInfo::
   // own_structure, e.g. Embree's BVH): the closest hit, in place of structure + leaf.
   virtual bool own_closest_hit(const Ray& /*ray*/, Hit& /*hit*/, OpCounters& /*counters*/) const {

@@ -1,5 +1,6 @@
 #include "render/render_scene.hpp"
 
+#include <array>
 #include <cmath>
 
 namespace pcrt {
@@ -61,6 +62,18 @@ bool RenderScene::any_hit(const Ray& ray, OpCounters& counters) const {
     if (o.geometry->any_hit(moved ? o.transform.to_object(ray) : ray, counters)) return true;
   }
   return false;
+}
+
+void RenderScene::any_hits(const Ray* rays, int n, char* blocked, OpCounters& counters) const {
+  if (objects.size() != 1) {
+    for (int i = 0; i < n; ++i) blocked[i] = char(any_hit(rays[i], counters));
+    return;
+  }
+  const SceneObject& o = objects[0];
+  if (o.transform.identity()) return o.geometry->any_hits(rays, n, blocked, counters);
+  std::array<Ray, 16> moved;
+  for (int i = 0; i < n; ++i) moved[size_t(i)] = o.transform.to_object(rays[i]);
+  o.geometry->any_hits(moved.data(), n, blocked, counters);
 }
 
 Material RenderScene::material_at(uint32_t object, uint32_t prim) const {

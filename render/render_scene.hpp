@@ -52,6 +52,9 @@ struct RenderScene {
   // The closest hit over every object (world space), its object's index in `object`.
   bool closest_hit(const Ray& ray, Hit& hit, uint32_t& object, OpCounters& counters) const;
   bool any_hit(const Ray& ray, OpCounters& counters) const;
+  // n <= 16 rays' any_hit, traced together when the scene is one object (SceneIntersector::
+  // any_hits): the same answers and counts.
+  void any_hits(const Ray* rays, int n, char* blocked, OpCounters& counters) const;
   // The material at a hit: the object's, with a point's colour as the diffuse albedo.
   [[nodiscard]] Material material_at(uint32_t object, uint32_t prim) const;
 };

@@ -5,8 +5,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <vector>
 
 #include "core/rng.hpp"
 #include "render/caustic_map.hpp"
@@ -33,6 +36,94 @@ struct Bounce {
   bool specular = true;  // camera rays and delta lobes: no light strategy competes
 };
 
+// What a tile's paths add to their pixels, in the order the path tracer adds it, with each next
+// event term waiting for its shadow ray. A shadow ray never steers its path (it only decides
+// whether a term counts), so a tile draws all its paths first and then traces their shadow rays
+// together, sixteen at a time (SceneIntersector::any_hits: one walk of the tree for sixteen
+// neighbouring pixels' rays to the light), and sums each path as it would have, bit for bit.
+class TileLedger {
+ public:
+  void clear() {
+    pixels_.clear();
+    entries_.clear();
+    sample_end_.clear();
+    rays_.clear();
+    depth_.clear();
+  }
+  void add(const Vec3& v) { entries_.push_back({v, kPlain}); }
+  // result += throughput * (the sum of the terms that follow whose shadow ray is free).
+  void begin_direct(const Vec3& throughput) {
+    direct_at_ = entries_.size();
+    entries_.push_back({throughput, 0});
+  }
+  void light_term(const Vec3& term, const Ray& shadow, int depth) {
+    ++entries_[direct_at_].terms;
+    entries_.push_back({term, int32_t(rays_.size())});
+    rays_.push_back(shadow);
+    depth_.push_back(uint8_t(std::min(depth, 255)));
+  }
+  void end_sample() { sample_end_.push_back(uint32_t(entries_.size())); }
+  [[nodiscard]] size_t samples() const { return sample_end_.size(); }
+  // The pixels whose samples follow, in the order they were drawn.
+  void begin_pixel(int x, int y) { pixels_.push_back({x, y}); }
+  [[nodiscard]] const std::vector<std::array<int, 2>>& pixels() const { return pixels_; }
+
+  void trace_shadows(const RenderScene& scene, OpCounters& counters);
+  // Sample k's radiance, summed in the order its path added it.
+  [[nodiscard]] Vec3 radiance(size_t k) const;
+
+ private:
+  static constexpr int32_t kPlain = -1;
+  struct Entry {
+    Vec3 value;
+    int32_t terms;  // kPlain; or a direct-light header: its number of terms; or a term's ray
+  };
+  std::vector<std::array<int, 2>> pixels_;
+  std::vector<Entry> entries_;
+  std::vector<uint32_t> sample_end_;
+  size_t direct_at_ = 0;
+  std::vector<Ray> rays_;
+  std::vector<uint8_t> depth_;
+  std::vector<uint32_t> order_, count_;
+  std::vector<Ray> packed_;
+  std::vector<char> blocked_, packed_blocked_;
+};
+
+// Shadow rays of one depth after another (a packet of the first depth holds sixteen neighbouring
+// pixels' rays to one light), then their answers back in ledger order.
+void TileLedger::trace_shadows(const RenderScene& scene, OpCounters& counters) {
+  const size_t n = rays_.size();
+  count_.assign(257, 0);
+  for (const uint8_t d : depth_) ++count_[d + 1u];
+  for (size_t d = 1; d < count_.size(); ++d) count_[d] += count_[d - 1];
+  order_.resize(n);
+  for (size_t i = 0; i < n; ++i) order_[count_[depth_[i]]++] = uint32_t(i);
+  packed_.resize(n);
+  for (size_t i = 0; i < n; ++i) packed_[i] = rays_[order_[i]];
+  packed_blocked_.assign(n, 0);
+  for (size_t i = 0; i < n; i += kShadowPacket)
+    scene.any_hits(&packed_[i], int(std::min(kShadowPacket, n - i)), &packed_blocked_[i], counters);
+  blocked_.resize(n);
+  for (size_t i = 0; i < n; ++i) blocked_[order_[i]] = packed_blocked_[i];
+}
+
+Vec3 TileLedger::radiance(size_t k) const {
+  Vec3 result = Vec3::Zero();
+  size_t e = k == 0 ? 0 : sample_end_[k - 1];
+  while (e < sample_end_[k]) {
+    const Entry& head = entries_[e++];
+    if (head.terms == kPlain) {
+      result += head.value;
+      continue;
+    }
+    Vec3 direct = Vec3::Zero();
+    for (int32_t j = 0; j < head.terms; ++j, ++e)
+      if (!blocked_[size_t(entries_[e].terms)]) direct += entries_[e].value;
+    result += head.value.cwiseProduct(direct);
+  }
+  return result;
+}
+
 // The MIS weight of a BSDF-sampled ray that reached `light`.
 float bsdf_weight(const Light& light, const Bounce& b, const Vec3& d) {
   if (b.specular || !light.sampled) return 1.0f;
@@ -43,7 +134,7 @@ float bsdf_weight(const Light& light, const Bounce& b, const Vec3& d) {
 // nothing was hit; true when the ray ended on a light (lights do not reflect). `mapped`: the
 // caustic map holds what a sphere light gives this ray (environments emit no photons).
 bool reach_lights(const PathContext& c, const Ray& ray, float closest_t, bool found,
-                  const Bounce& b, const Vec3& throughput, bool mapped, Vec3& result,
+                  const Bounce& b, const Vec3& throughput, bool mapped, TileLedger& result,
                   OpCounters& counters) {
   const Light* nearest = nullptr;
   float t = closest_t;
@@ -54,13 +145,13 @@ bool reach_lights(const PathContext& c, const Ray& ray, float closest_t, bool fo
   if (nearest) {
     counters.add(kLightHits);
     if (mapped) return true;
-    result += bsdf_weight(*nearest, b, ray.d) * throughput.cwiseProduct(nearest->power);
+    result.add(bsdf_weight(*nearest, b, ray.d) * throughput.cwiseProduct(nearest->power));
     return true;
   }
   if (found) return false;
   for (const Light& l : c.scene.lights)
     if (is_environment(l))
-      result += bsdf_weight(l, b, ray.d) * throughput.cwiseProduct(light_radiance(l, ray.d));
+      result.add(bsdf_weight(l, b, ray.d) * throughput.cwiseProduct(light_radiance(l, ray.d)));
   return true;
 }
 
@@ -74,22 +165,24 @@ Ray shadow_ray(const PathContext& c, const Hit& hit, const Vec3& n, const LightS
   return Ray{origin, to / dist, 0.0f, dist};
 }
 
-// Whether a shadow ray towards `target` is blocked: by an object, or by another sphere light, which
-// a bounce ray in the same direction would end on (lights do not pass light through them).
-bool blocked(const PathContext& c, const Ray& shadow, const Light& target, OpCounters& counters) {
+// Whether another sphere light blocks a shadow ray towards `target`: a bounce ray in the same
+// direction would end on it (lights do not pass light through them). Objects are asked later,
+// for the whole tile (TileLedger::trace_shadows).
+bool blocked_by_light(const PathContext& c, const Ray& shadow, const Light& target) {
   for (const Light& other : c.scene.lights)
     if (&other != &target && intersect_light(other, shadow) < shadow.tmax) return true;
-  return c.scene.any_hit(shadow, counters);
+  return false;
 }
 
 // Next event estimation at a non-specular vertex: one shadow ray per sampled light. The light is
 // sampled from the hit itself, so that its distance and cosine are the shading point's (from the
 // lifted origin a light at distance d would be brighter by (d / (d - lift))^2); only the shadow
 // ray starts lifted. Point lights draw no random numbers (the default frame's random sequence is
-// Algorithm 2's).
-Vec3 direct_light(const PathContext& c, const Hit& hit, const Vec3& n, const Frame3& frame,
-                  const Material& m, const Vec3& wo, Rng& rng, OpCounters& counters) {
-  Vec3 sum = Vec3::Zero();
+// Algorithm 2's). Records throughput times the sum of the terms whose shadow ray is free.
+void direct_light(const PathContext& c, const Hit& hit, const Vec3& n, const Frame3& frame,
+                  const Material& m, const Vec3& wo, const Vec3& throughput, int depth, Rng& rng,
+                  TileLedger& ledger, OpCounters& counters) {
+  ledger.begin_direct(throughput);
   const bool transmits = m.kind == MaterialKind::kRoughDielectric;  // lit from both sides
   for (const Light& l : c.scene.lights) {
     if (!l.sampled) continue;
@@ -101,11 +194,11 @@ Vec3 direct_light(const PathContext& c, const Hit& hit, const Vec3& n, const Fra
     if (cos_i <= 0 || (!transmits && wi.z() <= 0)) continue;  // the light is behind the surface
     const Vec3 f = bsdf_f(m, wo, wi);
     counters.add(kShadowRays);
-    if (blocked(c, shadow_ray(c, hit, n, *ls), l, counters)) continue;
+    const Ray shadow = shadow_ray(c, hit, n, *ls);
+    if (blocked_by_light(c, shadow, l)) continue;
     const float w = ls->delta ? 1.0f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
-    sum += f.cwiseProduct(ls->radiance) * (w * cos_i / ls->pdf);
+    ledger.light_term(f.cwiseProduct(ls->radiance) * (w * cos_i / ls->pdf), shadow, depth);
   }
-  return sum;
 }
 
 // Materials with a lobe choice draw its random number after the direction's two.
@@ -136,10 +229,9 @@ Vec3 caustic_term(const PathContext& c, const Hit& hit, const Frame3& frame, con
 }
 
 // Algorithm 2, unrolled: radiance along `ray` whose closest hit (if `found`) is `hit` on
-// `object`.
-Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool found, Rng& rng,
-              OpCounters& counters) {
-  Vec3 result = Vec3::Zero();
+// `object`, recorded term by term in `result`.
+void radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool found, Rng& rng,
+              TileLedger& result, OpCounters& counters) {
   Vec3 throughput = Vec3::Ones();
   Bounce bounce;
   CausticState caustic;
@@ -148,13 +240,13 @@ Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool foun
                      caustic.guard && caustic.specular_after, result, counters))
       break;
     const Material m = c.scene.material_at(object, hit.prim);
-    result += throughput.cwiseProduct(m.emission);  // emitting surfaces: reached only by rays
+    result.add(throughput.cwiseProduct(m.emission));  // emitting surfaces: reached only by rays
     const Vec3 n = shading_normal(hit, ray, m);
     const Frame3 frame(n);
     const Vec3 wo = frame.to_local(-ray.d);
     if (!is_delta(m))
-      result += throughput.cwiseProduct(direct_light(c, hit, n, frame, m, wo, rng, counters));
-    result += throughput.cwiseProduct(caustic_term(c, hit, frame, m, wo, caustic, counters));
+      direct_light(c, hit, n, frame, m, wo, throughput, depth, rng, result, counters);
+    result.add(throughput.cwiseProduct(caustic_term(c, hit, frame, m, wo, caustic, counters)));
     if (depth == c.bounces) break;
     const Vec2 u = uniform2(rng);
     const float uc = draws_lobe(m) ? rng.uniform() : 0.5f;
@@ -170,7 +262,6 @@ Vec3 radiance(const PathContext& c, Ray ray, Hit hit, uint32_t object, bool foun
     counters.add(kBounceRays);
     found = c.scene.closest_hit(ray, hit, object, counters);
   }
-  return result;
 }
 
 }  // namespace
@@ -215,11 +306,10 @@ bool primary_hit(const Frame& f, const Ray& ray, float px, float py, Hit& hit, u
 }
 
 // Algorithm 1 for one pixel: spp samples, the first through the pixel centre (it also feeds the
-// depth and normal images), the others jittered over the pixel.
-void render_pixel(const Frame& f, int x, int y, OpCounters& counters) {
+// depth and normal images), the others jittered over the pixel; their paths recorded in `ledger`.
+void draw_pixel(const Frame& f, int x, int y, TileLedger& ledger, OpCounters& counters) {
   const RenderSettings& s = f.s;
   const uint64_t pixel = uint64_t(y) * uint64_t(s.width) + uint64_t(x);
-  Vec3 sum = Vec3::Zero();
   for (int i = 0; i < s.spp; ++i) {
     Rng rng = Rng::for_sample(s.seed, pixel, uint64_t(i));
     const float jx = i == 0 ? 0.5f : rng.uniform(), jy = i == 0 ? 0.5f : rng.uniform();
@@ -233,9 +323,38 @@ void render_pixel(const Frame& f, int x, int y, OpCounters& counters) {
       f.out.normals.at(x, y) = 0.5f * (n + Vec3::Ones());
       f.out.primary_n[pixel] = n;
     }
-    sum += radiance(f.path, ray, hit, object, found, rng, counters);
+    radiance(f.path, ray, hit, object, found, rng, ledger, counters);
+    ledger.end_sample();
   }
-  f.out.image.at(x, y) = sum / float(s.spp);
+}
+
+// A tile's pixels, in blocks of 4x4 (so that sixteen consecutive first shadow rays start from
+// one block, as Embree's packets of 16 in the anchor): their paths drawn, then their shadow rays
+// traced, then each pixel summed. False when the frame was stopped (the pixels drawn by then are
+// written).
+bool render_tile(const Frame& f, int x0, int y0, TileLedger& ledger, OpCounters& counters) {
+  constexpr int kBlock = 4;
+  const RenderSettings& s = f.s;
+  const int x1 = std::min(x0 + kTile, s.width), y1 = std::min(y0 + kTile, s.height);
+  ledger.clear();
+  bool stopped = false;
+  for (int by = y0; by < y1; by += kBlock)
+    for (int bx = x0; bx < x1; bx += kBlock)
+      for (int y = by; y < std::min(by + kBlock, y1); ++y)
+        for (int x = bx; x < std::min(bx + kBlock, x1); ++x) {
+          stopped = stopped || (s.stop && s.stop->load(std::memory_order_relaxed));
+          if (stopped) break;
+          ledger.begin_pixel(x, y);
+          draw_pixel(f, x, y, ledger, counters);
+        }
+  ledger.trace_shadows(f.path.scene, counters);
+  for (size_t p = 0; p < ledger.pixels().size(); ++p) {
+    Vec3 sum = Vec3::Zero();
+    for (size_t i = 0; i < size_t(s.spp); ++i) sum += ledger.radiance(p * size_t(s.spp) + i);
+    const auto [x, y] = ledger.pixels()[p];
+    f.out.image.at(x, y) = sum / float(s.spp);
+  }
+  return !stopped;
 }
 
 // Every pixel in 16x16 tiles on the threads the settings allow; counters per thread, summed.
@@ -248,14 +367,10 @@ void render_tiles(const Frame& f, OpCounters& total) {
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const auto& r) {
       OpCounters& counters = per_thread.local();
-      for (int tile = r.begin(); tile != r.end(); ++tile) {
-        const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-        for (int y = y0; y < std::min(y0 + kTile, s.height); ++y)
-          for (int x = x0; x < std::min(x0 + kTile, s.width); ++x) {
-            if (s.stop && s.stop->load(std::memory_order_relaxed)) return;
-            render_pixel(f, x, y, counters);
-          }
-      }
+      TileLedger ledger;
+      for (int tile = r.begin(); tile != r.end(); ++tile)
+        if (!render_tile(f, (tile % tiles_x) * kTile, (tile / tiles_x) * kTile, ledger, counters))
+          return;
     });
   });
   per_thread.combine_each([&](const OpCounters& c) { total.merge(c); });

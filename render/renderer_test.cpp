@@ -34,7 +34,51 @@ Frame render_with_threads(const PointCloud& cloud, int threads,
   return Frame{render(scene, cloud, s), prep};
 }
 
+// The scene `inner`, but asked for occlusion one ray at a time (SceneIntersector::any_hits'
+// default), as frames were traced before a tile's shadow rays went sixteen at a time.
+class OneShadowRayAtATime final : public SceneIntersector {
+ public:
+  explicit OneShadowRayAtATime(const SceneIntersector& inner) : inner_(inner) {}
+  bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override {
+    return inner_.closest_hit(ray, hit, counters);
+  }
+  bool any_hit(const Ray& ray, OpCounters& counters) const override {
+    return inner_.any_hit(ray, counters);
+  }
+  [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
+                                                          OpCounters& counters) const override {
+    return inner_.primary_pass(camera, counters);
+  }
+  [[nodiscard]] const CausticMapSpec* caustic_map() const override { return inner_.caustic_map(); }
+
+ private:
+  const SceneIntersector& inner_;
+};
+
 }  // namespace
+
+TEST_CASE("shadow rays sixteen at a time give every method the image and counts of one at a time",
+          "[renderer]") {
+  const Dataset d = load_dataset("torus:n=20000,seed=9");
+  RenderSettings s;
+  s.width = 45;  // tiles and 4x4 blocks cut at the edges
+  s.height = 30;
+  s.spp = 2;
+  s.bounces = 2;
+  for (const MethodInfo& m : MethodRegistry::instance().all()) {
+    // The bvh (whose walk takes sixteen rays together) wherever the method runs on structures.
+    const std::string structure = m.own_structure.empty() ? "bvh" : "";
+    INFO(m.id << " on " << (structure.empty() ? m.own_structure : structure));
+    OpCounters prep;
+    Timings t;
+    const PointScene scene(d.cloud, SceneOptions{m.id, structure, {}}, prep, t);
+    const RenderResult sixteen = render(scene, d.cloud, s);
+    const RenderResult one = render(OneShadowRayAtATime(scene), d.cloud, s);
+    CHECK(sixteen.image.pixels() == one.image.pixels());
+    CHECK(sixteen.counters.to_map() == one.counters.to_map());
+    CHECK(sixteen.counters.get(kShadowRays) > 0);
+  }
+}
 
 TEST_CASE("images and counters do not depend on thread count", "[renderer]") {
   const Dataset d = load_dataset("torus:n=3000,seed=5");

@@ -118,6 +118,14 @@ bool PointScene::any_hit(const Ray& ray, OpCounters& counters) const {
   return found;
 }
 
+void PointScene::any_hits(const Ray* rays, int n, char* blocked, OpCounters& counters) const {
+  if (!structure_) return SceneIntersector::any_hits(rays, n, blocked, counters);
+  counters.add(kRaysCast, uint64_t(n));
+  counters.add(kAnyHitRays, uint64_t(n));
+  method_->any_hits_through(*structure_, rays, n, blocked, counters);
+  counters.add(kRaysOccluded, uint64_t(std::count(blocked, blocked + n, 1)));
+}
+
 OpCounters trace_rays(const SceneIntersector& scene, std::span<const Ray> rays, std::span<Hit> hits,
                       std::span<char> found) {
   tbb::combinable<OpCounters> per_thread;

@@ -26,6 +26,11 @@ class SceneIntersector {
     h.t = ray.tmax;
     return closest_hit(ray, h, counters);
   }
+  // n <= 16 occlusion queries traced together (a tile's shadow rays): blocked[i] as
+  // any_hit(rays[i]) answers, with the same counts. This default asks ray by ray.
+  virtual void any_hits(const Ray* rays, int n, char* blocked, OpCounters& counters) const {
+    for (int i = 0; i < n; ++i) blocked[i] = char(any_hit(rays[i], counters));
+  }
   // A primary pass replacing camera-ray tracing for this frame, or nullptr (Method::primary_pass).
   [[nodiscard]] virtual std::unique_ptr<PrimaryPass> primary_pass(const Camera& /*camera*/,
                                                                   OpCounters& /*counters*/) const {
@@ -56,6 +61,7 @@ class PointScene final : public SceneIntersector {
 
   bool closest_hit(const Ray& ray, Hit& hit, OpCounters& counters) const override;
   bool any_hit(const Ray& ray, OpCounters& counters) const override;
+  void any_hits(const Ray* rays, int n, char* blocked, OpCounters& counters) const override;
   [[nodiscard]] std::unique_ptr<PrimaryPass> primary_pass(const Camera& camera,
                                                           OpCounters& counters) const override {
     return method_->primary_pass(camera, counters);

@@ -109,6 +109,18 @@ class Bvh final : public Structure {
                  : walk<true, node_test_sse>(ray, leaf, hit, counters);
   }
 
+  void any_hits(const Ray* rays, int n, const LeafIntersector& leaf, char* blocked,
+                OpCounters& counters) const override {
+    for (int i = 0; i < n; i += kWidePacket) {
+      const int m = std::min(kWidePacket, n - i);
+      if (avx2_)
+        packet_avx2(rays + i, m, leaf, blocked + i, counters);
+      else
+        walk_wide_occluded<node_test_sse>(wide_, order_.data(), rays + i, m, leaf, blocked + i,
+                                          counters);
+    }
+  }
+
   [[nodiscard]] std::span<const uint32_t> leaf_references() const override { return order_; }
   [[nodiscard]] ParamValues resolved_params() const override {
     return {{"leaf_size", double(leaf_size_)}};
@@ -161,6 +173,12 @@ class Bvh final : public Structure {
   __attribute__((target("avx2"))) bool walk_avx2(const Ray& ray, const LeafIntersector& leaf,
                                                  Hit& hit, OpCounters& counters) const {
     return walk<kAny, node_test_avx2>(ray, leaf, hit, counters);
+  }
+
+  __attribute__((target("avx2"))) void packet_avx2(const Ray* rays, int n,
+                                                   const LeafIntersector& leaf, char* blocked,
+                                                   OpCounters& counters) const {
+    walk_wide_occluded<node_test_avx2>(wide_, order_.data(), rays, n, leaf, blocked, counters);
   }
 
   template <bool kAny, auto kTest>

@@ -122,6 +122,12 @@ class Structure {
     h.t = ray.tmax;
     return closest_hit(ray, leaf_intersector, h, counters);
   }
+  // Occlusion of n <= 16 rays a caller traces together (a tile's shadow rays): blocked[i] as
+  // any_hit(rays[i]) answers, with the same counts. This default asks ray by ray.
+  virtual void any_hits(const Ray* rays, int n, const LeafIntersector& leaf_intersector,
+                        char* blocked, OpCounters& counters) const {
+    for (int i = 0; i < n; ++i) blocked[i] = char(any_hit(rays[i], leaf_intersector, counters));
+  }
   [[nodiscard]] virtual size_t memory_bytes() const = 0;
   // The array every LeafVisit::items of this structure is a piece of (item references in leaf
   // order), so that a method may lay its data out in the same order (leaf blocks); empty where

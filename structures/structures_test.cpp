@@ -3,8 +3,10 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <utility>
@@ -726,5 +728,54 @@ TEST_CASE("kd-tree builds past the parallel threshold are the same at 1 and 2 th
     CHECK(one.first == two.first);
     CHECK(one.second == two.second);
     CHECK(one.second.size() >= d.cloud.size());
+  }
+}
+
+// SceneIntersector::any_hits traces a frame's shadow rays sixteen at a time; the bvh walks each
+// sixteen together (walk_wide_occluded), every other structure one by one. Either way each ray's
+// answer and the counts must be what sixteen single queries give: coherent rays from a 4x4-blocked
+// grid towards a light, partly blocked by a sphere (packets where some rays stop early), and
+// random segments (packets that split at once); 3000 rays, so the last group has 8.
+TEST_CASE("sixteen occlusion queries at once answer and count as sixteen single ones",
+          "[structures]") {
+  const PointCloud cloud = load_dataset("bumpy_sphere:n=20000,seed=7").cloud;
+  const MethodInfo& info = MethodRegistry::instance().get("reference_splat", "method");
+  auto method = info.create(resolve_params(info.params, {}, "test"));
+  OpCounters prep;
+  Timings t;
+  PrepareContext ctx{prep, t};
+  method->prepare(cloud, ctx);
+  std::vector<Ray> rays;
+  const Vec3 light(0.3f, 0.2f, 3.0f);
+  for (int by = 0; by < 40; by += 4)
+    for (int bx = 0; bx < 40; bx += 4)
+      for (int y = by; y < by + 4; ++y)
+        for (int x = bx; x < bx + 4; ++x) {
+          const Vec3 o(-1.3f + 0.065f * float(x), -1.3f + 0.065f * float(y), -2.0f);
+          const float dist = (light - o).norm();
+          rays.push_back(Ray{o, (light - o) / dist, 0.0f, dist});
+        }
+  Rng rng(3);
+  for (Ray r : random_rays(cloud, 3000 - rays.size(), 17)) {
+    r.tmax = std::isfinite(r.tmax) ? r.tmax * rng.uniform() : 4.0f * rng.uniform();
+    rays.push_back(r);
+  }
+  for (const std::string& id : structures_to_check()) {
+    INFO(id);
+    auto s = create_structure(id);
+    OpCounters build;
+    s->build(method->items(), build);
+    OpCounters single, grouped;
+    std::vector<char> one(rays.size()), sixteen(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) one[i] = char(s->any_hit(rays[i], *method, single));
+    for (size_t i = 0; i < rays.size(); i += 16)
+      s->any_hits(&rays[i], int(std::min<size_t>(16, rays.size() - i)), *method, &sixteen[i],
+                  grouped);
+    const auto blocked = size_t(std::count(one.begin(), one.end(), 1));
+    INFO(blocked << " of " << rays.size() << " rays blocked");
+    CHECK(blocked > rays.size() / 5);
+    CHECK(blocked < rays.size() * 4 / 5);
+    CHECK(one == sixteen);
+    CHECK(single.to_map() == grouped.to_map());
   }
 }

@@ -35,6 +35,7 @@ struct RaySlabs {
   bool neg[3];
   float tmin;
   uint32_t near_at[3], far_at[3];
+  RaySlabs() = default;
   explicit RaySlabs(const Ray& ray) : tmin(ray.tmin) {
     for (int a = 0; a < 3; ++a) {
       o[a] = ray.o[a];

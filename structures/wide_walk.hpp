@@ -57,3 +57,90 @@ __attribute__((always_inline)) inline bool walk_wide(const std::vector<WideNode>
 }
 
 }  // namespace pcrt
+
+namespace pcrt {
+
+// Up to 16 shadow rays walked together (a packet): the tree is walked once for all of them, each
+// node's boxes tested against every ray still active there, a child entered by the rays whose
+// test hit it. Children are taken in the order walk_wide<true> takes them (higher slot first), so
+// each ray visits the nodes and leaves its own walk would, in the same order, and stops at the
+// same blocking leaf: the same answers and the same counts, ray by ray.
+constexpr int kWidePacket = 16;
+
+template <auto kTest>
+__attribute__((always_inline)) inline void walk_wide_occluded(const std::vector<WideNode>& wide,
+                                                              const uint32_t* refs, const Ray* rays,
+                                                              int n, const LeafIntersector& leaf,
+                                                              char* blocked, OpCounters& counters) {
+  struct Todo {
+    uint32_t index, count;
+    uint32_t active;  // rays that enter it
+    int level, slot;  // where its rays' entry and exit t are (level -1: the ray's own span)
+  };
+  for (int i = 0; i < n; ++i) blocked[i] = 0;
+  if (wide.empty() || n <= 0) return;
+  // Each ray's entry and exit t of the children of the node entered at each level, read when a
+  // leaf child is visited (a stack entry holds its level and slot). 64 KB: per thread, not on
+  // the stack.
+  alignas(32) static thread_local float t0s[kWideWalkMaxDepth][kWidePacket][kWideWidth],
+      t1s[kWideWalkMaxDepth][kWidePacket][kWideWidth];
+  std::array<RaySlabs, kWidePacket> slabs;
+  float limit[kWidePacket];
+  for (int i = 0; i < n; ++i) {
+    slabs[size_t(i)] = RaySlabs(rays[i]);
+    // walk_wide<true>'s limit, its hit.t being tmax
+    limit[i] = std::min(rays[i].tmax * kWiden, rays[i].tmax * (1.0f + 1e-5f) + 1e-30f);
+  }
+  std::array<Todo, (kWideWidth - 1) * kWideWalkMaxDepth + kWideWidth> stack;
+  int top = 0;
+  uint32_t done = 0;
+  const uint32_t all = (1u << n) - 1;
+  Todo cur{0, 0, all, -1, 0};
+  while (true) {
+    uint32_t active = cur.active & ~done;
+    if (active != 0) {
+      counters.add(kNodesVisited, uint64_t(__builtin_popcount(active)));
+      if (cur.count > 0) {
+        counters.add(kLeavesVisited, uint64_t(__builtin_popcount(active)));
+        counters.add(kItemsVisited, uint64_t(cur.count) * uint64_t(__builtin_popcount(active)));
+        for (; active; active &= active - 1) {
+          const int i = __builtin_ctz(active);
+          const LeafVisit visit{{refs + cur.index, cur.count},
+                                t0s[cur.level][i][cur.slot],
+                                t1s[cur.level][i][cur.slot]};
+          if (leaf.occluded_leaf(rays[i], visit, rays[i].tmax, counters)) {
+            done |= 1u << i;
+            blocked[i] = 1;
+          }
+        }
+        if (done == all) return;
+      } else {
+        const WideNode& node = wide[cur.index];
+        const int level = cur.level + 1;
+        uint32_t enters[kWideWidth] = {};
+        for (; active; active &= active - 1) {
+          const int i = __builtin_ctz(active);
+          uint32_t mask = kTest(node, slabs[size_t(i)], limit[i], t0s[level][i], t1s[level][i]);
+          for (; mask; mask &= mask - 1) enters[__builtin_ctz(mask)] |= 1u << i;
+        }
+        // Slots in ascending order onto the stack, the highest entered next (next_children<true>).
+        int last = -1;
+        for (int k = 0; k < kWideWidth; ++k) {
+          if (enters[k] == 0 || (node.child[k] == 0 && node.count[k] == 0)) continue;
+          if (last >= 0)
+            stack[size_t(top++)] =
+                Todo{node.child[last], node.count[last], enters[last], level, last};
+          last = k;
+        }
+        if (last >= 0) {
+          cur = Todo{node.child[last], node.count[last], enters[last], level, last};
+          continue;
+        }
+      }
+    }
+    if (top == 0) return;
+    cur = stack[size_t(--top)];
+  }
+}
+
+}  // namespace pcrt

@@ -103,6 +103,10 @@ class Ever2024 final : public Method {
     record_hit(ray, t, prim, particles_.normals[prim], particles_.footprints[prim], hit);
     return true;
   }
+  void any_hits_through(const Structure& s, const Ray* rays, int n, char* blocked,
+                        OpCounters& counters) const override {
+    for (int i = 0; i < n; ++i) blocked[i] = char(any_hit_through(s, rays[i], counters));
+  }
   bool any_hit_through(const Structure& s, const Ray& ray, OpCounters& counters) const override {
     float t = 0;
     uint32_t prim = kNoPrim;

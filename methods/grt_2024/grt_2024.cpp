@@ -103,6 +103,10 @@ class Grt2024 final : public Method {
     record_hit(ray, surface->t, i, particles_.normals[i], particles_.footprints[i], hit);
     return true;
   }
+  void any_hits_through(const Structure& s, const Ray* rays, int n, char* blocked,
+                        OpCounters& counters) const override {
+    for (int i = 0; i < n; ++i) blocked[i] = char(any_hit_through(s, rays[i], counters));
+  }
   bool any_hit_through(const Structure& s, const Ray& ray, OpCounters& counters) const override {
     const KEntry* surface = nullptr;
     KBuffer buffer;
