@@ -38,17 +38,19 @@ struct Bounce {
 
 // What a tile's paths add to their pixels, in the order the path tracer adds it, with each next
 // event term waiting for its shadow ray. A shadow ray never steers its path (it only decides
-// whether a term counts), so a tile draws all its paths first and then traces their shadow rays
-// together, sixteen at a time (SceneIntersector::any_hits: one walk of the tree for sixteen
-// neighbouring pixels' rays to the light), and sums each path as it would have, bit for bit.
+// whether a term counts), so a tile draws its paths first (up to kSamplesAtOnce of them) and then
+// traces their shadow rays together, sixteen at a time (SceneIntersector::any_hits: one walk of
+// the tree for sixteen neighbouring pixels' rays to the light), and sums each path as it would
+// have, bit for bit.
 class TileLedger {
  public:
+  struct Pixel {
+    int x, y;
+    Vec3 sum;  // of its samples' radiance so far, in sample order
+  };
   void clear() {
     pixels_.clear();
-    entries_.clear();
-    sample_end_.clear();
-    rays_.clear();
-    depth_.clear();
+    forget_samples();
   }
   void add(const Vec3& v) { entries_.push_back({v, kPlain}); }
   // result += throughput * (the sum of the terms that follow whose shadow ray is free).
@@ -62,25 +64,43 @@ class TileLedger {
     rays_.push_back(shadow);
     depth_.push_back(uint8_t(std::min(depth, 255)));
   }
-  void end_sample() { sample_end_.push_back(uint32_t(entries_.size())); }
-  [[nodiscard]] size_t samples() const { return sample_end_.size(); }
-  // The pixels whose samples follow, in the order they were drawn.
-  void begin_pixel(int x, int y) { pixels_.push_back({x, y}); }
-  [[nodiscard]] const std::vector<std::array<int, 2>>& pixels() const { return pixels_; }
-
-  void trace_shadows(const RenderScene& scene, OpCounters& counters);
-  // Sample k's radiance, summed in the order its path added it.
-  [[nodiscard]] Vec3 radiance(size_t k) const;
+  void end_sample() {
+    sample_end_.push_back(uint32_t(entries_.size()));
+    sample_pixel_.push_back(uint32_t(pixels_.size() - 1));
+  }
+  // The pixel whose samples follow.
+  void begin_pixel(int x, int y) { pixels_.push_back({x, y, Vec3::Zero()}); }
+  [[nodiscard]] const std::vector<Pixel>& pixels() const { return pixels_; }
+  // Whether the samples recorded should be settled now: a tile of many samples per pixel is
+  // settled in parts, so the ledger stays small (the sixteen rays of a packet still neighbours).
+  [[nodiscard]] bool full() const {
+    return sample_end_.size() >= kSamplesAtOnce || entries_.size() >= kEntriesAtOnce;
+  }
+  // Traces the shadow rays of the samples recorded, adds each sample to its pixel's sum, and
+  // forgets them.
+  void settle(const RenderScene& scene, OpCounters& counters);
 
  private:
+  static constexpr size_t kSamplesAtOnce = 1024, kEntriesAtOnce = size_t(1) << 16;
   static constexpr int32_t kPlain = -1;
   struct Entry {
     Vec3 value;
     int32_t terms;  // kPlain; or a direct-light header: its number of terms; or a term's ray
   };
-  std::vector<std::array<int, 2>> pixels_;
+  void forget_samples() {
+    entries_.clear();
+    sample_end_.clear();
+    sample_pixel_.clear();
+    rays_.clear();
+    depth_.clear();
+  }
+  void trace_shadows(const RenderScene& scene, OpCounters& counters);
+  // Sample k's radiance, summed in the order its path added it.
+  [[nodiscard]] Vec3 radiance(size_t k) const;
+
+  std::vector<Pixel> pixels_;
   std::vector<Entry> entries_;
-  std::vector<uint32_t> sample_end_;
+  std::vector<uint32_t> sample_end_, sample_pixel_;
   size_t direct_at_ = 0;
   std::vector<Ray> rays_;
   std::vector<uint8_t> depth_;
@@ -105,6 +125,12 @@ void TileLedger::trace_shadows(const RenderScene& scene, OpCounters& counters) {
     scene.any_hits(&packed_[i], int(std::min(kShadowPacket, n - i)), &packed_blocked_[i], counters);
   blocked_.resize(n);
   for (size_t i = 0; i < n; ++i) blocked_[order_[i]] = packed_blocked_[i];
+}
+
+void TileLedger::settle(const RenderScene& scene, OpCounters& counters) {
+  trace_shadows(scene, counters);
+  for (size_t k = 0; k < sample_end_.size(); ++k) pixels_[sample_pixel_[k]].sum += radiance(k);
+  forget_samples();
 }
 
 Vec3 TileLedger::radiance(size_t k) const {
@@ -325,6 +351,7 @@ void draw_pixel(const Frame& f, int x, int y, TileLedger& ledger, OpCounters& co
     }
     radiance(f.path, ray, hit, object, found, rng, ledger, counters);
     ledger.end_sample();
+    if (ledger.full()) ledger.settle(f.path.scene, counters);
   }
 }
 
@@ -347,13 +374,9 @@ bool render_tile(const Frame& f, int x0, int y0, TileLedger& ledger, OpCounters&
           ledger.begin_pixel(x, y);
           draw_pixel(f, x, y, ledger, counters);
         }
-  ledger.trace_shadows(f.path.scene, counters);
-  for (size_t p = 0; p < ledger.pixels().size(); ++p) {
-    Vec3 sum = Vec3::Zero();
-    for (size_t i = 0; i < size_t(s.spp); ++i) sum += ledger.radiance(p * size_t(s.spp) + i);
-    const auto [x, y] = ledger.pixels()[p];
-    f.out.image.at(x, y) = sum / float(s.spp);
-  }
+  ledger.settle(f.path.scene, counters);
+  for (const TileLedger::Pixel& p : ledger.pixels())
+    f.out.image.at(p.x, p.y) = p.sum / float(s.spp);
   return !stopped;
 }
 
