@@ -57,9 +57,9 @@ class Tracer {
                      OpCounters& counters) const = 0;
 };
 
-class RayByRay final : public Tracer {
+class SceneRays final : public Tracer {
  public:
-  explicit RayByRay(const SceneIntersector& scene) : scene_(scene) {}
+  explicit SceneRays(const SceneIntersector& scene) : scene_(scene) {}
   void trace(const RaySet& set, size_t begin, size_t end, char* found, Hit* hits,
              OpCounters& counters) const override {
     if (set.query == Query::kAny) {  // as a frame traces its shadow rays: 16 at a time
@@ -277,7 +277,7 @@ json mesh_anchor(const std::string& path, int w, int h, int reps) {
             {"node_simd", wide_nodes_use_avx2() ? "avx2x8" : "sse2x4"},
             {"reference", "embree"},
             {"ray_order", "4x4 tiles"}};
-  const RayByRay ours_rays(ours), embree_rays(embree);
+  const SceneRays ours_rays(ours), embree_rays(embree);
   for (const RaySet* set : {&primary, &bounce, &shadow})
     j[set->name] = alternated({&ours_rays, &embree_rays}, *set, reps);
   return j;
@@ -321,7 +321,7 @@ struct References {
   PrepareContext ctx{prep, t};
   PointScene morton, cloud_order;
   EmbreeDiscPackets packets8, packets16;
-  RayByRay morton_rays{morton}, cloud_rays{cloud_order};
+  SceneRays morton_rays{morton}, cloud_rays{cloud_order};
   InPackets packet8_rays{packets8}, packet16_rays{packets16};
 
   explicit References(const PointCloud& c)
@@ -362,7 +362,7 @@ PaperFrame paper_frame(const PointCloud& cloud, const MethodInfo& m, const Param
   const PointScene scene(cloud, SceneOptions{m.id, m.structure, own}, c, t);
   PaperFrame f{m.structure, std::vector<char>(primary.rays.size()),
                std::vector<Hit>(primary.rays.size())};
-  RayByRay(scene).trace(primary, 0, primary.rays.size(), f.found.data(), f.hits.data(), c);
+  SceneRays(scene).trace(primary, 0, primary.rays.size(), f.found.data(), f.hits.data(), c);
   return f;
 }
 
@@ -377,7 +377,7 @@ json frame_difference(const SceneIntersector& candidate, const PaperFrame& paper
   std::vector<char> found(n);
   std::vector<Hit> hits(n);
   OpCounters c;
-  RayByRay(candidate).trace(primary, 0, n, found.data(), hits.data(), c);
+  SceneRays(candidate).trace(primary, 0, n, found.data(), hits.data(), c);
   const double unit = h > 0 ? h : 1.0;
   size_t one_only = 0, differ = 0;
   std::vector<float> apart, angle;
@@ -456,7 +456,7 @@ json time_candidate(const AnchorBench& b, const MethodInfo& m, const StructureIn
             {"build_s", ct["build"]},
             {"refs_per_item", double(cp.get(kBuildItemRefs)) / double(b.data.cloud.size())},
             {"structure_bytes", scene.structure_bytes()}};
-  const RayByRay candidate(scene);
+  const SceneRays candidate(scene);
   std::vector<const Tracer*> scenes = {&candidate};
   scenes.insert(scenes.end(), b.references.begin(), b.references.end());
   for (const RaySet* set : b.sets) e[set->name] = alternated(scenes, *set, b.reps);

@@ -68,7 +68,8 @@ class Method : public LeafIntersector {
     return structure.any_hit(ray, *this, counters);
   }
   // n <= 16 occlusion queries at once, as any_hit_through answers each (Structure::any_hits).
-  // A method overriding any_hit_through overrides this too.
+  // A method overriding any_hit_through overrides this too (render/renderer_test.cpp renders
+  // every method both ways and requires the same image and counts).
   virtual void any_hits_through(const Structure& structure, const Ray* rays, int n, char* blocked,
                                 OpCounters& counters) const {
     structure.any_hits(rays, n, *this, blocked, counters);

@@ -88,7 +88,8 @@ const std::string& text_arg(const std::string& text, const char* name) {
 }
 
 // Runs `work` (GIL released) on a thread of its own while the caller's thread looks for Ctrl-C
-// every 50 ms: on a signal, `stop` is set, the work's loops leave within a ray or a pixel, and the
+// every 50 ms: on a signal, `stop` is set, the work's loops leave within a ray or a pixel (a
+// frame first traces the shadow rays of the samples it has drawn, at most 1024), and the
 // signal's exception (KeyboardInterrupt) is raised here once the work has returned.
 template <typename Work>
 void interruptible(Work&& work) {

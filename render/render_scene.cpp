@@ -1,5 +1,6 @@
 #include "render/render_scene.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -72,8 +73,11 @@ void RenderScene::any_hits(const Ray* rays, int n, char* blocked, OpCounters& co
   const SceneObject& o = objects[0];
   if (o.transform.identity()) return o.geometry->any_hits(rays, n, blocked, counters);
   std::array<Ray, 16> moved;
-  for (int i = 0; i < n; ++i) moved[size_t(i)] = o.transform.to_object(rays[i]);
-  o.geometry->any_hits(moved.data(), n, blocked, counters);
+  for (int i = 0; i < n; i += int(moved.size())) {
+    const int m = std::min(int(moved.size()), n - i);
+    for (int k = 0; k < m; ++k) moved[size_t(k)] = o.transform.to_object(rays[i + k]);
+    o.geometry->any_hits(moved.data(), m, blocked + i, counters);
+  }
 }
 
 Material RenderScene::material_at(uint32_t object, uint32_t prim) const {

@@ -40,7 +40,7 @@ struct Bounce {
 // event term waiting for its shadow ray. A shadow ray never steers its path (it only decides
 // whether a term counts), so a tile draws its paths first (up to kSamplesAtOnce of them) and then
 // traces their shadow rays together, sixteen at a time (SceneIntersector::any_hits: one walk of
-// the tree for sixteen neighbouring pixels' rays to the light), and sums each path as it would
+// the tree for sixteen neighbouring samples' rays to the light), and sums each path as it would
 // have, bit for bit.
 class TileLedger {
  public:
@@ -72,7 +72,7 @@ class TileLedger {
   void begin_pixel(int x, int y) { pixels_.push_back({x, y, Vec3::Zero()}); }
   [[nodiscard]] const std::vector<Pixel>& pixels() const { return pixels_; }
   // Whether the samples recorded should be settled now: a tile of many samples per pixel is
-  // settled in parts, so the ledger stays small (the sixteen rays of a packet still neighbours).
+  // settled in parts, so the ledger stays small (a packet's sixteen rays still neighbours).
   [[nodiscard]] bool full() const {
     return sample_end_.size() >= kSamplesAtOnce || entries_.size() >= kEntriesAtOnce;
   }
@@ -109,8 +109,9 @@ class TileLedger {
   std::vector<char> blocked_, packed_blocked_;
 };
 
-// Shadow rays of one depth after another (a packet of the first depth holds sixteen neighbouring
-// pixels' rays to one light), then their answers back in ledger order.
+// Shadow rays of one depth after another (at 1 spp and one light, a packet of the first depth holds
+// a 4x4 block's rays where its pixels all hit; with more samples or lights, fewer pixels'), then
+// their answers back in ledger order.
 void TileLedger::trace_shadows(const RenderScene& scene, OpCounters& counters) {
   const size_t n = rays_.size();
   count_.assign(257, 0);

@@ -4,7 +4,8 @@
 // light reached by a shadow ray at each non-specular vertex (next event estimation, section
 // 4.1.1), and both strategies weighted by the power heuristic where a sampled direction can also
 // reach a light. No Russian roulette: every path runs its B bounces unless it leaves the scene.
-// A tile's shadow rays are traced once its paths are drawn, kShadowPacket at a time.
+// A tile's shadow rays are traced once its paths (up to 1024 samples at a time) are drawn,
+// kShadowPacket at a time.
 #pragma once
 
 #include <atomic>
@@ -21,8 +22,8 @@
 
 namespace pcrt {
 
-// Shadow rays a frame traces at once (SceneIntersector::any_hits): sixteen neighbouring pixels'
-// rays of one depth, as Embree's packets of 16.
+// Shadow rays a frame traces at once (SceneIntersector::any_hits): sixteen neighbouring samples'
+// rays, as Embree's packets of 16.
 inline constexpr size_t kShadowPacket = 16;
 
 // What a frame may ask for, wherever it is asked (the command line, the Python module).

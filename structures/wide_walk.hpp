@@ -78,7 +78,7 @@ __attribute__((always_inline)) inline void walk_wide_occluded(const std::vector<
     int level, slot;  // where its rays' entry and exit t are (level -1: the ray's own span)
   };
   for (int i = 0; i < n; ++i) blocked[i] = 0;
-  if (wide.empty() || n <= 0) return;
+  if (wide.empty() || n <= 0 || n > kWidePacket) return;
   // Each ray's entry and exit t of the children of the node entered at each level, read when a
   // leaf child is visited (a stack entry holds its level and slot). 64 KB: per thread, not on
   // the stack.
@@ -86,7 +86,9 @@ __attribute__((always_inline)) inline void walk_wide_occluded(const std::vector<
       t1s[kWideWalkMaxDepth][kWidePacket][kWideWidth];
   std::array<RaySlabs, kWidePacket> slabs;
   float limit[kWidePacket];
+  uint32_t all = 0;  // the rays whose walk enters the root (walk_wide's first may_improve)
   for (int i = 0; i < n; ++i) {
+    if (may_improve(rays[i].tmin, rays[i].tmax)) all |= 1u << i;
     slabs[size_t(i)] = RaySlabs(rays[i]);
     // walk_wide<true>'s limit, its hit.t being tmax
     limit[i] = std::min(rays[i].tmax * kWiden, rays[i].tmax * (1.0f + 1e-5f) + 1e-30f);
@@ -94,7 +96,6 @@ __attribute__((always_inline)) inline void walk_wide_occluded(const std::vector<
   std::array<Todo, (kWideWidth - 1) * kWideWalkMaxDepth + kWideWidth> stack;
   int top = 0;
   uint32_t done = 0;
-  const uint32_t all = (1u << n) - 1;
   Todo cur{0, 0, all, -1, 0};
   while (true) {
     uint32_t active = cur.active & ~done;
