@@ -131,17 +131,20 @@ void check_any_hit(const Structure& s, const Method& m, const std::vector<Ray>& 
   REQUIRE(wrong == 0);
 }
 
-void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const std::string& label,
-                               bool expect_pruning = true) {
-  auto method =
-      MethodRegistry::instance()
-          .get("reference_splat", "method")
-          .create(resolve_params(MethodRegistry::instance().get("reference_splat", "method").params,
-                                 {}, "test"));
+// reference_splat with its defaults, prepared on `cloud`: the leaf test of these checks.
+std::unique_ptr<Method> prepared_reference_splat(const PointCloud& cloud) {
+  const MethodInfo& info = MethodRegistry::instance().get("reference_splat", "method");
+  auto method = info.create(resolve_params(info.params, {}, "test"));
   OpCounters prep;
   Timings t;
   PrepareContext ctx{prep, t};
   method->prepare(cloud, ctx);
+  return method;
+}
+
+void check_against_brute_force(const PointCloud& cloud, size_t ray_count, const std::string& label,
+                               bool expect_pruning = true) {
+  const auto method = prepared_reference_splat(cloud);
   const auto rays = random_rays(cloud, ray_count, 99);
   auto make = [&](const std::string& id) {
     auto s = create_structure(id);
@@ -739,12 +742,7 @@ TEST_CASE("kd-tree builds past the parallel threshold are the same at 1 and 2 th
 TEST_CASE("sixteen occlusion queries at once answer and count as sixteen single ones",
           "[structures]") {
   const PointCloud cloud = load_dataset("bumpy_sphere:n=20000,seed=7").cloud;
-  const MethodInfo& info = MethodRegistry::instance().get("reference_splat", "method");
-  auto method = info.create(resolve_params(info.params, {}, "test"));
-  OpCounters prep;
-  Timings t;
-  PrepareContext ctx{prep, t};
-  method->prepare(cloud, ctx);
+  const auto method = prepared_reference_splat(cloud);
   std::vector<Ray> rays;
   const Vec3 light(0.3f, 0.2f, 3.0f);
   for (int by = 0; by < 40; by += 4)
