@@ -44,6 +44,9 @@ quoted "$blend" "$(/usr/bin/python3 "$summary" --rounds "$blend"/octree/{before,
 quoted "$blend" "$(/usr/bin/python3 "$summary" --rounds --reference 3 \
   "$blend"/bvh/{before,after}/*.json)"
 quoted results/anchor/issue31 "$(/usr/bin/python3 results/anchor/issue31/table.py)"
+quoted results/anchor/shadow16 "$(/usr/bin/python3 results/anchor/shadow16/table.py)"
+quoted results/anchor/octree_recheck "$(/usr/bin/python3 "$summary" --rounds \
+  results/anchor/octree_recheck/*/*.json | grep -E '^\| [0-9a-f]{7} .*(goradia|kashyap|linsen)')"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # issue31/table.py: a run it cannot read, or a side with no runs, is refused in one line.
