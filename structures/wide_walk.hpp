@@ -67,16 +67,44 @@ namespace pcrt {
 // same blocking leaf: the same answers and the same counts, ray by ray.
 constexpr int kWidePacket = 16;
 
+// A child a packet has yet to enter: the rays that enter it, and where their entry and exit t are
+// (level -1: the ray's own span).
+struct WidePacketTodo {
+  uint32_t index, count;
+  uint32_t active;
+  int level, slot;
+};
+
+// Tests node n (at `level`) for each active ray, then pushes the children some ray enters in
+// ascending slot order and returns the highest in `next` (next_children<true>'s order); false
+// when no ray enters any.
+template <auto kTest>
+__attribute__((always_inline)) inline bool enter_children(
+    const WideNode& n, int level, uint32_t active, const RaySlabs* slabs, const float* limit,
+    float (*t0s)[kWideWidth], float (*t1s)[kWideWidth], WidePacketTodo* stack, int& top,
+    WidePacketTodo& next) {
+  uint32_t enters[kWideWidth] = {};
+  for (; active; active &= active - 1) {
+    const int i = __builtin_ctz(active);
+    uint32_t mask = kTest(n, slabs[i], limit[i], t0s[i], t1s[i]);
+    for (; mask; mask &= mask - 1) enters[__builtin_ctz(mask)] |= 1u << i;
+  }
+  int last = -1;
+  for (int k = 0; k < kWideWidth; ++k) {
+    if (enters[k] == 0 || (n.child[k] == 0 && n.count[k] == 0)) continue;
+    if (last >= 0) stack[top++] = {n.child[last], n.count[last], enters[last], level, last};
+    last = k;
+  }
+  if (last < 0) return false;
+  next = {n.child[last], n.count[last], enters[last], level, last};
+  return true;
+}
+
 template <auto kTest>
 __attribute__((always_inline)) inline void walk_wide_occluded(const std::vector<WideNode>& wide,
                                                               const uint32_t* refs, const Ray* rays,
                                                               int n, const LeafIntersector& leaf,
                                                               char* blocked, OpCounters& counters) {
-  struct Todo {
-    uint32_t index, count;
-    uint32_t active;  // rays that enter it
-    int level, slot;  // where its rays' entry and exit t are (level -1: the ray's own span)
-  };
   for (int i = 0; i < n; ++i) blocked[i] = 0;
   if (wide.empty() || n <= 0 || n > kWidePacket) return;
   // Each ray's entry and exit t of the children of the node entered at each level, read when a
@@ -93,10 +121,10 @@ __attribute__((always_inline)) inline void walk_wide_occluded(const std::vector<
     // walk_wide<true>'s limit, its hit.t being tmax
     limit[i] = std::min(rays[i].tmax * kWiden, rays[i].tmax * (1.0f + 1e-5f) + 1e-30f);
   }
-  std::array<Todo, (kWideWidth - 1) * kWideWalkMaxDepth + kWideWidth> stack;
+  std::array<WidePacketTodo, (kWideWidth - 1) * kWideWalkMaxDepth + kWideWidth> stack;
   int top = 0;
   uint32_t done = 0;
-  Todo cur{0, 0, all, -1, 0};
+  WidePacketTodo cur{0, 0, all, -1, 0};
   while (true) {
     uint32_t active = cur.active & ~done;
     if (active != 0) {
@@ -115,28 +143,10 @@ __attribute__((always_inline)) inline void walk_wide_occluded(const std::vector<
           }
         }
         if (done == all) return;
-      } else {
-        const WideNode& node = wide[cur.index];
-        const int level = cur.level + 1;
-        uint32_t enters[kWideWidth] = {};
-        for (; active; active &= active - 1) {
-          const int i = __builtin_ctz(active);
-          uint32_t mask = kTest(node, slabs[size_t(i)], limit[i], t0s[level][i], t1s[level][i]);
-          for (; mask; mask &= mask - 1) enters[__builtin_ctz(mask)] |= 1u << i;
-        }
-        // Slots in ascending order onto the stack, the highest entered next (next_children<true>).
-        int last = -1;
-        for (int k = 0; k < kWideWidth; ++k) {
-          if (enters[k] == 0 || (node.child[k] == 0 && node.count[k] == 0)) continue;
-          if (last >= 0)
-            stack[size_t(top++)] =
-                Todo{node.child[last], node.count[last], enters[last], level, last};
-          last = k;
-        }
-        if (last >= 0) {
-          cur = Todo{node.child[last], node.count[last], enters[last], level, last};
-          continue;
-        }
+      } else if (enter_children<kTest>(wide[cur.index], cur.level + 1, active, slabs.data(), limit,
+                                       t0s[cur.level + 1], t1s[cur.level + 1], stack.data(), top,
+                                       cur)) {
+        continue;
       }
     }
     if (top == 0) return;
